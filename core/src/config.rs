@@ -1,0 +1,784 @@
+//! The pipeline file: what world to make, declared in TOML.
+//!
+//! ```toml
+//! [world]
+//! seed = 7
+//! levels = 1
+//! min_length = [1000, 2000]   # metres; the grid side is floor(sqrt(min_length)) cells
+//! tile_pitch = 25.0           # metres between opposite openings of a tile
+//!
+//! [topology]
+//! loops = [0, 2]              # a number, or [low, high] drawn uniformly per level
+//! t_junctions = [1, 3]
+//! intersections = [1, 3]
+//! exact = false
+//!
+//! [route]
+//! type = "parabolic"
+//! ```
+//!
+//! Unknown keys are errors, and every error names the file, line, column and key. A resolved
+//! pipeline ([`Pipeline::resolve`]) has every range drawn and every level's counts written
+//! out; it is what a world folder records, and it regenerates the same world.
+
+use std::collections::BTreeMap;
+use std::fmt;
+use std::sync::Arc;
+
+use serde::de::{self, Deserializer, Visitor};
+use serde::{Deserialize, Serialize, Serializer};
+
+use crate::error::{ConfigError, Location};
+use crate::params::ComponentSpec;
+use crate::rng::WorldRng;
+
+/// A whole pipeline file.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Pipeline {
+    /// Size, levels, seed and scale.
+    #[serde(default)]
+    pub world: WorldSection,
+    /// Requested structures per level.
+    #[serde(default)]
+    pub topology: TopologySection,
+    /// The route descriptor bending every corridor.
+    #[serde(default = "default_route")]
+    pub route: ComponentSpec,
+    /// The tile set that turns tiles into geometry (filled by the tile-set stage).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub tileset: Option<ComponentSpec>,
+    /// Extra exporters, each `[[export]]` with a `type`.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub export: Vec<ComponentSpec>,
+    /// Shared libraries to load components from.
+    #[serde(default, skip_serializing_if = "PluginsSection::is_empty")]
+    pub plugins: PluginsSection,
+    /// Written by the tool into a world's `world.toml`; ignored when generating.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub generated: Option<Provenance>,
+}
+
+fn default_route() -> ComponentSpec {
+    ComponentSpec::named("parabolic")
+}
+
+impl Default for Pipeline {
+    fn default() -> Self {
+        Pipeline {
+            world: WorldSection::default(),
+            topology: TopologySection::default(),
+            route: default_route(),
+            tileset: None,
+            export: Vec::new(),
+            plugins: PluginsSection::default(),
+            generated: None,
+        }
+    }
+}
+
+/// `[world]`.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct WorldSection {
+    /// The seed every random choice derives from (0 to 2^63 - 1).
+    #[serde(default)]
+    pub seed: u64,
+    /// Number of levels, joined by shafts.
+    #[serde(default = "one")]
+    pub levels: IntRange,
+    /// Minimum corridor length target in metres; the grid side is `floor(sqrt(min_length))`
+    /// cells, as in the original. Give this or `rows` and `cols`; with neither, the natural
+    /// cave's `[1000, 2000]`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub min_length: Option<FloatRange>,
+    /// Grid rows, instead of `min_length`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub rows: Option<u32>,
+    /// Grid columns, instead of `min_length`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub cols: Option<u32>,
+    /// Metres between opposite openings of a tile.
+    #[serde(default = "default_pitch")]
+    pub tile_pitch: f64,
+    /// Metres between levels (default 0.8 x the pitch, the DARPA shaft's proportion).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub level_height: Option<f64>,
+    /// Widest tunnel in metres, for tile sets.
+    #[serde(default = "default_width")]
+    pub max_width: FloatRange,
+    /// Attempts per level, each with a derived seed, before giving up.
+    #[serde(default = "default_attempts")]
+    pub attempts: u32,
+}
+
+fn one() -> IntRange {
+    IntRange::Fixed(1)
+}
+fn default_min_length() -> FloatRange {
+    FloatRange::Between(1000.0, 2000.0)
+}
+fn default_pitch() -> f64 {
+    25.0
+}
+fn default_width() -> FloatRange {
+    FloatRange::Between(40.0, 50.0)
+}
+fn default_attempts() -> u32 {
+    64
+}
+
+impl Default for WorldSection {
+    fn default() -> Self {
+        WorldSection {
+            seed: 0,
+            levels: one(),
+            min_length: Some(default_min_length()),
+            rows: None,
+            cols: None,
+            tile_pitch: default_pitch(),
+            level_height: None,
+            max_width: default_width(),
+            attempts: default_attempts(),
+        }
+    }
+}
+
+/// `[topology]`.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TopologySection {
+    /// Loops per level (independent cycles, each a ring with four arms).
+    #[serde(default = "default_loops")]
+    pub loops: IntRange,
+    /// T-junctions per level.
+    #[serde(default = "default_junctions")]
+    pub t_junctions: IntRange,
+    /// Intersections per level.
+    #[serde(default = "default_junctions")]
+    pub intersections: IntRange,
+    /// Other structures by registered shape name: `[[topology.structure]]` with `type` and
+    /// `count`.
+    #[serde(default, rename = "structure", skip_serializing_if = "Vec::is_empty")]
+    pub structures: Vec<ComponentSpec>,
+    /// When true, the final grid has exactly the requested junctions, intersections and loops:
+    /// routes keep clear of corridors they are not meant to join.
+    #[serde(default)]
+    pub exact: bool,
+    /// Per-level structure counts by shape name; written by resolution, and may be given by
+    /// hand to fix each level's counts.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub per_level: Vec<BTreeMap<String, u32>>,
+}
+
+fn default_loops() -> IntRange {
+    IntRange::Between(0, 2)
+}
+fn default_junctions() -> IntRange {
+    IntRange::Between(1, 3)
+}
+
+impl Default for TopologySection {
+    fn default() -> Self {
+        TopologySection {
+            loops: default_loops(),
+            t_junctions: default_junctions(),
+            intersections: default_junctions(),
+            structures: Vec::new(),
+            exact: false,
+            per_level: Vec::new(),
+        }
+    }
+}
+
+/// `[plugins]`.
+#[derive(Clone, Debug, Default, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PluginsSection {
+    /// Shared libraries, relative to the pipeline file.
+    #[serde(default)]
+    pub paths: Vec<String>,
+}
+
+impl PluginsSection {
+    fn is_empty(&self) -> bool {
+        self.paths.is_empty()
+    }
+}
+
+/// `[generated]`: what made a world.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Provenance {
+    /// Tool name.
+    pub tool: String,
+    /// Tool version.
+    pub version: String,
+    /// The preset or file the world came from.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub source: Option<String>,
+}
+
+/// A whole number, or `[low, high]` drawn uniformly.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum IntRange {
+    /// Always this value.
+    Fixed(u32),
+    /// Uniform in `low..=high`.
+    Between(u32, u32),
+}
+
+/// A number, or `[low, high]` drawn uniformly.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum FloatRange {
+    /// Always this value.
+    Fixed(f64),
+    /// Uniform in `[low, high]`.
+    Between(f64, f64),
+}
+
+impl IntRange {
+    /// Draws a value.
+    pub fn draw(self, rng: &mut WorldRng) -> u32 {
+        match self {
+            IntRange::Fixed(v) => v,
+            IntRange::Between(lo, hi) => rng.int_in(i64::from(lo), i64::from(hi)) as u32,
+        }
+    }
+    /// The largest value it can take.
+    pub fn max(self) -> u32 {
+        match self {
+            IntRange::Fixed(v) | IntRange::Between(_, v) => v,
+        }
+    }
+}
+
+impl FloatRange {
+    /// Draws a value.
+    pub fn draw(self, rng: &mut WorldRng) -> f64 {
+        match self {
+            FloatRange::Fixed(v) => v,
+            FloatRange::Between(lo, hi) => rng.float_in(lo, hi),
+        }
+    }
+}
+
+impl Serialize for IntRange {
+    fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        match *self {
+            IntRange::Fixed(v) => s.serialize_u32(v),
+            IntRange::Between(a, b) => [a, b].serialize(s),
+        }
+    }
+}
+
+impl Serialize for FloatRange {
+    fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        match *self {
+            FloatRange::Fixed(v) => s.serialize_f64(v),
+            FloatRange::Between(a, b) => [a, b].serialize(s),
+        }
+    }
+}
+
+struct RangeVisitor<const INT: bool>;
+
+impl<'de, const INT: bool> Visitor<'de> for RangeVisitor<INT> {
+    type Value = (f64, Option<f64>);
+
+    fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+        if INT {
+            f.write_str("a whole number >= 0 or [low, high]")
+        } else {
+            f.write_str("a number >= 0 or [low, high]")
+        }
+    }
+
+    fn visit_i64<E: de::Error>(self, v: i64) -> Result<Self::Value, E> {
+        Ok((v as f64, None))
+    }
+    fn visit_u64<E: de::Error>(self, v: u64) -> Result<Self::Value, E> {
+        Ok((v as f64, None))
+    }
+    fn visit_f64<E: de::Error>(self, v: f64) -> Result<Self::Value, E> {
+        if INT {
+            return Err(E::custom(format!(
+                "expected a whole number or [low, high], found {v}"
+            )));
+        }
+        Ok((v, None))
+    }
+    fn visit_seq<A: de::SeqAccess<'de>>(self, mut seq: A) -> Result<Self::Value, A::Error> {
+        use de::Error;
+        let bad = || A::Error::custom("a range is [low, high]: two numbers with low <= high");
+        let lo = seq.next_element::<RangeNumber>()?.ok_or_else(bad)?.0;
+        let hi = seq.next_element::<RangeNumber>()?.ok_or_else(bad)?.0;
+        if seq.next_element::<RangeNumber>()?.is_some() || lo > hi {
+            return Err(bad());
+        }
+        if INT && (lo.fract() != 0.0 || hi.fract() != 0.0) {
+            return Err(A::Error::custom("expected whole numbers in [low, high]"));
+        }
+        Ok((lo, Some(hi)))
+    }
+}
+
+struct RangeNumber(f64);
+impl<'de> Deserialize<'de> for RangeNumber {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct V;
+        impl Visitor<'_> for V {
+            type Value = f64;
+            fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+                f.write_str("a number")
+            }
+            fn visit_i64<E: de::Error>(self, v: i64) -> Result<f64, E> {
+                Ok(v as f64)
+            }
+            fn visit_u64<E: de::Error>(self, v: u64) -> Result<f64, E> {
+                Ok(v as f64)
+            }
+            fn visit_f64<E: de::Error>(self, v: f64) -> Result<f64, E> {
+                Ok(v)
+            }
+        }
+        d.deserialize_any(V).map(RangeNumber)
+    }
+}
+
+fn check_non_negative<E: de::Error>((lo, hi): (f64, Option<f64>)) -> Result<(), E> {
+    if lo < 0.0 || hi.is_some_and(|h| h < 0.0) || !lo.is_finite() {
+        return Err(E::custom("must be >= 0"));
+    }
+    Ok(())
+}
+
+impl<'de> Deserialize<'de> for IntRange {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        let v = d.deserialize_any(RangeVisitor::<true>)?;
+        check_non_negative::<D::Error>(v)?;
+        if v.0 > f64::from(u32::MAX) || v.1.is_some_and(|h| h > 1000.0) {
+            return Err(de::Error::custom("too large"));
+        }
+        Ok(match v {
+            (x, None) => IntRange::Fixed(x as u32),
+            (a, Some(b)) => IntRange::Between(a as u32, b as u32),
+        })
+    }
+}
+
+impl<'de> Deserialize<'de> for FloatRange {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        let v = d.deserialize_any(RangeVisitor::<false>)?;
+        check_non_negative::<D::Error>(v)?;
+        Ok(match v {
+            (x, None) => FloatRange::Fixed(x),
+            (a, Some(b)) => FloatRange::Between(a, b),
+        })
+    }
+}
+
+/// The built-in structure names and the `[topology]` keys that count them.
+pub const BUILT_IN_STRUCTURES: [(&str, &str); 3] = [
+    ("loop", "loops"),
+    ("t-junction", "t_junctions"),
+    ("intersection", "intersections"),
+];
+
+/// Limits that keep a world within what the tool is meant for.
+const MAX_LEVELS: u32 = 64;
+const MAX_SIDE: u32 = 2048;
+const MIN_SIDE: u32 = 8;
+
+/// A pipeline's fixed numbers, as generation needs them.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Resolved {
+    /// Seed.
+    pub seed: u64,
+    /// Levels.
+    pub levels: usize,
+    /// Rows per level.
+    pub rows: usize,
+    /// Columns per level.
+    pub cols: usize,
+    /// Metres between tile centres.
+    pub tile_pitch: f64,
+    /// Metres between levels.
+    pub level_height: f64,
+    /// Widest tunnel in metres.
+    pub max_width: f64,
+    /// Attempts per level.
+    pub attempts: u32,
+    /// Structure counts per level, by shape name, in a fixed order.
+    pub per_level: Vec<Vec<(String, u32)>>,
+    /// Exact topology.
+    pub exact: bool,
+}
+
+impl Pipeline {
+    /// Parses a pipeline file. `file` names it in errors.
+    pub fn parse(source: &str, file: &str) -> Result<Pipeline, ConfigError> {
+        let file: Arc<str> = Arc::from(file);
+        let mut p: Pipeline = toml::from_str(source).map_err(|e| {
+            let offset = e.span().map_or(0, |s| s.start);
+            let location = Location::of_offset(&file, source, offset);
+            ConfigError {
+                key: key_at(source, offset),
+                location,
+                message: e.message().trim().to_owned(),
+            }
+        })?;
+        p.route.params.locate(&file, source, "route".into());
+        if let Some(t) = &mut p.tileset {
+            t.params.locate(&file, source, "tileset".into());
+        }
+        for (i, e) in p.export.iter_mut().enumerate() {
+            e.params.locate(&file, source, format!("export[{i}]"));
+        }
+        for (i, s) in p.topology.structures.iter_mut().enumerate() {
+            s.params
+                .locate(&file, source, format!("topology.structure[{i}]"));
+        }
+        p.check(&file, source)?;
+        Ok(p)
+    }
+
+    /// Cross-key checks that serde cannot express.
+    fn check(&self, file: &Arc<str>, source: &str) -> Result<(), ConfigError> {
+        let err = |key: &str, message: String| ConfigError {
+            location: locate_key(file, source, key),
+            key: key.to_owned(),
+            message,
+        };
+        let w = &self.world;
+        if w.seed > i64::MAX as u64 {
+            return Err(err("world.seed", "must be at most 2^63 - 1".into()));
+        }
+        if w.levels.max() == 0 || w.levels.max() > MAX_LEVELS {
+            return Err(err(
+                "world.levels",
+                format!("must be between 1 and {MAX_LEVELS}"),
+            ));
+        }
+        if matches!(w.levels, IntRange::Between(0, _)) {
+            return Err(err("world.levels", "must be at least 1".into()));
+        }
+        match (w.min_length, w.rows, w.cols) {
+            (Some(_), Some(_), _) | (Some(_), _, Some(_)) => {
+                return Err(err(
+                    "world.rows",
+                    "give either `min_length` or `rows` and `cols`, not both".into(),
+                ));
+            }
+            (None, r, c) if r.is_none() != c.is_none() => {
+                return Err(err("world.rows", "give both `rows` and `cols`".into()));
+            }
+            _ => {}
+        }
+        for (key, v) in [("world.rows", w.rows), ("world.cols", w.cols)] {
+            if let Some(v) = v {
+                if !(MIN_SIDE..=MAX_SIDE).contains(&v) {
+                    return Err(err(
+                        key,
+                        format!("must be between {MIN_SIDE} and {MAX_SIDE} cells"),
+                    ));
+                }
+            }
+        }
+        if let Some(m) = w.min_length {
+            let hi = match m {
+                FloatRange::Fixed(v) | FloatRange::Between(_, v) => v,
+            };
+            let lo = match m {
+                FloatRange::Fixed(v) | FloatRange::Between(v, _) => v,
+            };
+            let side = |x: f64| x.sqrt().floor() as u32;
+            if side(lo) < MIN_SIDE || side(hi) > MAX_SIDE {
+                return Err(err(
+                    "world.min_length",
+                    format!(
+                        "gives a grid side outside {MIN_SIDE}..{MAX_SIDE} cells; use {} to {} metres",
+                        MIN_SIDE * MIN_SIDE,
+                        MAX_SIDE * MAX_SIDE
+                    ),
+                ));
+            }
+        }
+        if !(w.tile_pitch.is_finite() && w.tile_pitch > 0.0) {
+            return Err(err("world.tile_pitch", "must be a positive number of metres".into()));
+        }
+        if let Some(h) = w.level_height {
+            if !(h.is_finite() && h > 0.0) {
+                return Err(err("world.level_height", "must be a positive number of metres".into()));
+            }
+        }
+        if w.attempts == 0 || w.attempts > 10_000 {
+            return Err(err("world.attempts", "must be between 1 and 10000".into()));
+        }
+        let t = &self.topology;
+        if !t.per_level.is_empty() {
+            if let IntRange::Between(..) = w.levels {
+                return Err(err(
+                    "topology.per_level",
+                    "needs a fixed `world.levels` so each level has an entry".into(),
+                ));
+            }
+            if t.per_level.len() != w.levels.max() as usize {
+                return Err(err(
+                    "topology.per_level",
+                    format!(
+                        "has {} entries but the world has {} levels; give one table per level",
+                        t.per_level.len(),
+                        w.levels.max()
+                    ),
+                ));
+            }
+            for counts in &t.per_level {
+                if counts.values().all(|&c| c == 0) {
+                    return Err(err(
+                        "topology.per_level",
+                        "every level needs at least one structure; a level with none would be empty"
+                            .into(),
+                    ));
+                }
+            }
+        } else {
+            let mut max = t.loops.max() + t.t_junctions.max() + t.intersections.max();
+            for s in &self.topology.structures {
+                max += structure_count(s)?.max();
+            }
+            if max == 0 {
+                return Err(err(
+                    "topology",
+                    "asks for no structures; a level needs at least one loop, T-junction or intersection"
+                        .into(),
+                ));
+            }
+        }
+        Ok(())
+    }
+
+    /// Draws every range and fixes every level's counts. The draws come from their own stream,
+    /// so a resolved pipeline generates exactly the world its unresolved form does.
+    pub fn resolve(&self) -> Result<(Pipeline, Resolved), ConfigError> {
+        let mut rng = WorldRng::new(self.world.seed, "resolve", 0);
+        let mut p = self.clone();
+        let levels = p.world.levels.draw(&mut rng);
+        p.world.levels = IntRange::Fixed(levels);
+        let (rows, cols) = match (p.world.min_length, p.world.rows, p.world.cols) {
+            (Some(m), _, _) => {
+                let len = m.draw(&mut rng);
+                let n = (len.sqrt().floor() as u32).clamp(MIN_SIDE, MAX_SIDE);
+                (n, n)
+            }
+            (None, Some(r), Some(c)) => (r, c),
+            _ => {
+                let len = default_min_length().draw(&mut rng);
+                let n = (len.sqrt().floor() as u32).clamp(MIN_SIDE, MAX_SIDE);
+                (n, n)
+            }
+        };
+        p.world.min_length = None;
+        p.world.rows = Some(rows);
+        p.world.cols = Some(cols);
+        let max_width = p.world.max_width.draw(&mut rng);
+        p.world.max_width = FloatRange::Fixed(max_width);
+        let level_height = p.world.level_height.unwrap_or(0.8 * p.world.tile_pitch);
+        p.world.level_height = Some(level_height);
+
+        let per_level: Vec<Vec<(String, u32)>> = if p.topology.per_level.is_empty() {
+            let mut ranges: Vec<(String, IntRange)> = BUILT_IN_STRUCTURES
+                .iter()
+                .zip([
+                    p.topology.loops,
+                    p.topology.t_junctions,
+                    p.topology.intersections,
+                ])
+                .map(|((name, _), r)| ((*name).to_owned(), r))
+                .collect();
+            for s in &p.topology.structures {
+                ranges.push((s.type_name.clone(), structure_count(s)?));
+            }
+            (0..levels)
+                .map(|_| {
+                    // A level whose drawn counts are all zero is redrawn (bounded: the ranges
+                    // allow a non-zero draw, checked at parse).
+                    for _ in 0..1000 {
+                        let counts: Vec<(String, u32)> = ranges
+                            .iter()
+                            .map(|(n, r)| (n.clone(), r.draw(&mut rng)))
+                            .collect();
+                        if counts.iter().any(|(_, c)| *c > 0) {
+                            return sorted(counts);
+                        }
+                    }
+                    sorted(ranges.iter().map(|(n, r)| (n.clone(), r.max())).collect())
+                })
+                .collect()
+        } else {
+            p.topology
+                .per_level
+                .iter()
+                .map(|m| m.iter().map(|(k, v)| (k.clone(), *v)).collect())
+                .collect()
+        };
+        p.topology.per_level = per_level
+            .iter()
+            .map(|c| c.iter().cloned().collect())
+            .collect();
+        let resolved = Resolved {
+            seed: p.world.seed,
+            levels: levels as usize,
+            rows: rows as usize,
+            cols: cols as usize,
+            tile_pitch: p.world.tile_pitch,
+            level_height,
+            max_width,
+            attempts: p.world.attempts,
+            per_level,
+            exact: p.topology.exact,
+        };
+        Ok((p, resolved))
+    }
+
+    /// The pipeline as TOML text.
+    pub fn to_toml(&self) -> String {
+        toml::to_string(self).expect("a pipeline always serializes")
+    }
+}
+
+/// Structure counts in name order: the canonical order generation sees, whether the counts
+/// were drawn or read back from a resolved pipeline.
+fn sorted(mut counts: Vec<(String, u32)>) -> Vec<(String, u32)> {
+    counts.sort();
+    counts
+}
+
+/// The `count` of a `[[topology.structure]]` entry.
+pub fn structure_count(spec: &ComponentSpec) -> Result<IntRange, ConfigError> {
+    match spec.params.raw("count") {
+        None => Err(spec.params.error(
+            "count",
+            "missing `count`: how many of this structure per level, a number or [low, high]",
+        )),
+        Some(v) => IntRange::deserialize(v.clone())
+            .map_err(|e| spec.params.error("count", e.to_string().trim().to_owned())),
+    }
+}
+
+/// The dotted key whose value or name starts at `offset` in a TOML document (best effort).
+fn key_at(source: &str, offset: usize) -> String {
+    let offset = offset.min(source.len());
+    let line_start = source[..offset].rfind('\n').map_or(0, |i| i + 1);
+    let line_end = source[offset..]
+        .find('\n')
+        .map_or(source.len(), |i| offset + i);
+    let line = &source[line_start..line_end];
+    let key = line
+        .split('=')
+        .next()
+        .filter(|_| line.contains('='))
+        .map(|k| k.trim().trim_matches('"').to_owned())
+        .unwrap_or_default();
+    let section = source[..line_start]
+        .lines()
+        .rev()
+        .find_map(|l| {
+            let l = l.trim();
+            l.starts_with('[')
+                .then(|| l.trim_matches(|c| c == '[' || c == ']').trim().to_owned())
+        })
+        .unwrap_or_default();
+    match (section.is_empty(), key.is_empty()) {
+        (_, true) if line.trim_start().starts_with('[') => {
+            line.trim().trim_matches(|c| c == '[' || c == ']').to_owned()
+        }
+        (true, _) => key,
+        (false, true) => section,
+        (false, false) => format!("{section}.{key}"),
+    }
+}
+
+/// Where a dotted key is written, or the start of its section, or the file's start.
+fn locate_key(file: &Arc<str>, source: &str, dotted: &str) -> Location {
+    let (section, key) = dotted.rsplit_once('.').unwrap_or((dotted, ""));
+    let mut in_section = false;
+    let mut section_offset = None;
+    let mut offset = 0;
+    for line in source.split_inclusive('\n') {
+        let t = line.trim();
+        if t.starts_with('[') {
+            in_section = t.trim_matches(|c| c == '[' || c == ']').trim() == section;
+            if in_section && section_offset.is_none() {
+                section_offset = Some(offset);
+            }
+        } else if in_section && !key.is_empty() {
+            if let Some((k, _)) = t.split_once('=') {
+                if k.trim() == key {
+                    return Location::of_offset(file, source, offset + (line.len() - line.trim_start().len()));
+                }
+            }
+        }
+        offset += line.len();
+    }
+    Location::of_offset(file, source, section_offset.unwrap_or(0))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn unknown_keys_are_errors_with_line_and_key() {
+        let src = "[world]\nseed = 3\nlevles = 2\n";
+        let e = Pipeline::parse(src, "my.toml").unwrap_err();
+        assert_eq!(e.location.line, 3, "{e}");
+        assert_eq!(e.location.column, 1, "{e}");
+        assert_eq!(e.key, "world.levles");
+        assert!(e.to_string().starts_with("my.toml:3:1:"), "{e}");
+        assert!(e.message.contains("unknown field"), "{e}");
+    }
+
+    #[test]
+    fn bad_ranges_point_at_their_value() {
+        let e = Pipeline::parse("[topology]\nloops = [3, 1]\n", "p.toml").unwrap_err();
+        assert_eq!(e.location.line, 2);
+        assert_eq!(e.key, "topology.loops");
+        assert!(e.message.contains("low <= high"), "{e}");
+        let e = Pipeline::parse("[topology]\nloops = 1.5\n", "p.toml").unwrap_err();
+        assert!(e.message.contains("whole number"), "{e}");
+    }
+
+    #[test]
+    fn conflicting_sizes_are_refused() {
+        let e = Pipeline::parse("[world]\nmin_length = 1000\nrows = 30\ncols = 30\n", "p.toml")
+            .unwrap_err();
+        assert_eq!(e.key, "world.rows");
+        assert_eq!(e.location.line, 3);
+    }
+
+    #[test]
+    fn a_resolved_pipeline_resolves_to_itself() {
+        let p = Pipeline::parse("[world]\nseed = 11\nlevels = [2, 4]\n", "p.toml").unwrap();
+        let (fixed, r) = p.resolve().unwrap();
+        let again = Pipeline::parse(&fixed.to_toml(), "w.toml").unwrap();
+        let (fixed2, r2) = again.resolve().unwrap();
+        assert_eq!(r, r2);
+        assert_eq!(fixed.to_toml(), fixed2.to_toml());
+        assert!((31..=44).contains(&r.rows));
+        for level in &r.per_level {
+            assert!(level.iter().any(|(_, c)| *c > 0));
+        }
+    }
+
+    #[test]
+    fn no_structures_is_refused() {
+        let e = Pipeline::parse(
+            "[topology]\nloops = 0\nt_junctions = 0\nintersections = 0\n",
+            "p.toml",
+        )
+        .unwrap_err();
+        assert_eq!(e.key, "topology");
+        assert_eq!(e.location.line, 1);
+    }
+}

@@ -1,0 +1,86 @@
+//! Exporters write a world's files.
+//!
+//! The core does no file I/O: an exporter writes through a [`WorldWriter`], which the command
+//! line implements over a temporary folder that is renamed into place only when every exporter
+//! has succeeded, so a world folder is complete or absent.
+
+use crate::world::World;
+
+/// Where an exporter puts its files: paths are relative to the world folder and use `/`.
+pub trait WorldWriter {
+    /// Writes one whole file.
+    fn write(&mut self, path: &str, bytes: &[u8]) -> std::io::Result<()>;
+}
+
+/// An in-memory writer, for tests and for callers that post-process files.
+#[derive(Debug, Default, Clone)]
+pub struct MemoryWriter {
+    /// Files by relative path, in the order written.
+    pub files: Vec<(String, Vec<u8>)>,
+}
+
+impl WorldWriter for MemoryWriter {
+    fn write(&mut self, path: &str, bytes: &[u8]) -> std::io::Result<()> {
+        self.files.push((path.to_owned(), bytes.to_vec()));
+        Ok(())
+    }
+}
+
+impl MemoryWriter {
+    /// The contents of a written file.
+    pub fn get(&self, path: &str) -> Option<&[u8]> {
+        self.files
+            .iter()
+            .find(|(p, _)| p == path)
+            .map(|(_, b)| b.as_slice())
+    }
+}
+
+/// Why an export failed.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum ExportError {
+    /// Writing a file failed (disk full, permissions). Free space or choose another `--out`.
+    #[error("writing {path}: {source}")]
+    Io {
+        /// The file.
+        path: String,
+        /// The cause.
+        source: std::io::Error,
+    },
+    /// The exporter cannot represent this world; the message says what it needs.
+    #[error("{0}")]
+    Unsupported(String),
+}
+
+/// Writes some of a world's files.
+///
+/// # Example
+///
+/// ```
+/// use subtgraph_core::export::{Exporter, ExportError, WorldWriter};
+/// use subtgraph_core::world::World;
+///
+/// /// Writes the number of occupied cells.
+/// struct CellCount;
+///
+/// impl Exporter for CellCount {
+///     fn export(&self, world: &World, out: &mut dyn WorldWriter) -> Result<(), ExportError> {
+///         let text = world.occupancy.occupied_count().to_string();
+///         out.write("cells.txt", text.as_bytes())
+///             .map_err(|source| ExportError::Io { path: "cells.txt".into(), source })
+///     }
+/// }
+/// ```
+pub trait Exporter: Send + Sync {
+    /// Writes the files.
+    fn export(&self, world: &World, out: &mut dyn WorldWriter) -> Result<(), ExportError>;
+}
+
+/// Writes `bytes` to `path`, turning an I/O failure into an [`ExportError`] naming the file.
+pub fn write_file(out: &mut dyn WorldWriter, path: &str, bytes: &[u8]) -> Result<(), ExportError> {
+    out.write(path, bytes).map_err(|source| ExportError::Io {
+        path: path.to_owned(),
+        source,
+    })
+}

@@ -1,0 +1,673 @@
+//! Building one level: place structures, route their arms to objective nodes, link the pieces
+//! into one network, and check the result against what was asked.
+
+use crate::route::{RouteDescriptor, Segment};
+use crate::rng::WorldRng;
+use crate::shape::{ConstraintShape, Heading, rotate_offset};
+use crate::world::Counts;
+
+use super::search::Search;
+
+/// `owner` of an empty cell or an unreserved one.
+pub const NONE: u32 = u32::MAX;
+/// `owner` of a routed corridor cell.
+pub const CORRIDOR: u32 = u32::MAX - 1;
+/// `owner` of the landing of the shaft from the level below.
+pub const LANDING: u32 = u32::MAX - 2;
+
+/// One level's grid while it is being built.
+#[derive(Clone, Debug)]
+pub struct Level {
+    /// Rows.
+    pub rows: usize,
+    /// Columns.
+    pub cols: usize,
+    /// Occupied cells.
+    pub occ: Vec<bool>,
+    /// Who made each cell: a structure index, [`CORRIDOR`], [`LANDING`] or [`NONE`].
+    pub owner: Vec<u32>,
+    /// Cells kept free for a structure's arms until they are routed.
+    pub reserved: Vec<u32>,
+    /// In exact mode routes may touch no corridor but their own two ends.
+    pub exact: bool,
+}
+
+/// A structure placed on the level.
+struct Placed<'a> {
+    name: &'a str,
+    shape: &'a dyn ConstraintShape,
+    centre: (i32, i32),
+    rotation: u8,
+}
+
+impl Level {
+    fn new(rows: usize, cols: usize, exact: bool) -> Self {
+        let n = rows * cols;
+        Self {
+            rows,
+            cols,
+            occ: vec![false; n],
+            owner: vec![NONE; n],
+            reserved: vec![NONE; n],
+            exact,
+        }
+    }
+
+    /// The index of `(row, col)` if inside the level.
+    pub fn index(&self, r: i32, c: i32) -> Option<usize> {
+        (r >= 0 && c >= 0 && (r as usize) < self.rows && (c as usize) < self.cols)
+            .then(|| r as usize * self.cols + c as usize)
+    }
+
+    fn rc(&self, i: usize) -> (i32, i32) {
+        ((i / self.cols) as i32, (i % self.cols) as i32)
+    }
+
+    fn neighbours(&self, i: usize) -> impl Iterator<Item = usize> + '_ {
+        let (r, c) = self.rc(i);
+        [(0, 1), (-1, 0), (0, -1), (1, 0)]
+            .into_iter()
+            .filter_map(move |(dr, dc)| self.index(r + dr, c + dc))
+    }
+
+    fn degree(&self, i: usize) -> usize {
+        self.neighbours(i).filter(|&n| self.occ[n]).count()
+    }
+
+    /// Whether a route from `s` to `g` owned by `owner` may pass through cell `v`: free, not
+    /// kept for another structure's arm, and touching no occupied cell but `s` and `g`, so the
+    /// route creates no junction and never runs alongside a corridor.
+    pub fn route_may_use(&self, v: usize, s: usize, g: usize, owners: [u32; 2]) -> bool {
+        if self.occ[v] || (self.reserved[v] != NONE && !owners.contains(&self.reserved[v])) {
+            return false;
+        }
+        self.neighbours(v)
+            .all(|n| !self.occ[n] || n == s || n == g)
+    }
+
+    fn commit(&mut self, cells: &[usize]) {
+        for &c in cells {
+            self.occ[c] = true;
+            self.owner[c] = CORRIDOR;
+        }
+    }
+
+    /// 4-connected components: a label per cell (`u32::MAX` for empty) and their number.
+    fn components(&self) -> (Vec<u32>, u32) {
+        let mut label = vec![u32::MAX; self.occ.len()];
+        let mut n = 0;
+        let mut stack = Vec::new();
+        for i in 0..self.occ.len() {
+            if !self.occ[i] || label[i] != u32::MAX {
+                continue;
+            }
+            label[i] = n;
+            stack.push(i);
+            while let Some(u) = stack.pop() {
+                for v in self.neighbours(u) {
+                    if self.occ[v] && label[v] == u32::MAX {
+                        label[v] = n;
+                        stack.push(v);
+                    }
+                }
+            }
+            n += 1;
+        }
+        (label, n)
+    }
+
+    /// Junction, intersection, dead-end and cycle counts of the level.
+    pub fn counts(&self) -> Counts {
+        let mut c = Counts::default();
+        let (mut cells, mut edges) = (0u32, 0u32);
+        for i in 0..self.occ.len() {
+            if !self.occ[i] {
+                continue;
+            }
+            cells += 1;
+            let (r, col) = self.rc(i);
+            edges += u32::from(self.index(r, col + 1).is_some_and(|j| self.occ[j]));
+            edges += u32::from(self.index(r + 1, col).is_some_and(|j| self.occ[j]));
+            match self.degree(i) {
+                1 => c.dead_ends += 1,
+                3 => c.t_junctions += 1,
+                4 => c.intersections += 1,
+                _ => {}
+            }
+        }
+        c.loops = (edges + self.components().1).saturating_sub(cells);
+        c
+    }
+
+    /// Whether any 2 x 2 block is fully occupied (corridors fused side by side).
+    fn has_fused_block(&self) -> bool {
+        (0..self.rows.saturating_sub(1)).any(|r| {
+            (0..self.cols.saturating_sub(1)).any(|c| {
+                let i = r * self.cols + c;
+                self.occ[i] && self.occ[i + 1] && self.occ[i + self.cols] && self.occ[i + self.cols + 1]
+            })
+        })
+    }
+
+    fn clamp_inside(&self, [r, c]: [i32; 2]) -> (i32, i32) {
+        (
+            r.clamp(1, self.rows as i32 - 2),
+            c.clamp(1, self.cols as i32 - 2),
+        )
+    }
+}
+
+/// The junction tiles and cycles a structure brings by itself: a footprint cell with three
+/// neighbours-or-arms is a T-junction, with four an intersection.
+pub fn structure_counts(shape: &dyn ConstraintShape) -> Counts {
+    let cells = shape.footprint();
+    let arms = shape.arms();
+    let mut c = Counts::default();
+    let mut edges = 0;
+    for &(r, k) in &cells {
+        let inner = [(0, 1), (-1, 0), (0, -1), (1, 0)]
+            .iter()
+            .filter(|(dr, dc)| cells.contains(&(r + dr, k + dc)))
+            .count();
+        edges += inner;
+        match inner + arms.iter().filter(|a| a.from == (r, k)).count() {
+            3 => c.t_junctions += 1,
+            4 => c.intersections += 1,
+            _ => {}
+        }
+    }
+    c.loops = (edges / 2 + 1).saturating_sub(cells.len()) as u32;
+    c
+}
+
+/// What a level needs to be built.
+pub struct LevelSpec<'a> {
+    /// Rows.
+    pub rows: usize,
+    /// Columns.
+    pub cols: usize,
+    /// Structures to place, by name, one entry per structure.
+    pub structures: Vec<(&'a str, &'a dyn ConstraintShape)>,
+    /// The landing of the shaft from below, `(row, col)`.
+    pub landing: Option<(usize, usize)>,
+    /// Exact topology.
+    pub exact: bool,
+    /// Whether a shaft up must be chosen.
+    pub needs_shaft_up: bool,
+}
+
+/// A finished level.
+pub struct BuiltLevel {
+    /// Occupied cells, row-major.
+    pub occ: Vec<bool>,
+    /// The foot of the shaft up, `(row, col)`.
+    pub shaft_up: Option<(usize, usize)>,
+    /// What the structures bring.
+    pub expected: Counts,
+}
+
+/// Tries once to build a level. The error says which constraint failed.
+pub fn build_level(
+    spec: &LevelSpec<'_>,
+    descriptor: &dyn RouteDescriptor,
+    search: &mut Search,
+    rng: &mut WorldRng,
+) -> Result<BuiltLevel, String> {
+    let mut lvl = Level::new(spec.rows, spec.cols, spec.exact);
+    let landing = spec.landing.map(|(r, c)| {
+        let i = r * spec.cols + c;
+        lvl.occ[i] = true;
+        lvl.owner[i] = LANDING;
+        i
+    });
+
+    // 1. Place structures in a random order (paper: constraint node distribution).
+    let mut order: Vec<(&str, &dyn ConstraintShape)> = spec.structures.clone();
+    rng.shuffle(&mut order);
+    let mut placed: Vec<Placed> = Vec::with_capacity(order.len());
+    let mut expected = Counts::default();
+    for (name, shape) in order {
+        let id = placed.len() as u32;
+        let p = place(&mut lvl, name, shape, id, rng)
+            .ok_or_else(|| format!("no free area left for {name} number {}", id + 1))?;
+        let c = structure_counts(shape);
+        expected.t_junctions += c.t_junctions;
+        expected.intersections += c.intersections;
+        expected.loops += c.loops;
+        placed.push(p);
+    }
+
+    // 2. Link the structures (and the landing) into a tree through their arms, nearest first,
+    //    while the level is still open: a corridor from an arm of one to an arm of the other.
+    let mut arms: Vec<ArmState> = Vec::new();
+    for (id, p) in placed.iter().enumerate() {
+        for arm in p.shape.arms() {
+            let (fr, fc) = rotate_offset(arm.from, p.rotation);
+            arms.push(ArmState {
+                structure: id as u32,
+                from: (p.centre.0 + fr, p.centre.1 + fc),
+                heading: arm.heading.rotated(p.rotation),
+                used: false,
+            });
+        }
+    }
+    link_structures(&mut lvl, search, descriptor, rng, &placed, &mut arms, landing)?;
+
+    // 3. Route every remaining arm to an objective node (paper eqs. 5-6 and 14-15).
+    for arm in arms.iter().filter(|a| !a.used) {
+        route_arm(&mut lvl, search, descriptor, rng, &placed[arm.structure as usize], arm)?;
+    }
+    lvl.reserved.fill(NONE);
+
+    // 4. Link whatever is still apart (joins made without `exact` can leave nothing apart,
+    //    but a spur never splits the level; this is the safety net).
+    link_components(&mut lvl, search, descriptor, rng, landing)?;
+
+    // 5. Check what was asked.
+    if lvl.has_fused_block() {
+        return Err("two corridors fused side by side".into());
+    }
+    let got = lvl.counts();
+    let short = |what: &str, want: u32, have: u32| {
+        format!("asked for {want} {what} from its structures, the grid has {have}")
+    };
+    for (what, want, have) in [
+        ("T-junctions", expected.t_junctions, got.t_junctions),
+        ("intersections", expected.intersections, got.intersections),
+        ("loops", expected.loops, got.loops),
+    ] {
+        let ok = if spec.exact { have == want } else { have >= want };
+        if !ok {
+            return Err(short(what, want, have));
+        }
+    }
+    if let Some(l) = landing {
+        if lvl.degree(l) != 1 {
+            return Err("the shaft landing is not a dead end".into());
+        }
+    }
+
+    // 6. Choose the foot of the shaft up among the dead ends away from the border.
+    let shaft_up = if spec.needs_shaft_up {
+        let candidates: Vec<usize> = (0..lvl.occ.len())
+            .filter(|&i| {
+                let (r, c) = lvl.rc(i);
+                lvl.occ[i]
+                    && Some(i) != landing
+                    && lvl.degree(i) == 1
+                    && r >= 1
+                    && c >= 1
+                    && (r as usize) < lvl.rows - 1
+                    && (c as usize) < lvl.cols - 1
+            })
+            .collect();
+        if candidates.is_empty() {
+            return Err("no dead end left for the shaft up".into());
+        }
+        let i = candidates[rng.below(candidates.len() as u64) as usize];
+        Some((i / lvl.cols, i % lvl.cols))
+    } else {
+        None
+    };
+    Ok(BuiltLevel {
+        occ: lvl.occ,
+        shaft_up,
+        expected,
+    })
+}
+
+/// Places one structure: a random rotation and a random centre in `[3, n - 4]` whose
+/// footprint, with its clearance, is free. Bounded tries; `None` when the level is too full.
+fn place<'a>(
+    lvl: &mut Level,
+    name: &'a str,
+    shape: &'a dyn ConstraintShape,
+    id: u32,
+    rng: &mut WorldRng,
+) -> Option<Placed<'a>> {
+    let footprint = shape.footprint();
+    let clearance = shape.clearance().max(1);
+    let (rmax, cmax) = (
+        (lvl.rows as i64 - 4).max(3),
+        (lvl.cols as i64 - 4).max(3),
+    );
+    for _ in 0..200 {
+        let rotation = rng.below(u64::from(shape.rotations().clamp(1, 4))) as u8;
+        let centre = (rng.int_in(3, rmax) as i32, rng.int_in(3, cmax) as i32);
+        let cells: Vec<(i32, i32)> = footprint
+            .iter()
+            .map(|&o| {
+                let (dr, dc) = rotate_offset(o, rotation);
+                (centre.0 + dr, centre.1 + dc)
+            })
+            .collect();
+        let inside = cells.iter().all(|&(r, c)| {
+            r >= 1 && c >= 1 && (r as usize) < lvl.rows - 1 && (c as usize) < lvl.cols - 1
+        });
+        if !inside {
+            continue;
+        }
+        let free = cells.iter().all(|&(r, c)| {
+            (-clearance..=clearance).all(|dr| {
+                (-clearance..=clearance).all(|dc| {
+                    lvl.index(r + dr, c + dc)
+                        .is_none_or(|i| !lvl.occ[i] && lvl.reserved[i] == NONE)
+                })
+            })
+        });
+        if !free {
+            continue;
+        }
+        for &(r, c) in &cells {
+            let i = lvl.index(r, c).expect("inside");
+            lvl.occ[i] = true;
+            lvl.owner[i] = id;
+        }
+        // Keep the first cells of each arm free until the arm is routed.
+        for arm in shape.arms() {
+            let (fr, fc) = rotate_offset(arm.from, rotation);
+            let from = (centre.0 + fr, centre.1 + fc);
+            let exits: Vec<(i32, i32)> = match arm.heading.rotated(rotation) {
+                Heading::Axis(d) => {
+                    let (sr, sc) = d.step();
+                    vec![(from.0 + sr, from.1 + sc), (from.0 + 2 * sr, from.1 + 2 * sc)]
+                }
+                Heading::Quadrant(a, b) => {
+                    let ((ar, ac), (br, bc)) = (a.step(), b.step());
+                    vec![(from.0 + ar, from.1 + ac), (from.0 + br, from.1 + bc)]
+                }
+            };
+            for (r, c) in exits {
+                if let Some(i) = lvl.index(r, c) {
+                    if !lvl.occ[i] {
+                        lvl.reserved[i] = id;
+                    }
+                }
+            }
+        }
+        return Some(Placed {
+            name,
+            shape,
+            centre,
+            rotation,
+        });
+    }
+    None
+}
+
+fn segment(lvl: &Level, a: (i32, i32), b: (i32, i32), rng: &mut WorldRng) -> Segment {
+    Segment {
+        start: [f64::from(a.0), f64::from(a.1)],
+        end: [f64::from(b.0), f64::from(b.1)],
+        rows: lvl.rows,
+        cols: lvl.cols,
+        side: if rng.coin() { 1.0 } else { -1.0 },
+    }
+}
+
+/// An arm of a placed structure.
+struct ArmState {
+    structure: u32,
+    from: (i32, i32),
+    heading: Heading,
+    used: bool,
+}
+
+/// Links every structure to the growing network through an unused arm of each, nearest pair
+/// first. The landing from below joins the first structure it can reach.
+fn link_structures(
+    lvl: &mut Level,
+    search: &mut Search,
+    descriptor: &dyn RouteDescriptor,
+    rng: &mut WorldRng,
+    placed: &[Placed],
+    arms: &mut [ArmState],
+    landing: Option<usize>,
+) -> Result<(), String> {
+    let n = placed.len();
+    if n == 0 {
+        return Ok(());
+    }
+    let mut linked = vec![false; n];
+    let mut landing_free = landing;
+    if landing.is_none() {
+        linked[0] = true;
+    }
+    let manhattan = |a: (i32, i32), b: (i32, i32)| (a.0 - b.0).abs() + (a.1 - b.1).abs();
+    while linked.iter().any(|l| !l) {
+        // Candidate links: (distance, from-cell, from-arm or landing, to-arm).
+        let mut pairs: Vec<(i32, Option<usize>, usize)> = Vec::new();
+        for (j, b) in arms.iter().enumerate() {
+            if b.used || linked[b.structure as usize] {
+                continue;
+            }
+            if let Some(l) = landing_free {
+                pairs.push((manhattan(lvl.rc(l), b.from), None, j));
+            }
+            for (i, a) in arms.iter().enumerate() {
+                if !a.used && linked[a.structure as usize] {
+                    pairs.push((manhattan(a.from, b.from), Some(i), j));
+                }
+            }
+        }
+        pairs.sort_unstable();
+        let mut done = false;
+        for &(_, a, b) in pairs.iter().take(16) {
+            let (s, owner_a) = match a {
+                Some(i) => (
+                    lvl.index(arms[i].from.0, arms[i].from.1).expect("inside"),
+                    arms[i].structure,
+                ),
+                None => (landing_free.expect("landing candidate"), NONE),
+            };
+            let g = lvl.index(arms[b].from.0, arms[b].from.1).expect("inside");
+            let seg = segment(lvl, lvl.rc(s), arms[b].from, rng);
+            let guide = descriptor.guide(&seg);
+            if let Some(path) = search.route(lvl, s, g, &guide, [owner_a, arms[b].structure]) {
+                if path.is_empty() {
+                    continue; // two arms touching directly would fuse their structures
+                }
+                lvl.commit(&path);
+                match a {
+                    Some(i) => arms[i].used = true,
+                    None => landing_free = None,
+                }
+                arms[b].used = true;
+                linked[arms[b].structure as usize] = true;
+                done = true;
+                break;
+            }
+        }
+        if !done {
+            let stuck = linked.iter().position(|l| !l).expect("some unlinked");
+            let p = &placed[stuck];
+            return Err(format!(
+                "could not link the {} at row {}, column {} to the rest of the level",
+                p.name, p.centre.0, p.centre.1
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// Routes one arm from its footprint cell to an objective node; after failed draws the reach
+/// shrinks. Without `exact`, an objective next to an existing corridor joins it, as in the
+/// original (arms join up). An arm that finds no room at all stays a stub where its footprint
+/// cell is already a dead end; a loop's corner arm must have at least one cell.
+fn route_arm(
+    lvl: &mut Level,
+    search: &mut Search,
+    descriptor: &dyn RouteDescriptor,
+    rng: &mut WorldRng,
+    p: &Placed,
+    arm: &ArmState,
+) -> Result<(), String> {
+    let from = arm.from;
+    let s = lvl.index(from.0, from.1).expect("footprint is inside");
+    let id = arm.structure;
+    for attempt in 0..12 {
+        let objective = p
+            .shape
+            .objective([from.0, from.1], arm.heading, lvl.rows, lvl.cols, rng);
+        // Shrink the reach after every few failures.
+        let shrink = 1 << (attempt / 3);
+        let objective = [
+            from.0 + (objective[0] - from.0) / shrink,
+            from.1 + (objective[1] - from.1) / shrink,
+        ];
+        let target = lvl.clamp_inside(objective);
+        if (target.0 - from.0).abs() + (target.1 - from.1).abs() < 1 {
+            continue;
+        }
+        let t = lvl.index(target.0, target.1).expect("clamped inside");
+        let goal = if lvl.exact {
+            None
+        } else {
+            join_candidate(lvl, target, s)
+        };
+        let g = match goal {
+            Some(w) => w,
+            None => {
+                let free = !lvl.occ[t]
+                    && (lvl.reserved[t] == NONE || lvl.reserved[t] == id)
+                    && lvl.neighbours(t).all(|n| !lvl.occ[n] || n == s);
+                if !free {
+                    continue;
+                }
+                t
+            }
+        };
+        let seg = segment(lvl, from, lvl.rc(g), rng);
+        let guide = descriptor.guide(&seg);
+        if let Some(mut path) = search.route(lvl, s, g, &guide, [id, NONE]) {
+            if !lvl.occ[g] {
+                path.push(g);
+            }
+            lvl.commit(&path);
+            return Ok(());
+        }
+    }
+    if lvl.degree(s) <= 1 {
+        return Ok(()); // a stub: the footprint cell is the arm's dead end
+    }
+    Err(format!(
+        "could not route an arm of the {} at row {}, column {}",
+        p.name, p.centre.0, p.centre.1
+    ))
+}
+
+/// A corridor cell within one cell of `target` that an arm may end on (not a structure, not
+/// the landing, at most two neighbours), first in raster order.
+fn join_candidate(lvl: &Level, target: (i32, i32), s: usize) -> Option<usize> {
+    (-1..=1)
+        .flat_map(|dr| (-1..=1).map(move |dc| (dr, dc)))
+        .filter_map(|(dr, dc)| lvl.index(target.0 + dr, target.1 + dc))
+        .find(|&i| lvl.occ[i] && lvl.owner[i] == CORRIDOR && lvl.degree(i) <= 2 && i != s)
+}
+
+/// Links every piece of the level to the piece holding the landing (or the first structure),
+/// nearest piece first, always between free ends so no junction is made. Without `exact`, a
+/// piece with no free end may also be joined onto a corridor.
+/// Pairs of cells `(distance, inside, outside)` that may be linked: free ends (the landing,
+/// or an arm's dead end) inside the linked piece `root` and outside it, nearest first. With
+/// `joins`, plain corridor cells count too.
+fn candidate_links(lvl: &Level, label: &[u32], root: u32, joins: bool) -> Vec<(i32, usize, usize)> {
+    let usable = |i: usize| {
+        lvl.occ[i]
+            && match lvl.owner[i] {
+                LANDING => lvl.degree(i) == 0,
+                CORRIDOR => lvl.degree(i) == 1 || (joins && lvl.degree(i) == 2),
+                _ => false,
+            }
+    };
+    let ends = |inside: bool| -> Vec<usize> {
+        (0..lvl.occ.len())
+            .filter(|&i| usable(i) && (label[i] == root) == inside)
+            .collect()
+    };
+    let (a_ends, b_ends) = (ends(true), ends(false));
+    let mut pairs = Vec::with_capacity(a_ends.len() * b_ends.len());
+    for &a in &a_ends {
+        let (ar, ac) = lvl.rc(a);
+        for &b in &b_ends {
+            let (br, bc) = lvl.rc(b);
+            pairs.push(((ar - br).abs() + (ac - bc).abs(), a, b));
+        }
+    }
+    pairs.sort_unstable();
+    pairs
+}
+
+fn link_components(
+    lvl: &mut Level,
+    search: &mut Search,
+    descriptor: &dyn RouteDescriptor,
+    rng: &mut WorldRng,
+    landing: Option<usize>,
+) -> Result<(), String> {
+    loop {
+        let (label, n) = lvl.components();
+        if n <= 1 {
+            return Ok(());
+        }
+        let root = landing
+            .map(|l| label[l])
+            .unwrap_or_else(|| label[lvl.owner.iter().position(|&o| o == 0).unwrap_or(0)]);
+        let mut linked = false;
+        for pass in 0..2 {
+            if pass == 1 && lvl.exact {
+                break;
+            }
+            let pairs = candidate_links(lvl, &label, root, pass == 1);
+            for &(_, a, b) in pairs.iter().take(24) {
+                let seg = segment(lvl, lvl.rc(a), lvl.rc(b), rng);
+                let guide = descriptor.guide(&seg);
+                if let Some(path) = search.route(lvl, a, b, &guide, [NONE; 2]) {
+                    lvl.commit(&path);
+                    linked = true;
+                    break;
+                }
+            }
+            if linked {
+                break;
+            }
+        }
+        if !linked {
+            return Err(format!(
+                "could not link {} separate pieces of the level into one network",
+                n
+            ));
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::shapes::{Intersection, Loop, TJunction};
+
+    #[test]
+    fn structures_bring_their_own_junctions() {
+        let t = structure_counts(&TJunction);
+        assert_eq!((t.t_junctions, t.intersections, t.loops), (1, 0, 0));
+        let x = structure_counts(&Intersection);
+        assert_eq!((x.t_junctions, x.intersections, x.loops), (0, 1, 0));
+        let l = structure_counts(&Loop);
+        assert_eq!((l.t_junctions, l.intersections, l.loops), (4, 0, 1));
+    }
+
+    #[test]
+    fn routes_keep_clear_of_other_corridors() {
+        let mut lvl = Level::new(10, 10, true);
+        // A corridor along row 5.
+        for c in 2..8 {
+            lvl.occ[5 * 10 + c] = true;
+            lvl.owner[5 * 10 + c] = CORRIDOR;
+        }
+        // Row 4 touches it; row 3 does not.
+        assert!(!lvl.route_may_use(4 * 10 + 4, 0, 99, [NONE; 2]));
+        assert!(lvl.route_may_use(3 * 10 + 4, 0, 99, [NONE; 2]));
+        // Unless the corridor cell it touches is the route's own end.
+        assert!(lvl.route_may_use(4 * 10 + 2, 5 * 10 + 2, 99, [NONE; 2]));
+    }
+}

@@ -1,0 +1,43 @@
+//! # subtgraph-core
+//!
+//! The world model, the extension traits and the generation pipeline of subtgraph, a
+//! procedural generator of subterranean worlds (mines, caves, lava tubes) with controlled
+//! topology, after *SubTGraph* (the paper's Methodology).
+//!
+//! A world is an occupancy grid of `levels x rows x cols` cells. Structures
+//! ([`shape::ConstraintShape`]: T-junctions, intersections, loops) are placed on each level,
+//! their arms bent by a [`route::RouteDescriptor`] and laid by guided shortest paths, levels are
+//! joined by shafts, and every occupied cell is classified into a [`tile::Tile`]. The result, a
+//! [`world::World`], also carries its topological [`graph::TopologyGraph`] and a report of the
+//! requested against the achieved topology per level.
+//!
+//! Components are found by the `type` names of the pipeline file through one
+//! [`registry::Registry`], which built-ins and dynamically loaded plugins fill alike.
+//!
+//! This crate does no file I/O: callers pass text and bytes in, and exporters write through a
+//! [`export::WorldWriter`]. That keeps the core usable from tests, services and batch jobs, and
+//! lets the command line make world folders atomic.
+
+pub mod config;
+pub mod error;
+pub mod export;
+pub mod generate;
+pub mod graph;
+pub mod grid;
+pub mod import;
+pub mod npy;
+pub mod params;
+pub mod registry;
+pub mod rng;
+pub mod route;
+pub mod shape;
+pub mod shapes;
+pub mod tile;
+pub mod tileset;
+pub mod world;
+
+pub use config::Pipeline;
+pub use error::{ConfigError, Error};
+pub use generate::generate;
+pub use registry::Registry;
+pub use world::World;

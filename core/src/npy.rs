@@ -1,0 +1,206 @@
+//! The NumPy `.npy` format (version 1.0 to 3.0), as bytes: writing `uint8` grids and reading
+//! the integer, boolean and float arrays the original tool and numpy users save.
+
+/// A decoded array: its shape and its values in C (row-major) order.
+#[derive(Clone, Debug, PartialEq)]
+pub struct NpyArray {
+    /// Dimensions.
+    pub shape: Vec<usize>,
+    /// Values, converted to `f64` (exact for every integer type up to 2^53).
+    pub values: Vec<f64>,
+    /// The numpy type string as found (`<i8`, `|u1`, ...).
+    pub dtype: String,
+}
+
+/// Encodes a `uint8` array of the given shape (C order) as `.npy` version 1.0.
+pub fn encode_u8(shape: &[usize], data: &[u8]) -> Vec<u8> {
+    assert_eq!(shape.iter().product::<usize>(), data.len(), "shape and data disagree");
+    let dims: Vec<String> = shape.iter().map(|d| d.to_string()).collect();
+    let shape_text = if dims.len() == 1 {
+        format!("({},)", dims[0])
+    } else {
+        format!("({})", dims.join(", "))
+    };
+    let mut header =
+        format!("{{'descr': '|u1', 'fortran_order': False, 'shape': {shape_text}, }}");
+    // Pad with spaces so that magic (6) + version (2) + length (2) + header ends on a multiple
+    // of 64 bytes, newline last.
+    let unpadded = 10 + header.len() + 1;
+    header.push_str(&" ".repeat((64 - unpadded % 64) % 64));
+    header.push('\n');
+    let mut out = Vec::with_capacity(10 + header.len() + data.len());
+    out.extend_from_slice(b"\x93NUMPY\x01\x00");
+    out.extend_from_slice(&(header.len() as u16).to_le_bytes());
+    out.extend_from_slice(header.as_bytes());
+    out.extend_from_slice(data);
+    out
+}
+
+/// Decodes a `.npy` file. The error says what is wrong with it.
+pub fn decode(bytes: &[u8]) -> Result<NpyArray, String> {
+    if bytes.len() < 10 || &bytes[..6] != b"\x93NUMPY" {
+        return Err("not a .npy file (no \\x93NUMPY magic); save the array with numpy.save".into());
+    }
+    let major = bytes[6];
+    let (header_len, start) = match major {
+        1 => (u16::from_le_bytes([bytes[8], bytes[9]]) as usize, 10),
+        2 | 3 => {
+            if bytes.len() < 12 {
+                return Err("truncated .npy header".into());
+            }
+            (
+                u32::from_le_bytes([bytes[8], bytes[9], bytes[10], bytes[11]]) as usize,
+                12,
+            )
+        }
+        v => return Err(format!("unsupported .npy version {v}")),
+    };
+    let header = bytes
+        .get(start..start + header_len)
+        .ok_or("truncated .npy header")?;
+    let header = std::str::from_utf8(header).map_err(|_| "the .npy header is not text")?;
+    let dtype = dict_value(header, "descr")
+        .map(|v| v.trim_matches(|c| c == '\'' || c == '"').to_owned())
+        .ok_or("the .npy header has no 'descr'")?;
+    let fortran = dict_value(header, "fortran_order").is_some_and(|v| v.trim() == "True");
+    let shape_text = dict_value(header, "shape").ok_or("the .npy header has no 'shape'")?;
+    let shape: Vec<usize> = shape_text
+        .trim_matches(|c| c == '(' || c == ')')
+        .split(',')
+        .map(str::trim)
+        .filter(|s| !s.is_empty())
+        .map(|s| s.parse::<usize>().map_err(|_| format!("bad shape {shape_text}")))
+        .collect::<Result<_, _>>()?;
+    let count: usize = shape.iter().product();
+    let data = &bytes[start + header_len..];
+    let (endian, kind, size) = {
+        let b = dtype.as_bytes();
+        if b.len() < 3 {
+            return Err(format!("unsupported dtype '{dtype}'"));
+        }
+        let size: usize = dtype[2..]
+            .parse()
+            .map_err(|_| format!("unsupported dtype '{dtype}'"))?;
+        (b[0], b[1], size)
+    };
+    if !matches!((kind, size), (b'u' | b'i', 1 | 2 | 4 | 8) | (b'b', 1) | (b'f', 4 | 8)) {
+        return Err(format!(
+            "unsupported dtype '{dtype}': use an integer, boolean or float array"
+        ));
+    }
+    if data.len() < count * size {
+        return Err(format!(
+            "the file holds {} bytes of data, the header promises {} ({count} values of {size} bytes)",
+            data.len(),
+            count * size
+        ));
+    }
+    let big = endian == b'>';
+    let read = |i: usize| -> f64 {
+        let mut b = [0u8; 8];
+        b[..size].copy_from_slice(&data[i * size..(i + 1) * size]);
+        if big {
+            b[..size].reverse();
+        }
+        match (kind, size) {
+            (b'i', _) => {
+                let shift = 64 - 8 * size as u32;
+                ((i64::from_le_bytes(b) << shift) >> shift) as f64
+            }
+            (b'f', 4) => f64::from(f32::from_le_bytes([b[0], b[1], b[2], b[3]])),
+            (b'f', _) => f64::from_le_bytes(b),
+            _ => u64::from_le_bytes(b) as f64,
+        }
+    };
+    let mut values: Vec<f64> = (0..count).map(read).collect();
+    if fortran && shape.len() > 1 {
+        // Fortran order: the first index varies fastest. Reorder to C order.
+        let mut c_order = vec![0.0; count];
+        let mut strides_f = vec![1usize; shape.len()];
+        for d in 1..shape.len() {
+            strides_f[d] = strides_f[d - 1] * shape[d - 1];
+        }
+        for (ci, slot) in c_order.iter_mut().enumerate() {
+            let mut rest = ci;
+            let mut fi = 0;
+            for d in (0..shape.len()).rev() {
+                fi += (rest % shape[d]) * strides_f[d];
+                rest /= shape[d];
+            }
+            *slot = values[fi];
+        }
+        values = c_order;
+    }
+    Ok(NpyArray {
+        shape,
+        values,
+        dtype,
+    })
+}
+
+/// The text of a key's value in a numpy header dict (`{'descr': '<i8', ...}`).
+fn dict_value<'a>(header: &'a str, key: &str) -> Option<&'a str> {
+    let k = header
+        .find(&format!("'{key}'"))
+        .or_else(|| header.find(&format!("\"{key}\"")))?;
+    let rest = &header[k + key.len() + 2..];
+    let rest = rest.trim_start().strip_prefix(':')?.trim_start();
+    let end = if rest.starts_with('(') {
+        rest.find(')')? + 1
+    } else {
+        rest.find(',').or_else(|| rest.find('}'))?
+    };
+    Some(rest[..end].trim())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn written_arrays_read_back_and_align_to_64_bytes() {
+        let data: Vec<u8> = (0..24).collect();
+        let bytes = encode_u8(&[2, 3, 4], &data);
+        let header_len = u16::from_le_bytes([bytes[8], bytes[9]]) as usize;
+        assert_eq!((10 + header_len) % 64, 0);
+        let a = decode(&bytes).unwrap();
+        assert_eq!(a.shape, vec![2, 3, 4]);
+        assert_eq!(a.values, data.iter().map(|&v| f64::from(v)).collect::<Vec<_>>());
+        assert_eq!(a.dtype, "|u1");
+    }
+
+    fn with_header(descr: &str, fortran: bool, shape: &str, data: &[u8]) -> Vec<u8> {
+        let h = format!(
+            "{{'descr': '{descr}', 'fortran_order': {}, 'shape': {shape}, }}\n",
+            if fortran { "True" } else { "False" }
+        );
+        let mut out = b"\x93NUMPY\x01\x00".to_vec();
+        out.extend_from_slice(&(h.len() as u16).to_le_bytes());
+        out.extend_from_slice(h.as_bytes());
+        out.extend_from_slice(data);
+        out
+    }
+
+    #[test]
+    fn reads_int64_float64_and_fortran_order() {
+        let ints: Vec<u8> = [-1i64, 10, 111].iter().flat_map(|v| v.to_le_bytes()).collect();
+        let a = decode(&with_header("<i8", false, "(3,)", &ints)).unwrap();
+        assert_eq!(a.values, vec![-1.0, 10.0, 111.0]);
+        let floats: Vec<u8> = [1.0f64, 2.0, 3.0, 4.0, 5.0, 6.0]
+            .iter()
+            .flat_map(|v| v.to_le_bytes())
+            .collect();
+        // Fortran order 2x3: memory is column by column.
+        let a = decode(&with_header("<f8", true, "(2, 3)", &floats)).unwrap();
+        assert_eq!(a.values, vec![1.0, 3.0, 5.0, 2.0, 4.0, 6.0]);
+    }
+
+    #[test]
+    fn refuses_what_it_cannot_read() {
+        assert!(decode(b"hello world").unwrap_err().contains("magic"));
+        let e = decode(&with_header("<c16", false, "(1,)", &[0; 16])).unwrap_err();
+        assert!(e.contains("unsupported dtype"), "{e}");
+        let e = decode(&with_header("<i8", false, "(4,)", &[0; 16])).unwrap_err();
+        assert!(e.contains("header promises"), "{e}");
+    }
+}

@@ -1,0 +1,215 @@
+//! A component's table from the pipeline file (`[route]`, `[tileset]`, `[[export]]`, ...),
+//! keeping where each key was written so that a factory's complaint points at the right line.
+
+use std::collections::BTreeMap;
+use std::sync::Arc;
+
+use serde::de::DeserializeOwned;
+use serde::{Deserialize, Deserializer, Serialize, Serializer};
+
+use crate::error::{ConfigError, Location};
+
+/// A component section: its `type` name and its other keys.
+#[derive(Clone, Debug, Default)]
+pub struct ComponentSpec {
+    /// The `type` key: the registered name of the component.
+    pub type_name: String,
+    /// The other keys.
+    pub params: Params,
+}
+
+impl ComponentSpec {
+    /// A spec with no parameters, for defaults and the command line.
+    pub fn named(type_name: &str) -> Self {
+        Self {
+            type_name: type_name.to_owned(),
+            params: Params::default(),
+        }
+    }
+}
+
+/// The keys of a component section other than `type`.
+#[derive(Clone, Debug, Default)]
+pub struct Params {
+    values: BTreeMap<String, toml::Value>,
+    spans: BTreeMap<String, std::ops::Range<usize>>,
+    locations: BTreeMap<String, Location>,
+    section: Option<Location>,
+    section_span: Option<std::ops::Range<usize>>,
+    /// Dotted name of the section (`route`, `export[1]`), for messages.
+    pub section_name: String,
+}
+
+impl Params {
+    /// Parameters from plain values (no file locations), for code that builds pipelines.
+    pub fn from_table(section_name: &str, table: toml::Table) -> Self {
+        Self {
+            values: table.into_iter().collect(),
+            section_name: section_name.to_owned(),
+            ..Self::default()
+        }
+    }
+
+    /// The values as a TOML table.
+    pub fn to_table(&self) -> toml::Table {
+        self.values
+            .iter()
+            .map(|(k, v)| (k.clone(), v.clone()))
+            .collect()
+    }
+
+    /// Whether there are no parameters.
+    pub fn is_empty(&self) -> bool {
+        self.values.is_empty()
+    }
+
+    /// One raw value.
+    pub fn raw(&self, key: &str) -> Option<&toml::Value> {
+        self.values.get(key)
+    }
+
+    /// Removes a key the host consumes itself (like a structure's `count`).
+    pub fn take(&mut self, key: &str) -> Option<(toml::Value, Option<Location>)> {
+        self.spans.remove(key);
+        let loc = self.locations.remove(key);
+        self.values.remove(key).map(|v| (v, loc))
+    }
+
+    /// Resolves byte spans to lines and columns once the source text is known.
+    pub(crate) fn locate(&mut self, file: &Arc<str>, source: &str, section_name: String) {
+        self.section_name = section_name;
+        for (k, span) in &self.spans {
+            self.locations
+                .insert(k.clone(), Location::of_offset(file, source, span.start));
+        }
+        if let Some(span) = &self.section_span {
+            self.section = Some(Location::of_offset(file, source, span.start));
+        }
+    }
+
+    /// An error about `key` (or about the whole section when `key` is not present).
+    pub fn error(&self, key: &str, message: impl Into<String>) -> ConfigError {
+        let location = self
+            .locations
+            .get(key)
+            .or(self.section.as_ref())
+            .cloned()
+            .unwrap_or_else(|| Location {
+                file: Arc::from("<pipeline>"),
+                line: 0,
+                column: 0,
+            });
+        let key = if self.section_name.is_empty() {
+            key.to_owned()
+        } else {
+            format!("{}.{key}", self.section_name)
+        };
+        ConfigError {
+            location,
+            key,
+            message: message.into(),
+        }
+    }
+
+    /// Deserializes all parameters into `T`. Put `#[serde(deny_unknown_fields)]` on `T` so a
+    /// misspelt key is an error, not a silently ignored setting.
+    pub fn deserialize<T: DeserializeOwned>(&self) -> Result<T, ConfigError> {
+        let value = toml::Value::Table(self.to_table());
+        T::deserialize(value).map_err(|e| {
+            let message = e.to_string().trim().to_owned();
+            let key = message
+                .split('`')
+                .skip(1)
+                .step_by(2)
+                .find(|k| self.values.contains_key(*k))
+                .unwrap_or("")
+                .to_owned();
+            self.error(&key, message)
+        })
+    }
+
+    /// Fails when any parameter is present: for components that take none.
+    pub fn expect_none(&self) -> Result<(), ConfigError> {
+        match self.values.keys().next() {
+            None => Ok(()),
+            Some(k) => Err(self.error(k, "this component takes no parameters; remove the key")),
+        }
+    }
+}
+
+impl<'de> Deserialize<'de> for ComponentSpec {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        use serde::de::Error;
+        let table: toml::Spanned<BTreeMap<toml::Spanned<String>, toml::Spanned<toml::Value>>> =
+            toml::Spanned::deserialize(d)?;
+        let section_span = table.span();
+        let mut type_name = None;
+        let mut params = Params {
+            section_span: Some(section_span),
+            ..Params::default()
+        };
+        for (k, v) in table.into_inner() {
+            let key_span = k.span();
+            let key = k.into_inner();
+            if key == "type" {
+                match v.into_inner() {
+                    toml::Value::String(s) => type_name = Some(s),
+                    _ => return Err(D::Error::custom("`type` must be a string naming a component")),
+                }
+            } else {
+                params.spans.insert(key.clone(), key_span);
+                params.values.insert(key, v.into_inner());
+            }
+        }
+        let type_name = type_name.ok_or_else(|| {
+            D::Error::custom("missing `type`: name the component, e.g. type = \"parabolic\"")
+        })?;
+        Ok(ComponentSpec { type_name, params })
+    }
+}
+
+impl Serialize for ComponentSpec {
+    fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        let mut table = toml::Table::new();
+        table.insert("type".into(), toml::Value::String(self.type_name.clone()));
+        table.extend(self.params.to_table());
+        table.serialize(s)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[derive(Debug, Deserialize)]
+    #[serde(deny_unknown_fields)]
+    #[allow(dead_code)]
+    struct P {
+        amplitude: f64,
+    }
+
+    #[derive(Debug, Deserialize)]
+    struct Doc {
+        route: ComponentSpec,
+    }
+
+    #[test]
+    fn misspelt_keys_point_at_their_line() {
+        let src = "[route]\ntype = \"sine\"\n\namplitud = 3.0\n";
+        let mut doc: Doc = toml::from_str(src).unwrap();
+        doc.route
+            .params
+            .locate(&Arc::from("p.toml"), src, "route".into());
+        assert_eq!(doc.route.type_name, "sine");
+        let err = doc.route.params.deserialize::<P>().unwrap_err();
+        assert_eq!(err.location.line, 4, "{err}");
+        assert_eq!(err.key, "route.amplitud");
+        assert!(err.message.contains("unknown field"), "{err}");
+    }
+
+    #[test]
+    fn a_missing_type_is_refused() {
+        let err = toml::from_str::<Doc>("[route]\namplitude = 1.0\n").unwrap_err();
+        assert!(err.to_string().contains("missing `type`"), "{err}");
+    }
+}

@@ -1,0 +1,279 @@
+//! A generated (or imported) world: occupancy, tiles, shafts, the topological graph and the
+//! report of what was asked against what was achieved.
+
+use std::collections::BTreeMap;
+
+use serde::Serialize;
+
+use crate::config::{Pipeline, Resolved};
+use crate::graph::TopologyGraph;
+use crate::grid::{Cell, Direction, Grid3, Occupancy};
+use crate::tile::{Tile, TileKind, classify_cell};
+
+/// A vertical shaft from a dead end of one level to a dead end of the level above.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+pub struct Shaft {
+    /// The dead end at the foot of the shaft, on level `k`.
+    pub up: Cell,
+    /// The dead end where it arrives, on level `k + 1`.
+    pub landing: Cell,
+}
+
+/// Topology counts of one level.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
+pub struct Counts {
+    /// Tiles with three openings.
+    pub t_junctions: u32,
+    /// Tiles with four openings.
+    pub intersections: u32,
+    /// Independent cycles (edges - cells + components, over 4-adjacency).
+    pub loops: u32,
+    /// Tiles with one opening (shaft feet and landings included).
+    pub dead_ends: u32,
+}
+
+/// What one level asked for and what it has.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct LevelReport {
+    /// Level index.
+    pub level: usize,
+    /// Structures requested, by shape name.
+    pub requested: BTreeMap<String, u32>,
+    /// Junction tiles and cycles the requested structures bring (a loop's arms meet its ring at
+    /// T-junctions of its own). `None` for imported worlds.
+    pub expected: Option<Counts>,
+    /// Counted on the final grid.
+    pub achieved: Counts,
+    /// Occupied cells.
+    pub cells: u32,
+    /// 4-connected pieces of this level alone (shafts not counted).
+    pub components: u32,
+    /// Attempts the generator needed (1 = first try). 0 for imported worlds.
+    pub attempts: u32,
+}
+
+/// A whole world.
+#[derive(Clone, Debug)]
+pub struct World {
+    /// The resolved pipeline: every range drawn, every level's counts written out.
+    pub pipeline: Pipeline,
+    /// The same numbers, typed.
+    pub resolved: Resolved,
+    /// Which cells are passages.
+    pub occupancy: Occupancy,
+    /// The tile of each occupied cell.
+    pub tiles: Grid3<Option<Tile>>,
+    /// Shafts between consecutive levels.
+    pub shafts: Vec<Shaft>,
+    /// Where a robot starts: a dead end of level 0 that is not a shaft.
+    pub start: Option<Cell>,
+    /// Per level, the `[row, col]` offset that places it over the level below (non-zero only
+    /// for imported worlds whose shafts are not stacked).
+    pub level_offsets: Vec<[i64; 2]>,
+    /// Per-level requested and achieved counts.
+    pub levels: Vec<LevelReport>,
+    /// Nodes and corridors.
+    pub graph: TopologyGraph,
+}
+
+impl World {
+    /// Classifies tiles, marks shafts, builds the graph and counts the topology of a grid.
+    /// Used for generated and imported worlds alike.
+    pub fn assemble(
+        pipeline: Pipeline,
+        resolved: Resolved,
+        occupancy: Occupancy,
+        shafts: Vec<Shaft>,
+        requested: Vec<BTreeMap<String, u32>>,
+        expected: Vec<Option<Counts>>,
+        attempts: Vec<u32>,
+    ) -> World {
+        let mut tiles = Grid3::filled(
+            occupancy.levels(),
+            occupancy.rows(),
+            occupancy.cols(),
+            None,
+        );
+        for c in occupancy.cells() {
+            if *occupancy.get(c) {
+                *tiles.get_mut(c) = Some(classify_cell(&occupancy, c));
+            }
+        }
+        for s in &shafts {
+            if let Some(t) = tiles.get_mut(s.up) {
+                t.kind = TileKind::ShaftUp;
+            }
+            if let Some(t) = tiles.get_mut(s.landing) {
+                t.kind = TileKind::ShaftLanding;
+            }
+        }
+        let start = occupancy
+            .level_cells(0)
+            .find(|&c| tiles.get(c).is_some_and(|t| t.kind == TileKind::DeadEnd))
+            .or_else(|| occupancy.level_cells(0).find(|&c| *occupancy.get(c)));
+        let mut level_offsets = vec![[0i64, 0i64]; occupancy.levels()];
+        for s in &shafts {
+            let below = level_offsets[s.up.level];
+            level_offsets[s.landing.level] = [
+                below[0] + s.up.row as i64 - s.landing.row as i64,
+                below[1] + s.up.col as i64 - s.landing.col as i64,
+            ];
+        }
+        let levels = (0..occupancy.levels())
+            .map(|l| {
+                let (achieved, cells, components) = count_level(&occupancy, &tiles, l);
+                LevelReport {
+                    level: l,
+                    requested: requested.get(l).cloned().unwrap_or_default(),
+                    expected: expected.get(l).copied().flatten(),
+                    achieved,
+                    cells,
+                    components,
+                    attempts: attempts.get(l).copied().unwrap_or(0),
+                }
+            })
+            .collect();
+        let mut world = World {
+            pipeline,
+            resolved,
+            occupancy,
+            tiles,
+            shafts,
+            start,
+            level_offsets,
+            levels,
+            graph: TopologyGraph::default(),
+        };
+        world.graph = TopologyGraph::build(&world);
+        world
+    }
+
+    /// World-frame position in metres of a cell's centre on its floor: x east, y north, z up,
+    /// origin at the centre of cell (row `rows - 1`, column 0) of level 0.
+    pub fn cell_position(&self, c: Cell) -> [f64; 3] {
+        let off = self.level_offsets[c.level];
+        let pitch = self.resolved.tile_pitch;
+        let row = c.row as f64 + off[0] as f64;
+        let col = c.col as f64 + off[1] as f64;
+        [
+            col * pitch,
+            (self.occupancy.rows() as f64 - 1.0 - row) * pitch,
+            c.level as f64 * self.resolved.level_height,
+        ]
+    }
+
+    /// The cells reachable from the start through corridors and shafts.
+    pub fn reachable_from_start(&self) -> usize {
+        let Some(start) = self.start else { return 0 };
+        let occ = &self.occupancy;
+        let mut seen = Grid3::filled(occ.levels(), occ.rows(), occ.cols(), false);
+        let mut stack = vec![start];
+        *seen.get_mut(start) = true;
+        let mut count = 0;
+        while let Some(c) = stack.pop() {
+            count += 1;
+            let mut next: Vec<Cell> = Direction::ALL
+                .iter()
+                .filter_map(|&d| occ.neighbour(c, d))
+                .filter(|&n| *occ.get(n))
+                .collect();
+            for s in &self.shafts {
+                if s.up == c {
+                    next.push(s.landing);
+                }
+                if s.landing == c {
+                    next.push(s.up);
+                }
+            }
+            for n in next {
+                if !*seen.get(n) {
+                    *seen.get_mut(n) = true;
+                    stack.push(n);
+                }
+            }
+        }
+        count
+    }
+
+    /// The spatial-code grid of the original (0 empty, 1 dead end, ..., 11 shaft up, 111 shaft
+    /// landing), level-major, row-major.
+    pub fn spatial_codes(&self) -> Vec<u8> {
+        self.tiles
+            .as_slice()
+            .iter()
+            .map(|t| t.map_or(0, |t| t.kind.spatial_code()))
+            .collect()
+    }
+}
+
+/// Counts one level: junctions, intersections, dead ends, independent cycles, cells and
+/// 4-connected components.
+fn count_level(occ: &Occupancy, tiles: &Grid3<Option<Tile>>, level: usize) -> (Counts, u32, u32) {
+    let mut counts = Counts::default();
+    let mut cells = 0u32;
+    let mut edges = 0u32;
+    for c in occ.level_cells(level) {
+        let Some(t) = tiles.get(c) else { continue };
+        cells += 1;
+        match t.kind {
+            TileKind::TJunction => counts.t_junctions += 1,
+            TileKind::Intersection => counts.intersections += 1,
+            TileKind::DeadEnd | TileKind::ShaftUp | TileKind::ShaftLanding => {
+                counts.dead_ends += u32::from(t.openings.count_ones() == 1)
+            }
+            _ => {}
+        }
+        // Count each edge once: toward east and south.
+        edges += u32::from(t.openings & Direction::East.bit() != 0);
+        edges += u32::from(t.openings & Direction::South.bit() != 0);
+    }
+    let components = level_components(occ, level);
+    counts.loops = (edges + components).saturating_sub(cells);
+    (counts, cells, components)
+}
+
+/// Number of 4-connected pieces of occupied cells on one level.
+pub fn level_components(occ: &Occupancy, level: usize) -> u32 {
+    let mut seen = vec![false; occ.rows() * occ.cols()];
+    let idx = |c: Cell| c.row * occ.cols() + c.col;
+    let mut components = 0;
+    let mut stack = Vec::new();
+    for c in occ.level_cells(level) {
+        if !*occ.get(c) || seen[idx(c)] {
+            continue;
+        }
+        components += 1;
+        seen[idx(c)] = true;
+        stack.push(c);
+        while let Some(c) = stack.pop() {
+            for d in Direction::ALL {
+                if let Some(n) = occ.neighbour(c, d) {
+                    if *occ.get(n) && !seen[idx(n)] {
+                        seen[idx(n)] = true;
+                        stack.push(n);
+                    }
+                }
+            }
+        }
+    }
+    components
+}
+
+/// The top-left cells of 2 x 2 blocks of occupied cells: side-by-side corridors fused into a
+/// ladder of junctions, which the generator never makes.
+pub fn fused_blocks(occ: &Occupancy) -> Vec<Cell> {
+    let mut out = Vec::new();
+    for l in 0..occ.levels() {
+        for r in 0..occ.rows().saturating_sub(1) {
+            for c in 0..occ.cols().saturating_sub(1) {
+                let all = [(0, 0), (0, 1), (1, 0), (1, 1)]
+                    .iter()
+                    .all(|&(dr, dc)| *occ.get(Cell::new(l, r + dr, c + dc)));
+                if all {
+                    out.push(Cell::new(l, r, c));
+                }
+            }
+        }
+    }
+    out
+}

@@ -1,0 +1,88 @@
+//! `maps/level-N.png`: a top-down picture of each level, north up. Each tile is drawn as a
+//! passage from its centre to its openings, coloured by kind, so junctions, dead ends and
+//! shafts stand out at a glance; the start tile has a white centre.
+
+use subtgraph_core::World;
+use subtgraph_core::export::{ExportError, Exporter, WorldWriter, write_file};
+use subtgraph_core::grid::{Cell, Direction};
+use subtgraph_core::tile::TileKind;
+
+/// Writes one PNG per level.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct LevelMaps;
+
+/// The map colour of a tile kind (RGB).
+pub const fn kind_colour(kind: TileKind) -> [u8; 3] {
+    match kind {
+        TileKind::DeadEnd => [230, 25, 75],
+        TileKind::Straight => [170, 185, 200],
+        TileKind::Corner => [67, 99, 216],
+        TileKind::TJunction => [255, 225, 25],
+        TileKind::Intersection => [245, 130, 49],
+        TileKind::ShaftUp => [60, 180, 75],
+        TileKind::ShaftLanding => [145, 30, 180],
+    }
+}
+
+const BACKGROUND: [u8; 3] = [24, 24, 28];
+const GRID: [u8; 3] = [40, 40, 46];
+
+impl Exporter for LevelMaps {
+    fn export(&self, world: &World, out: &mut dyn WorldWriter) -> Result<(), ExportError> {
+        let (rows, cols) = (world.occupancy.rows(), world.occupancy.cols());
+        // About 800 pixels on the long side, at least 6 per cell.
+        let s = (800 / rows.max(cols)).clamp(6, 24);
+        let (w, h) = (cols * s, rows * s);
+        for level in 0..world.occupancy.levels() {
+            let mut img = vec![0u8; w * h * 3];
+            for (i, px) in img.chunks_exact_mut(3).enumerate() {
+                let (x, y) = (i % w, i / w);
+                px.copy_from_slice(if x % s == 0 || y % s == 0 { &GRID } else { &BACKGROUND });
+            }
+            let mut fill = |x0: usize, y0: usize, x1: usize, y1: usize, rgb: [u8; 3]| {
+                for y in y0..y1 {
+                    for x in x0..x1 {
+                        img[(y * w + x) * 3..(y * w + x) * 3 + 3].copy_from_slice(&rgb);
+                    }
+                }
+            };
+            let (a, b) = (s / 4, s - s / 4); // passage band inside a cell
+            for c in world.occupancy.level_cells(level) {
+                let Some(t) = world.tiles.get(c) else { continue };
+                let rgb = kind_colour(t.kind);
+                let (x0, y0) = (c.col * s, c.row * s);
+                fill(x0 + a, y0 + a, x0 + b, y0 + b, rgb);
+                for d in Direction::ALL {
+                    if t.openings & d.bit() == 0 {
+                        continue;
+                    }
+                    match d {
+                        Direction::East => fill(x0 + b, y0 + a, x0 + s, y0 + b, rgb),
+                        Direction::West => fill(x0, y0 + a, x0 + a, y0 + b, rgb),
+                        Direction::North => fill(x0 + a, y0, x0 + b, y0 + a, rgb),
+                        Direction::South => fill(x0 + a, y0 + b, x0 + b, y0 + s, rgb),
+                    }
+                }
+                if world.start == Some(Cell::new(level, c.row, c.col)) {
+                    let m = s / 2;
+                    let r = (s / 8).max(1);
+                    fill(x0 + m - r, y0 + m - r, x0 + m + r, y0 + m + r, [255, 255, 255]);
+                }
+            }
+            let mut bytes = Vec::new();
+            {
+                let mut enc = png::Encoder::new(&mut bytes, w as u32, h as u32);
+                enc.set_color(png::ColorType::Rgb);
+                enc.set_depth(png::BitDepth::Eight);
+                let mut writer = enc
+                    .write_header()
+                    .map_err(|e| ExportError::Unsupported(format!("PNG encoding: {e}")))?;
+                writer
+                    .write_image_data(&img)
+                    .map_err(|e| ExportError::Unsupported(format!("PNG encoding: {e}")))?;
+            }
+            write_file(out, &format!("maps/level-{level}.png"), &bytes)?;
+        }
+        Ok(())
+    }
+}

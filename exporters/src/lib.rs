@@ -1,0 +1,41 @@
+//! # subtgraph-exporters
+//!
+//! Writers for a world's files. The world folder's own files are always written:
+//!
+//! | file | what |
+//! |---|---|
+//! | `world.toml` | the resolved pipeline (seed, every drawn value, tool version): regenerates the world |
+//! | `occupancy.npy` | `uint8 [levels, rows, cols]` with the original's spatial codes |
+//! | `topology.json` | the graph, and requested against achieved counts per level |
+//! | `maps/level-N.png` | a top-down picture per level, tile kinds in distinct colours |
+//!
+//! Simulator formats (`[[export]]`) come with the exporters stage and register here.
+
+use subtgraph_core::World;
+use subtgraph_core::export::{ExportError, Exporter, WorldWriter};
+use subtgraph_core::registry::{DuplicateName, Registry};
+
+mod level_maps;
+mod occupancy_npy;
+mod topology_json;
+mod world_toml;
+
+pub use level_maps::{LevelMaps, kind_colour};
+pub use occupancy_npy::OccupancyNpy;
+pub use topology_json::TopologyJson;
+pub use world_toml::WorldToml;
+
+/// Adds the built-in `[[export]]` exporters to a registry (none yet: the world folder's own
+/// files are always written by [`write_world_folder`]).
+pub fn register(_registry: &mut Registry) -> Result<(), DuplicateName> {
+    Ok(())
+}
+
+/// Writes the files every world folder has.
+pub fn write_world_folder(world: &World, out: &mut dyn WorldWriter) -> Result<(), ExportError> {
+    let always: [&dyn Exporter; 4] = [&WorldToml, &OccupancyNpy, &TopologyJson, &LevelMaps];
+    for e in always {
+        e.export(world, out)?;
+    }
+    Ok(())
+}

@@ -1,0 +1,18 @@
+//! `occupancy.npy`: `uint8 [levels, rows, cols]` with the original SubTGraph's spatial codes
+//! (0 empty, 1 dead end, 2 straight, 3 corner, 4 T-junction, 5 intersection, 11 shaft up,
+//! 111 shaft landing), readable with `numpy.load`.
+
+use subtgraph_core::World;
+use subtgraph_core::export::{ExportError, Exporter, WorldWriter, write_file};
+use subtgraph_core::npy;
+
+/// Writes `occupancy.npy`.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct OccupancyNpy;
+
+impl Exporter for OccupancyNpy {
+    fn export(&self, world: &World, out: &mut dyn WorldWriter) -> Result<(), ExportError> {
+        let bytes = npy::encode_u8(&world.occupancy.shape(), &world.spatial_codes());
+        write_file(out, "occupancy.npy", &bytes)
+    }
+}

@@ -1,0 +1,63 @@
+//! `topology.json`: the topological graph in the world frame (metres, x east, y north, z up),
+//! with the requested, expected and achieved counts of every level.
+
+use serde::Serialize;
+use subtgraph_core::World;
+use subtgraph_core::export::{ExportError, Exporter, WorldWriter, write_file};
+use subtgraph_core::graph::{Edge, Node};
+use subtgraph_core::world::{LevelReport, Shaft};
+
+/// Writes `topology.json`.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct TopologyJson;
+
+#[derive(Serialize)]
+struct Document<'a> {
+    format: &'static str,
+    frame: &'static str,
+    seed: u64,
+    levels: usize,
+    rows: usize,
+    cols: usize,
+    tile_pitch_m: f64,
+    level_height_m: f64,
+    occupied_cells: usize,
+    reachable_cells: usize,
+    connected: bool,
+    start: Option<usize>,
+    per_level: &'a [LevelReport],
+    shafts: &'a [Shaft],
+    nodes: &'a [Node],
+    edges: &'a [Edge],
+}
+
+impl Exporter for TopologyJson {
+    fn export(&self, world: &World, out: &mut dyn WorldWriter) -> Result<(), ExportError> {
+        let occupied = world.occupancy.occupied_count();
+        let reachable = world.reachable_from_start();
+        let start = world
+            .start
+            .and_then(|s| world.graph.nodes.iter().find(|n| n.cell == s).map(|n| n.id));
+        let doc = Document {
+            format: "subtgraph-topology/1",
+            frame: "metres; x east (+col), y north (-row), z up (+level); positions are cell centres on the floor",
+            seed: world.resolved.seed,
+            levels: world.resolved.levels,
+            rows: world.resolved.rows,
+            cols: world.resolved.cols,
+            tile_pitch_m: world.resolved.tile_pitch,
+            level_height_m: world.resolved.level_height,
+            occupied_cells: occupied,
+            reachable_cells: reachable,
+            connected: occupied == reachable,
+            start,
+            per_level: &world.levels,
+            shafts: &world.shafts,
+            nodes: &world.graph.nodes,
+            edges: &world.graph.edges,
+        };
+        let mut text = serde_json::to_string_pretty(&doc).expect("plain data serializes");
+        text.push('\n');
+        write_file(out, "topology.json", text.as_bytes())
+    }
+}

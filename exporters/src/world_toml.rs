@@ -1,0 +1,29 @@
+//! `world.toml`: the resolved pipeline, which regenerates the world with
+//! `subtgraph generate world.toml`.
+
+use subtgraph_core::World;
+use subtgraph_core::config::Provenance;
+use subtgraph_core::export::{ExportError, Exporter, WorldWriter, write_file};
+
+/// Writes `world.toml`.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct WorldToml;
+
+impl Exporter for WorldToml {
+    fn export(&self, world: &World, out: &mut dyn WorldWriter) -> Result<(), ExportError> {
+        let mut p = world.pipeline.clone();
+        if p.generated.is_none() {
+            p.generated = Some(Provenance {
+                tool: "subtgraph".into(),
+                version: env!("CARGO_PKG_VERSION").into(),
+                source: None,
+            });
+        }
+        let text = format!(
+            "# The resolved pipeline of this world: every range drawn, every level's structure\n\
+             # counts written out. `subtgraph generate world.toml --out DIR` makes it again.\n{}",
+            p.to_toml()
+        );
+        write_file(out, "world.toml", text.as_bytes())
+    }
+}
