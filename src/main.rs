@@ -107,8 +107,12 @@ fn run(cli: Cli) -> Result<()> {
         }
         Command::Validate { pipeline } => {
             let (p, _) = load_pipeline(Some(&pipeline), None)?;
-            let world = generate(&p, &subtgraph::registry())
-                .with_context(|| format!("{} is valid TOML but its world cannot be made", pipeline.display()))?;
+            let world = generate(&p, &subtgraph::registry()).with_context(|| {
+                format!(
+                    "{} is valid TOML but its world cannot be made",
+                    pipeline.display()
+                )
+            })?;
             println!(
                 "{}: valid; seed {} makes {} level(s) of {} x {} cells, {} occupied",
                 pipeline.display(),
@@ -124,7 +128,9 @@ fn run(cli: Cli) -> Result<()> {
             for (name, _) in presets::PRESETS {
                 println!("{name:<10} {}", presets::summary(name));
             }
-            println!("\nUse one with `subtgraph generate --preset NAME --out DIR`; their files are in examples/.");
+            println!(
+                "\nUse one with `subtgraph generate --preset NAME --out DIR`; their files are in examples/."
+            );
             Ok(())
         }
     }
@@ -147,7 +153,10 @@ fn load_pipeline(file: Option<&Path>, preset: Option<&str>) -> Result<(Pipeline,
         }
         (None, Some(name)) => {
             let p = presets::load(name).ok_or_else(|| {
-                anyhow!("unknown preset '{name}'; the presets are: {}", presets::names())
+                anyhow!(
+                    "unknown preset '{name}'; the presets are: {}",
+                    presets::names()
+                )
             })?;
             Ok((p, format!("preset {name}")))
         }
@@ -164,9 +173,23 @@ fn import_world(path: &Path, p: &Pipeline) -> Result<World> {
     Ok(world)
 }
 
+/// Prints what was made. A closed standard output (`| head`) is not an error.
 fn print_summary(world: &World, out: &Path, took: std::time::Duration) {
+    let mut text = String::new();
+    summarize(&mut text, world, out, took).expect("formatting into a String");
+    let _ = std::io::Write::write_all(&mut std::io::stdout().lock(), text.as_bytes());
+}
+
+fn summarize(
+    f: &mut String,
+    world: &World,
+    out: &Path,
+    took: std::time::Duration,
+) -> std::fmt::Result {
+    use std::fmt::Write;
     let r = &world.resolved;
-    println!(
+    writeln!(
+        f,
         "wrote {} (seed {}, {} level(s) of {} x {} cells, pitch {} m, made in {:.1} ms)",
         out.display(),
         r.seed,
@@ -175,11 +198,16 @@ fn print_summary(world: &World, out: &Path, took: std::time::Duration) {
         r.cols,
         r.tile_pitch,
         took.as_secs_f64() * 1e3
-    );
+    )?;
     for l in &world.levels {
         let a = &l.achieved;
-        let requested: Vec<String> = l.requested.iter().map(|(k, v)| format!("{v} {k}")).collect();
-        println!(
+        let requested: Vec<String> = l
+            .requested
+            .iter()
+            .map(|(k, v)| format!("{v} {k}"))
+            .collect();
+        writeln!(
+            f,
             "  level {}: {} cells, {} T-junctions, {} intersections, {} loops, {} dead ends{}",
             l.level,
             l.cells,
@@ -192,11 +220,16 @@ fn print_summary(world: &World, out: &Path, took: std::time::Duration) {
             } else {
                 format!(" (asked: {})", requested.join(", "))
             }
-        );
+        )?;
     }
     let reachable = world.reachable_from_start();
     let occupied = world.occupancy.occupied_count();
     if reachable != occupied {
-        println!("  note: {} of {occupied} cells are not reachable from the start", occupied - reachable);
+        writeln!(
+            f,
+            "  note: {} of {occupied} cells are not reachable from the start",
+            occupied - reachable
+        )?;
     }
+    Ok(())
 }

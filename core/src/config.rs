@@ -505,11 +505,17 @@ impl Pipeline {
             }
         }
         if !(w.tile_pitch.is_finite() && w.tile_pitch > 0.0) {
-            return Err(err("world.tile_pitch", "must be a positive number of metres".into()));
+            return Err(err(
+                "world.tile_pitch",
+                "must be a positive number of metres".into(),
+            ));
         }
         if let Some(h) = w.level_height {
             if !(h.is_finite() && h > 0.0) {
-                return Err(err("world.level_height", "must be a positive number of metres".into()));
+                return Err(err(
+                    "world.level_height",
+                    "must be a positive number of metres".into(),
+                ));
             }
         }
         if w.attempts == 0 || w.attempts > 10_000 {
@@ -690,9 +696,10 @@ fn key_at(source: &str, offset: usize) -> String {
         })
         .unwrap_or_default();
     match (section.is_empty(), key.is_empty()) {
-        (_, true) if line.trim_start().starts_with('[') => {
-            line.trim().trim_matches(|c| c == '[' || c == ']').to_owned()
-        }
+        (_, true) if line.trim_start().starts_with('[') => line
+            .trim()
+            .trim_matches(|c| c == '[' || c == ']')
+            .to_owned(),
         (true, _) => key,
         (false, true) => section,
         (false, false) => format!("{section}.{key}"),
@@ -715,7 +722,11 @@ fn locate_key(file: &Arc<str>, source: &str, dotted: &str) -> Location {
         } else if in_section && !key.is_empty() {
             if let Some((k, _)) = t.split_once('=') {
                 if k.trim() == key {
-                    return Location::of_offset(file, source, offset + (line.len() - line.trim_start().len()));
+                    return Location::of_offset(
+                        file,
+                        source,
+                        offset + (line.len() - line.trim_start().len()),
+                    );
                 }
             }
         }
@@ -751,8 +762,11 @@ mod tests {
 
     #[test]
     fn conflicting_sizes_are_refused() {
-        let e = Pipeline::parse("[world]\nmin_length = 1000\nrows = 30\ncols = 30\n", "p.toml")
-            .unwrap_err();
+        let e = Pipeline::parse(
+            "[world]\nmin_length = 1000\nrows = 30\ncols = 30\n",
+            "p.toml",
+        )
+        .unwrap_err();
         assert_eq!(e.key, "world.rows");
         assert_eq!(e.location.line, 3);
     }

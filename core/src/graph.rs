@@ -85,9 +85,9 @@ impl TopologyGraph {
         let mut visited = Grid3::filled(occ.levels(), occ.rows(), occ.cols(), false);
         let pitch = world.resolved.tile_pitch;
         let walk_from = |graph: &mut TopologyGraph,
-                             node_of: &Grid3<usize>,
-                             visited: &mut Grid3<bool>,
-                             start: Cell| {
+                         node_of: &Grid3<usize>,
+                         visited: &mut Grid3<bool>,
+                         start: Cell| {
             let openings = tiles.get(start).map_or(0, |t| t.openings);
             for d in Direction::ALL {
                 if openings & d.bit() == 0 {
@@ -97,7 +97,9 @@ impl TopologyGraph {
                 let mut here = start;
                 let mut heading = d;
                 let end = loop {
-                    here = occ.neighbour(here, heading).expect("openings stay in the grid");
+                    here = occ
+                        .neighbour(here, heading)
+                        .expect("openings stay in the grid");
                     cells.push(here);
                     if *node_of.get(here) != usize::MAX {
                         break here;

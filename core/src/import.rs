@@ -138,7 +138,10 @@ pub fn import_occupancy(
         cols,
         tile_pitch: p.world.tile_pitch,
         level_height,
-        max_width: p.world.max_width.draw(&mut crate::rng::WorldRng::new(0, "import", 0)),
+        max_width: p
+            .world
+            .max_width
+            .draw(&mut crate::rng::WorldRng::new(0, "import", 0)),
         attempts: 0,
         per_level: vec![Vec::new(); levels],
         exact: false,
@@ -202,9 +205,15 @@ mod tests {
     fn encodings_are_detected_from_values() {
         let p = Pipeline::default();
         let plain = array(vec![3, 3], vec![0., 1., 0., 0., 1., 0., 0., 1., 0.]);
-        assert_eq!(import_occupancy(&plain, "a", &p, "0").unwrap().1, Encoding::Binary);
+        assert_eq!(
+            import_occupancy(&plain, "a", &p, "0").unwrap().1,
+            Encoding::Binary
+        );
         let topo = array(vec![3, 3], vec![0., 10., 0., 0., 1., 0., 0., 10., 0.]);
-        assert_eq!(import_occupancy(&topo, "a", &p, "0").unwrap().1, Encoding::Topological);
+        assert_eq!(
+            import_occupancy(&topo, "a", &p, "0").unwrap().1,
+            Encoding::Topological
+        );
         let spatial = array(vec![3, 3], vec![0., 1., 0., 0., 2., 0., 0., 1., 0.]);
         let (w, e) = import_occupancy(&spatial, "a", &p, "0").unwrap();
         assert_eq!(e, Encoding::Spatial);
@@ -215,7 +224,9 @@ mod tests {
     fn bad_values_and_shapes_are_refused_with_their_position() {
         let p = Pipeline::default();
         let bad = array(vec![2, 2], vec![0., 1., 7., 0.]);
-        let e = import_occupancy(&bad, "w.npy", &p, "0").unwrap_err().to_string();
+        let e = import_occupancy(&bad, "w.npy", &p, "0")
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("value 7 at [level 0, row 1, col 0]"), "{e}");
         let e = import_occupancy(&array(vec![4], vec![1.; 4]), "w.npy", &p, "0")
             .unwrap_err()
@@ -237,8 +248,8 @@ mod tests {
         for (c, code) in [1.0, 2.0, 2.0, 111.0].iter().enumerate() {
             v[12 + 4 + c] = *code;
         }
-        let (w, _) = import_occupancy(&array(vec![2, 3, 4], v), "s", &Pipeline::default(), "0")
-            .unwrap();
+        let (w, _) =
+            import_occupancy(&array(vec![2, 3, 4], v), "s", &Pipeline::default(), "0").unwrap();
         assert_eq!(w.shafts.len(), 1);
         assert_eq!(w.shafts[0].up, Cell::new(0, 1, 0));
         assert_eq!(w.shafts[0].landing, Cell::new(1, 1, 3));

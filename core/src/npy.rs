@@ -14,15 +14,18 @@ pub struct NpyArray {
 
 /// Encodes a `uint8` array of the given shape (C order) as `.npy` version 1.0.
 pub fn encode_u8(shape: &[usize], data: &[u8]) -> Vec<u8> {
-    assert_eq!(shape.iter().product::<usize>(), data.len(), "shape and data disagree");
+    assert_eq!(
+        shape.iter().product::<usize>(),
+        data.len(),
+        "shape and data disagree"
+    );
     let dims: Vec<String> = shape.iter().map(|d| d.to_string()).collect();
     let shape_text = if dims.len() == 1 {
         format!("({},)", dims[0])
     } else {
         format!("({})", dims.join(", "))
     };
-    let mut header =
-        format!("{{'descr': '|u1', 'fortran_order': False, 'shape': {shape_text}, }}");
+    let mut header = format!("{{'descr': '|u1', 'fortran_order': False, 'shape': {shape_text}, }}");
     // Pad with spaces so that magic (6) + version (2) + length (2) + header ends on a multiple
     // of 64 bytes, newline last.
     let unpadded = 10 + header.len() + 1;
@@ -69,7 +72,10 @@ pub fn decode(bytes: &[u8]) -> Result<NpyArray, String> {
         .split(',')
         .map(str::trim)
         .filter(|s| !s.is_empty())
-        .map(|s| s.parse::<usize>().map_err(|_| format!("bad shape {shape_text}")))
+        .map(|s| {
+            s.parse::<usize>()
+                .map_err(|_| format!("bad shape {shape_text}"))
+        })
         .collect::<Result<_, _>>()?;
     let count: usize = shape.iter().product();
     let data = &bytes[start + header_len..];
@@ -83,7 +89,10 @@ pub fn decode(bytes: &[u8]) -> Result<NpyArray, String> {
             .map_err(|_| format!("unsupported dtype '{dtype}'"))?;
         (b[0], b[1], size)
     };
-    if !matches!((kind, size), (b'u' | b'i', 1 | 2 | 4 | 8) | (b'b', 1) | (b'f', 4 | 8)) {
+    if !matches!(
+        (kind, size),
+        (b'u' | b'i', 1 | 2 | 4 | 8) | (b'b', 1) | (b'f', 4 | 8)
+    ) {
         return Err(format!(
             "unsupported dtype '{dtype}': use an integer, boolean or float array"
         ));
@@ -165,7 +174,10 @@ mod tests {
         assert_eq!((10 + header_len) % 64, 0);
         let a = decode(&bytes).unwrap();
         assert_eq!(a.shape, vec![2, 3, 4]);
-        assert_eq!(a.values, data.iter().map(|&v| f64::from(v)).collect::<Vec<_>>());
+        assert_eq!(
+            a.values,
+            data.iter().map(|&v| f64::from(v)).collect::<Vec<_>>()
+        );
         assert_eq!(a.dtype, "|u1");
     }
 
@@ -183,7 +195,10 @@ mod tests {
 
     #[test]
     fn reads_int64_float64_and_fortran_order() {
-        let ints: Vec<u8> = [-1i64, 10, 111].iter().flat_map(|v| v.to_le_bytes()).collect();
+        let ints: Vec<u8> = [-1i64, 10, 111]
+            .iter()
+            .flat_map(|v| v.to_le_bytes())
+            .collect();
         let a = decode(&with_header("<i8", false, "(3,)", &ints)).unwrap();
         assert_eq!(a.values, vec![-1.0, 10.0, 111.0]);
         let floats: Vec<u8> = [1.0f64, 2.0, 3.0, 4.0, 5.0, 6.0]

@@ -154,7 +154,11 @@ impl<'de> Deserialize<'de> for ComponentSpec {
             if key == "type" {
                 match v.into_inner() {
                     toml::Value::String(s) => type_name = Some(s),
-                    _ => return Err(D::Error::custom("`type` must be a string naming a component")),
+                    _ => {
+                        return Err(D::Error::custom(
+                            "`type` must be a string naming a component",
+                        ));
+                    }
                 }
             } else {
                 params.spans.insert(key.clone(), key_span);

@@ -220,7 +220,11 @@ mod tests {
             Err(e) => e,
             Ok(_) => panic!("y-fork is not built in"),
         };
-        assert!(err.message.contains("known: intersection, loop, t-junction"), "{err}");
+        assert!(
+            err.message
+                .contains("known: intersection, loop, t-junction"),
+            "{err}"
+        );
     }
 
     #[test]
@@ -232,7 +236,9 @@ mod tests {
                 "loop",
                 "libmine.so",
                 "",
-                Arc::new(|_: &Params| Ok(Box::new(crate::shapes::Loop) as Box<dyn ConstraintShape>)),
+                Arc::new(
+                    |_: &Params| Ok(Box::new(crate::shapes::Loop) as Box<dyn ConstraintShape>),
+                ),
             )
             .unwrap_err();
         assert_eq!(e.existing, "built-in");

@@ -56,9 +56,7 @@ impl TileKind {
 
     /// The kind with this spatial code, if any.
     pub fn from_spatial_code(code: u8) -> Option<TileKind> {
-        TileKind::ALL
-            .into_iter()
-            .find(|k| k.spatial_code() == code)
+        TileKind::ALL.into_iter().find(|k| k.spatial_code() == code)
     }
 
     /// The openings of the base orientation (rotation 0).

@@ -88,12 +88,7 @@ impl World {
         expected: Vec<Option<Counts>>,
         attempts: Vec<u32>,
     ) -> World {
-        let mut tiles = Grid3::filled(
-            occupancy.levels(),
-            occupancy.rows(),
-            occupancy.cols(),
-            None,
-        );
+        let mut tiles = Grid3::filled(occupancy.levels(), occupancy.rows(), occupancy.cols(), None);
         for c in occupancy.cells() {
             if *occupancy.get(c) {
                 *tiles.get_mut(c) = Some(classify_cell(&occupancy, c));

@@ -67,7 +67,9 @@ mod tests {
             amplitude: Some(4.0),
         };
         let s = seg();
-        let signs: Vec<bool> = (1..30).map(|i| h.offset(i as f64 / 30.0, &s) > 0.0).collect();
+        let signs: Vec<bool> = (1..30)
+            .map(|i| h.offset(i as f64 / 30.0, &s) > 0.0)
+            .collect();
         let changes = signs.windows(2).filter(|w| w[0] != w[1]).count();
         assert_eq!(changes, 2);
         assert!((h.offset(1.0 / 6.0, &s) - 4.0).abs() < 1e-9);
@@ -80,7 +82,8 @@ mod tests {
         t.insert("amplitude".into(), toml::Value::Float(-1.0));
         let e = Harmonic::from_params(&Params::from_table("route", t)).unwrap_err();
         assert_eq!(e.key, "route.amplitude");
-        let e = Harmonic::from_params(&Params::from_table("route", toml::Table::new())).unwrap_err();
+        let e =
+            Harmonic::from_params(&Params::from_table("route", toml::Table::new())).unwrap_err();
         assert!(e.message.contains("harmonics"), "{e}");
     }
 }

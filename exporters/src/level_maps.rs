@@ -26,6 +26,31 @@ pub const fn kind_colour(kind: TileKind) -> [u8; 3] {
 
 const BACKGROUND: [u8; 3] = [24, 24, 28];
 const GRID: [u8; 3] = [40, 40, 46];
+const WHITE: [u8; 3] = [255, 255, 255];
+
+/// Palette indices: background, grid, start marker, then the tile kinds in `TileKind::ALL`
+/// order. An indexed image is a third the size of RGB and encodes several times faster.
+const BACKGROUND_INDEX: u8 = 0;
+const GRID_INDEX: u8 = 1;
+const WHITE_INDEX: u8 = 2;
+
+fn kind_index(kind: TileKind) -> u8 {
+    3 + TileKind::ALL
+        .iter()
+        .position(|&k| k == kind)
+        .expect("listed") as u8
+}
+
+fn palette() -> Vec<u8> {
+    let mut p = Vec::with_capacity(3 * 10);
+    for rgb in [BACKGROUND, GRID, WHITE] {
+        p.extend_from_slice(&rgb);
+    }
+    for k in TileKind::ALL {
+        p.extend_from_slice(&kind_colour(k));
+    }
+    p
+}
 
 impl Exporter for LevelMaps {
     fn export(&self, world: &World, out: &mut dyn WorldWriter) -> Result<(), ExportError> {
@@ -34,22 +59,25 @@ impl Exporter for LevelMaps {
         let s = (800 / rows.max(cols)).clamp(6, 24);
         let (w, h) = (cols * s, rows * s);
         for level in 0..world.occupancy.levels() {
-            let mut img = vec![0u8; w * h * 3];
-            for (i, px) in img.chunks_exact_mut(3).enumerate() {
-                let (x, y) = (i % w, i / w);
-                px.copy_from_slice(if x % s == 0 || y % s == 0 { &GRID } else { &BACKGROUND });
+            let mut img = vec![BACKGROUND_INDEX; w * h];
+            for (y, row) in img.chunks_exact_mut(w).enumerate() {
+                if y % s == 0 {
+                    row.fill(GRID_INDEX);
+                } else {
+                    row.iter_mut().step_by(s).for_each(|px| *px = GRID_INDEX);
+                }
             }
-            let mut fill = |x0: usize, y0: usize, x1: usize, y1: usize, rgb: [u8; 3]| {
+            let mut fill = |x0: usize, y0: usize, x1: usize, y1: usize, index: u8| {
                 for y in y0..y1 {
-                    for x in x0..x1 {
-                        img[(y * w + x) * 3..(y * w + x) * 3 + 3].copy_from_slice(&rgb);
-                    }
+                    img[y * w + x0..y * w + x1].fill(index);
                 }
             };
             let (a, b) = (s / 4, s - s / 4); // passage band inside a cell
             for c in world.occupancy.level_cells(level) {
-                let Some(t) = world.tiles.get(c) else { continue };
-                let rgb = kind_colour(t.kind);
+                let Some(t) = world.tiles.get(c) else {
+                    continue;
+                };
+                let rgb = kind_index(t.kind);
                 let (x0, y0) = (c.col * s, c.row * s);
                 fill(x0 + a, y0 + a, x0 + b, y0 + b, rgb);
                 for d in Direction::ALL {
@@ -66,14 +94,16 @@ impl Exporter for LevelMaps {
                 if world.start == Some(Cell::new(level, c.row, c.col)) {
                     let m = s / 2;
                     let r = (s / 8).max(1);
-                    fill(x0 + m - r, y0 + m - r, x0 + m + r, y0 + m + r, [255, 255, 255]);
+                    fill(x0 + m - r, y0 + m - r, x0 + m + r, y0 + m + r, WHITE_INDEX);
                 }
             }
             let mut bytes = Vec::new();
             {
                 let mut enc = png::Encoder::new(&mut bytes, w as u32, h as u32);
-                enc.set_color(png::ColorType::Rgb);
+                enc.set_color(png::ColorType::Indexed);
                 enc.set_depth(png::BitDepth::Eight);
+                enc.set_palette(palette());
+                enc.set_compression(png::Compression::Fast);
                 let mut writer = enc
                     .write_header()
                     .map_err(|e| ExportError::Unsupported(format!("PNG encoding: {e}")))?;

@@ -1,8 +1,8 @@
 //! Building one level: place structures, route their arms to objective nodes, link the pieces
 //! into one network, and check the result against what was asked.
 
-use crate::route::{RouteDescriptor, Segment};
 use crate::rng::WorldRng;
+use crate::route::{RouteDescriptor, Segment};
 use crate::shape::{ConstraintShape, Heading, rotate_offset};
 use crate::world::Counts;
 
@@ -81,8 +81,7 @@ impl Level {
         if self.occ[v] || (self.reserved[v] != NONE && !owners.contains(&self.reserved[v])) {
             return false;
         }
-        self.neighbours(v)
-            .all(|n| !self.occ[n] || n == s || n == g)
+        self.neighbours(v).all(|n| !self.occ[n] || n == s || n == g)
     }
 
     fn commit(&mut self, cells: &[usize]) {
@@ -144,7 +143,10 @@ impl Level {
         (0..self.rows.saturating_sub(1)).any(|r| {
             (0..self.cols.saturating_sub(1)).any(|c| {
                 let i = r * self.cols + c;
-                self.occ[i] && self.occ[i + 1] && self.occ[i + self.cols] && self.occ[i + self.cols + 1]
+                self.occ[i]
+                    && self.occ[i + 1]
+                    && self.occ[i + self.cols]
+                    && self.occ[i + self.cols + 1]
             })
         })
     }
@@ -251,11 +253,20 @@ pub fn build_level(
             });
         }
     }
-    link_structures(&mut lvl, search, descriptor, rng, &placed, &mut arms, landing)?;
+    link_structures(
+        &mut lvl, search, descriptor, rng, &placed, &mut arms, landing,
+    )?;
 
     // 3. Route every remaining arm to an objective node (paper eqs. 5-6 and 14-15).
     for arm in arms.iter().filter(|a| !a.used) {
-        route_arm(&mut lvl, search, descriptor, rng, &placed[arm.structure as usize], arm)?;
+        route_arm(
+            &mut lvl,
+            search,
+            descriptor,
+            rng,
+            &placed[arm.structure as usize],
+            arm,
+        )?;
     }
     lvl.reserved.fill(NONE);
 
@@ -276,7 +287,11 @@ pub fn build_level(
         ("intersections", expected.intersections, got.intersections),
         ("loops", expected.loops, got.loops),
     ] {
-        let ok = if spec.exact { have == want } else { have >= want };
+        let ok = if spec.exact {
+            have == want
+        } else {
+            have >= want
+        };
         if !ok {
             return Err(short(what, want, have));
         }
@@ -327,10 +342,7 @@ fn place<'a>(
 ) -> Option<Placed<'a>> {
     let footprint = shape.footprint();
     let clearance = shape.clearance().max(1);
-    let (rmax, cmax) = (
-        (lvl.rows as i64 - 4).max(3),
-        (lvl.cols as i64 - 4).max(3),
-    );
+    let (rmax, cmax) = ((lvl.rows as i64 - 4).max(3), (lvl.cols as i64 - 4).max(3));
     for _ in 0..200 {
         let rotation = rng.below(u64::from(shape.rotations().clamp(1, 4))) as u8;
         let centre = (rng.int_in(3, rmax) as i32, rng.int_in(3, cmax) as i32);
@@ -370,7 +382,10 @@ fn place<'a>(
             let exits: Vec<(i32, i32)> = match arm.heading.rotated(rotation) {
                 Heading::Axis(d) => {
                     let (sr, sc) = d.step();
-                    vec![(from.0 + sr, from.1 + sc), (from.0 + 2 * sr, from.1 + 2 * sc)]
+                    vec![
+                        (from.0 + sr, from.1 + sc),
+                        (from.0 + 2 * sr, from.1 + 2 * sc),
+                    ]
                 }
                 Heading::Quadrant(a, b) => {
                     let ((ar, ac), (br, bc)) = (a.step(), b.step());

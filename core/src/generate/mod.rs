@@ -86,7 +86,11 @@ pub fn generate(pipeline: &Pipeline, registry: &Registry) -> Result<World, Error
         let mut last_failure = String::new();
         let mut built = None;
         for attempt in 0..resolved.attempts {
-            let mut rng = WorldRng::new(resolved.seed, "level", (k as u64) << 32 | u64::from(attempt));
+            let mut rng = WorldRng::new(
+                resolved.seed,
+                "level",
+                (k as u64) << 32 | u64::from(attempt),
+            );
             match level::build_level(&spec, descriptor.as_ref(), &mut search, &mut rng) {
                 Ok(b) => {
                     built = Some((b, attempt + 1));
@@ -102,9 +106,10 @@ pub fn generate(pipeline: &Pipeline, registry: &Registry) -> Result<World, Error
                 attempts: resolved.attempts,
                 rows,
                 cols,
-                advice: "use a larger grid (raise world.min_length, or world.rows and world.cols), \
+                advice:
+                    "use a larger grid (raise world.min_length, or world.rows and world.cols), \
                          ask for fewer structures on this level, or set topology.exact = false"
-                    .into(),
+                        .into(),
             });
         };
         for (i, &o) in b.occ.iter().enumerate() {

@@ -99,7 +99,11 @@ impl Search {
                 if v != g && !level.route_may_use(v, s, g, owners) {
                     continue;
                 }
-                let step = if self.guide[v] == stamp { 1 } else { DETOUR_COST };
+                let step = if self.guide[v] == stamp {
+                    1
+                } else {
+                    DETOUR_COST
+                };
                 let d = self.dist[u] + step;
                 if self.seen[v] != stamp || d < self.dist[v] {
                     self.seen[v] = stamp;

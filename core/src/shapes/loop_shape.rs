@@ -61,7 +61,10 @@ mod tests {
         assert!(!ring.contains(&(0, 0)));
         for arm in Loop.arms() {
             assert!(ring.contains(&arm.from));
-            assert!(arm.from.0 != 0 && arm.from.1 != 0, "arms leave from corners");
+            assert!(
+                arm.from.0 != 0 && arm.from.1 != 0,
+                "arms leave from corners"
+            );
         }
     }
 }
