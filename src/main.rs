@@ -107,12 +107,16 @@ fn run(cli: Cli) -> Result<()> {
         }
         Command::Validate { pipeline } => {
             let (p, _) = load_pipeline(Some(&pipeline), None)?;
-            let world = generate(&p, &subtgraph::registry()).with_context(|| {
-                format!(
-                    "{} is valid TOML but its world cannot be made",
-                    pipeline.display()
-                )
-            })?;
+            let world = match generate(&p, &subtgraph::registry()) {
+                Ok(w) => w,
+                Err(e @ subtgraph::core::Error::Config(_)) => return Err(e.into()),
+                Err(e) => {
+                    return Err(anyhow!(e).context(format!(
+                        "{} is well-formed but its world cannot be made",
+                        pipeline.display()
+                    )));
+                }
+            };
             println!(
                 "{}: valid; seed {} makes {} level(s) of {} x {} cells, {} occupied",
                 pipeline.display(),
