@@ -21,8 +21,8 @@ impl FolderWriter {
     }
 }
 
-impl WorldWriter for FolderWriter {
-    fn write(&mut self, path: &str, bytes: &[u8]) -> std::io::Result<()> {
+impl FolderWriter {
+    fn path_of(&self, path: &str) -> std::io::Result<PathBuf> {
         let rel = Path::new(path);
         if rel.is_absolute()
             || rel
@@ -38,7 +38,24 @@ impl WorldWriter for FolderWriter {
         if let Some(parent) = full.parent() {
             fs::create_dir_all(parent)?;
         }
-        fs::write(full, bytes)
+        Ok(full)
+    }
+}
+
+impl WorldWriter for FolderWriter {
+    fn write(&mut self, path: &str, bytes: &[u8]) -> std::io::Result<()> {
+        fs::write(self.path_of(path)?, bytes)
+    }
+
+    fn stream(
+        &mut self,
+        path: &str,
+        fill: &mut dyn FnMut(&mut dyn std::io::Write) -> std::io::Result<()>,
+    ) -> std::io::Result<()> {
+        let file = fs::File::create(self.path_of(path)?)?;
+        let mut w = std::io::BufWriter::with_capacity(1 << 20, file);
+        fill(&mut w)?;
+        std::io::Write::flush(&mut w)
     }
 }
 

@@ -41,6 +41,13 @@ enum Command {
         /// Replace --out if it is an existing world folder.
         #[arg(long)]
         force: bool,
+        /// The tile set giving the world its geometry (mine, cave, lava-tube), overriding the
+        /// pipeline's `[tileset]`.
+        #[arg(long, value_name = "NAME")]
+        tileset: Option<String>,
+        /// Grids, graph and maps only: no geometry even if the pipeline has a `[tileset]`.
+        #[arg(long, conflicts_with = "tileset")]
+        no_mesh: bool,
         /// Instead of generating, import an occupancy grid (.npy; the original's spatial,
         /// topological or structural encodings, or plain 0/1). The pipeline or preset still
         /// sets the scale (tile pitch, level height).
@@ -75,9 +82,17 @@ fn run(cli: Cli) -> Result<()> {
             seed,
             out,
             force,
+            tileset,
+            no_mesh,
             occupancy,
         } => {
             let (mut p, source) = load_pipeline(pipeline.as_deref(), preset.as_deref())?;
+            if let Some(name) = tileset {
+                p.tileset = Some(subtgraph::core::params::ComponentSpec::named(&name));
+            }
+            if no_mesh {
+                p.tileset = None;
+            }
             if let Some(seed) = seed {
                 if seed > i64::MAX as u64 {
                     bail!("--seed must be at most 2^63 - 1 (9223372036854775807)");
@@ -85,10 +100,21 @@ fn run(cli: Cli) -> Result<()> {
                 p.world.seed = seed;
             }
             let started = Instant::now();
+            let registry = subtgraph::registry();
             let world = match occupancy {
-                Some(npy_path) => import_world(&npy_path, &p)?,
+                Some(npy_path) => {
+                    let mut world = import_world(&npy_path, &p)?;
+                    if let Some(spec) = &p.tileset {
+                        let tileset = registry.tilesets.build(spec)?;
+                        world.mesh = Some(
+                            subtgraph::core::assembly::assemble(&world, tileset.as_ref())
+                                .map_err(|e| anyhow!("tile set '{}': {e}", spec.type_name))?,
+                        );
+                    }
+                    world
+                }
                 None => {
-                    let mut world = generate(&p, &subtgraph::registry())?;
+                    let mut world = generate(&p, &registry)?;
                     world.pipeline.generated = Some(Provenance {
                         tool: "subtgraph".into(),
                         version: env!("CARGO_PKG_VERSION").into(),
@@ -224,6 +250,15 @@ fn summarize(
             } else {
                 format!(" (asked: {})", requested.join(", "))
             }
+        )?;
+    }
+    if let Some(m) = &world.mesh {
+        writeln!(
+            f,
+            "  mesh: {} tiles, {} visual triangles, {} collision triangles",
+            m.tiles.len(),
+            m.visual.triangle_count(),
+            m.collision.triangle_count()
         )?;
     }
     let reachable = world.reachable_from_start();

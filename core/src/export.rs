@@ -10,6 +10,18 @@ use crate::world::World;
 pub trait WorldWriter {
     /// Writes one whole file.
     fn write(&mut self, path: &str, bytes: &[u8]) -> std::io::Result<()>;
+
+    /// Writes one file through a stream, for files too large to hold in memory. The default
+    /// collects the stream and calls [`write`](WorldWriter::write).
+    fn stream(
+        &mut self,
+        path: &str,
+        fill: &mut dyn FnMut(&mut dyn std::io::Write) -> std::io::Result<()>,
+    ) -> std::io::Result<()> {
+        let mut buf = Vec::new();
+        fill(&mut buf)?;
+        self.write(path, &buf)
+    }
 }
 
 /// An in-memory writer, for tests and for callers that post-process files.
@@ -75,6 +87,19 @@ pub enum ExportError {
 pub trait Exporter: Send + Sync {
     /// Writes the files.
     fn export(&self, world: &World, out: &mut dyn WorldWriter) -> Result<(), ExportError>;
+}
+
+/// Streams a file, turning an I/O failure into an [`ExportError`] naming the file.
+pub fn stream_file(
+    out: &mut dyn WorldWriter,
+    path: &str,
+    mut fill: impl FnMut(&mut dyn std::io::Write) -> std::io::Result<()>,
+) -> Result<(), ExportError> {
+    out.stream(path, &mut fill)
+        .map_err(|source| ExportError::Io {
+            path: path.to_owned(),
+            source,
+        })
 }
 
 /// Writes `bytes` to `path`, turning an I/O failure into an [`ExportError`] naming the file.

@@ -18,6 +18,7 @@
 //! [`export::WorldWriter`]. That keeps the core usable from tests, services and batch jobs, and
 //! lets the command line make world folders atomic.
 
+pub mod assembly;
 pub mod config;
 pub mod error;
 pub mod export;
@@ -25,6 +26,7 @@ pub mod generate;
 pub mod graph;
 pub mod grid;
 pub mod import;
+pub mod mesh;
 pub mod npy;
 pub mod params;
 pub mod registry;
@@ -38,6 +40,6 @@ pub mod world;
 
 pub use config::Pipeline;
 pub use error::{ConfigError, Error};
-pub use generate::generate;
+pub use generate::{generate, layout};
 pub use registry::Registry;
 pub use world::World;

@@ -1,15 +1,129 @@
 //! Tile sets turn classified tiles into geometry.
 //!
-//! This is the trait's home; the geometry methods (visual and collision meshes, opening
-//! cross-sections) arrive with the tile-set stage. What a tile set needs to know about a tile
-//! is already here: its [`Tile`](crate::tile::Tile) (kind and rotation), its cell, and its
-//! world position from [`World::cell_position`](crate::world::World::cell_position).
+//! A tile set is asked for one tile at a time, with everything it may need in a
+//! [`TileContext`]: the tile (kind and rotation), its cell and world position, its
+//! neighbours, the world itself, and a seed of its own. It answers with a visual mesh
+//! (materials, UVs) and a lighter collision mesh, in world coordinates. Assembly
+//! ([`crate::assembly`]) asks for every occupied cell in parallel and welds the result.
+//!
+//! Openings must match: two adjacent tiles meet on exactly the same cross-section, vertex for
+//! vertex, so the world is one closed surface. Procedural tile sets get this by evaluating
+//! one world-wide field; mesh tiles by sharing an opening profile.
 
-/// Turns tiles into 3D geometry for a world.
+use crate::grid::Cell;
+use crate::mesh::{Material, Mesh};
+use crate::tile::Tile;
+use crate::world::World;
+
+/// What a tile set knows about the tile it is asked for.
+#[derive(Clone, Copy, Debug)]
+pub struct TileContext<'a> {
+    /// The whole world (grid, shafts, resolved pipeline).
+    pub world: &'a World,
+    /// The tile's cell.
+    pub cell: Cell,
+    /// Kind, rotation and openings.
+    pub tile: Tile,
+    /// Centre of the tile on its floor, world frame, metres.
+    pub position: [f64; 3],
+    /// A seed of the tile's own, derived from the world seed and the cell.
+    pub seed: u64,
+}
+
+impl TileContext<'_> {
+    /// The neighbouring tiles on the same level, east, north, west, south.
+    pub fn neighbours(&self) -> [Option<Tile>; 4] {
+        crate::grid::Direction::ALL.map(|d| {
+            self.world
+                .occupancy
+                .neighbour(self.cell, d)
+                .and_then(|n| *self.world.tiles.get(n))
+        })
+    }
+}
+
+/// The geometry of one tile.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct TileGeometry {
+    /// What is rendered.
+    pub visual: Mesh,
+    /// What physics collides with: lighter, same passages.
+    pub collision: Mesh,
+    /// The vertices of `visual` and `collision` that may coincide with a neighbour's (those
+    /// on the tile's boundary), when the tile set knows them; assembly then welds only those.
+    /// `None` welds every vertex.
+    pub seams: Option<(Vec<u32>, Vec<u32>)>,
+}
+
+/// The cross-section at a tile opening, metres.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CrossSection {
+    /// Widest extent across the passage.
+    pub width: f64,
+    /// Floor to ceiling.
+    pub height: f64,
+}
+
+/// Why a tile set cannot make a world's tiles. The message says what to change.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("{0}")]
+pub struct TileSetError(pub String);
+
+/// Turns tiles into 3D geometry.
+///
+/// Only [`tile`](TileSet::tile) is required.
+///
+/// # Example
+///
+/// A tile set that marks each tile with a flat square on its floor (not closed; just the
+/// shape of the trait):
+///
+/// ```
+/// use subtgraph_core::mesh::Mesh;
+/// use subtgraph_core::tileset::{TileContext, TileGeometry, TileSet, TileSetError};
+///
+/// struct FloorPlates;
+///
+/// impl TileSet for FloorPlates {
+///     fn tile(&self, ctx: &TileContext<'_>) -> Result<TileGeometry, TileSetError> {
+///         let [x, y, z] = ctx.position.map(|v| v as f32);
+///         let h = 0.5 * ctx.world.resolved.tile_pitch as f32;
+///         let plate = Mesh {
+///             positions: vec![[x - h, y - h, z], [x + h, y - h, z], [x + h, y + h, z], [x - h, y + h, z]],
+///             triangles: vec![[0, 1, 2], [0, 2, 3]],
+///             ..Mesh::default()
+///         };
+///         Ok(TileGeometry { visual: plate.clone(), collision: plate, seams: None })
+///     }
+/// }
+/// ```
 pub trait TileSet: Send + Sync {
-    /// Metres between opposite openings of a tile, when the tile set fixes it (mesh tiles do;
+    /// The geometry of one tile, in world coordinates.
+    fn tile(&self, ctx: &TileContext<'_>) -> Result<TileGeometry, TileSetError>;
+
+    /// The materials triangles refer to by index.
+    fn materials(&self) -> Vec<Material> {
+        vec![Material::coloured("rock", [0.45, 0.42, 0.38])]
+    }
+
+    /// Metres between opposite openings, when the tile set fixes it (mesh tiles do;
     /// procedural ones follow `world.tile_pitch`).
     fn pitch(&self) -> Option<f64> {
         None
+    }
+
+    /// The cross-section at every opening, when the tile set has one.
+    fn opening(&self) -> Option<CrossSection> {
+        None
+    }
+
+    /// Checks that the world suits the tile set (pitch, level height) before any tile is made.
+    fn check(&self, _world: &World) -> Result<(), TileSetError> {
+        Ok(())
+    }
+
+    /// Metres per texture repeat for UVs computed by assembly.
+    fn texture_scale(&self) -> f32 {
+        4.0
     }
 }

@@ -74,6 +74,8 @@ pub struct World {
     pub levels: Vec<LevelReport>,
     /// Nodes and corridors.
     pub graph: TopologyGraph,
+    /// The assembled geometry, when the pipeline has a `[tileset]`.
+    pub mesh: Option<crate::assembly::WorldMesh>,
 }
 
 impl World {
@@ -138,6 +140,7 @@ impl World {
             level_offsets,
             levels,
             graph: TopologyGraph::default(),
+            mesh: None,
         };
         world.graph = TopologyGraph::build(&world);
         world

@@ -8,6 +8,7 @@
 //! | `occupancy.npy` | `uint8 [levels, rows, cols]` with the original's spatial codes |
 //! | `topology.json` | the graph, and requested against achieved counts per level |
 //! | `maps/level-N.png` | a top-down picture per level, tile kinds in distinct colours |
+//! | `mesh/world.obj`, `mesh/world.mtl`, `mesh/collision.obj` | the geometry, when the pipeline has a `[tileset]` |
 //!
 //! Simulator formats (`[[export]]`) come with the exporters stage and register here.
 
@@ -16,11 +17,13 @@ use subtgraph_core::export::{ExportError, Exporter, WorldWriter};
 use subtgraph_core::registry::{DuplicateName, Registry};
 
 mod level_maps;
+mod obj;
 mod occupancy_npy;
 mod topology_json;
 mod world_toml;
 
 pub use level_maps::{LevelMaps, kind_colour};
+pub use obj::Obj;
 pub use occupancy_npy::OccupancyNpy;
 pub use topology_json::TopologyJson;
 pub use world_toml::WorldToml;
@@ -36,6 +39,9 @@ pub fn write_world_folder(world: &World, out: &mut dyn WorldWriter) -> Result<()
     let always: [&dyn Exporter; 4] = [&WorldToml, &OccupancyNpy, &TopologyJson, &LevelMaps];
     for e in always {
         e.export(world, out)?;
+    }
+    if world.mesh.is_some() {
+        Obj.export(world, out)?;
     }
     Ok(())
 }

@@ -1,13 +1,52 @@
 //! # subtgraph-tilesets
 //!
 //! Tile sets turn the classified tiles of a world into geometry. The built-in procedural sets
-//! (mine, cave, lava tube) and the mesh-file set come with the tile-set stage; until then this
-//! crate registers nothing, and a `[tileset]` section is refused with the list of what is
-//! registered.
+//! are one file each:
+//!
+//! - [`mine`]: an operational drift (flat floor, straight walls, arched back);
+//! - [`cave`]: a natural cave (irregular, rough, rubble and rock piles, varying size);
+//! - [`lava_tube`]: a wide, smooth elliptical tube with a flat floor and side benches.
+//!
+//! They share one design: the passages of the whole world are one implicit field
+//! ([`field`]), built from each tile's half-corridors, shafts and rocks plus seeded noise in
+//! world coordinates, and each tile meshes its own block of a world-wide lattice with marching
+//! tetrahedra ([`marching`]). Adjacent tiles therefore meet on exactly the same opening,
+//! vertex for vertex, the assembled world is one closed surface, and no two tiles are alike.
+//! A new cave type needs only a [`field::Profile`] and a [`procedural::Style`].
+
+use std::sync::Arc;
 
 use subtgraph_core::registry::{DuplicateName, Registry};
+use subtgraph_core::tileset::TileSet;
 
-/// Adds the built-in tile sets to a registry (none yet).
-pub fn register(_registry: &mut Registry) -> Result<(), DuplicateName> {
+pub mod cave;
+pub mod field;
+pub mod lava_tube;
+pub mod marching;
+pub mod mine;
+pub mod noise;
+pub mod procedural;
+
+/// Adds the built-in tile sets to a registry.
+pub fn register(registry: &mut Registry) -> Result<(), DuplicateName> {
+    let t = &mut registry.tilesets;
+    t.register(
+        "mine",
+        "built-in",
+        "operational drifts: flat floor, straight walls, arched back",
+        Arc::new(|p| Ok(Box::new(mine::from_params(p)?) as Box<dyn TileSet>)),
+    )?;
+    t.register(
+        "cave",
+        "built-in",
+        "natural cave: rough irregular walls, rubble and rock piles",
+        Arc::new(|p| Ok(Box::new(cave::from_params(p)?) as Box<dyn TileSet>)),
+    )?;
+    t.register(
+        "lava-tube",
+        "built-in",
+        "wide smooth elliptical tube, flat floor, side benches",
+        Arc::new(|p| Ok(Box::new(lava_tube::from_params(p)?) as Box<dyn TileSet>)),
+    )?;
     Ok(())
 }

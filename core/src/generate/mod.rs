@@ -27,8 +27,34 @@ use crate::world::{Counts, Shaft, World};
 pub use level::structure_counts;
 pub use search::DETOUR_COST;
 
-/// Generates the world a pipeline describes.
+/// Generates the world a pipeline describes: its layout and, when the pipeline has a
+/// `[tileset]`, its geometry.
 pub fn generate(pipeline: &Pipeline, registry: &Registry) -> Result<World, Error> {
+    let tileset = match &pipeline.tileset {
+        Some(t) => Some(registry.tilesets.build(t)?),
+        None => None,
+    };
+    let mut world = layout(pipeline, registry)?;
+    if let Some(tileset) = tileset {
+        let name = pipeline
+            .tileset
+            .as_ref()
+            .map(|t| t.type_name.clone())
+            .unwrap_or_default();
+        world.mesh = Some(
+            crate::assembly::assemble(&world, tileset.as_ref()).map_err(|e| Error::Component {
+                component: "tile set",
+                name,
+                message: e.0,
+            })?,
+        );
+    }
+    Ok(world)
+}
+
+/// Generates a world's layout only: occupancy, tiles, shafts, graph and report, without
+/// geometry (what `--no-mesh` runs).
+pub fn layout(pipeline: &Pipeline, registry: &Registry) -> Result<World, Error> {
     let (resolved_pipeline, resolved) = pipeline.resolve()?;
     let descriptor = registry.route_descriptors.build(&pipeline.route)?;
     if let Some(t) = &pipeline.tileset {

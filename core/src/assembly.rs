@@ -1,0 +1,138 @@
+//! Assembly: one tile per occupied cell, made in parallel, concatenated in raster order and
+//! welded into the world's visual and collision meshes.
+//!
+//! Every occupied cell is asked for exactly once, so grid and mesh always agree (the original
+//! walks from the start tile, leaves unreachable cells without geometry and places tiles twice
+//! around loops). The order of the output does not depend on the thread count.
+
+use std::ops::Range;
+
+use rayon::prelude::*;
+
+use crate::grid::Cell;
+use crate::mesh::{Material, Mesh};
+use crate::rng::derive_seed;
+use crate::tile::TileKind;
+use crate::tileset::{TileContext, TileGeometry, TileSet, TileSetError};
+use crate::world::World;
+
+/// Where one tile's triangles are in the world meshes.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PlacedTile {
+    /// The cell.
+    pub cell: Cell,
+    /// Its kind.
+    pub kind: TileKind,
+    /// Its quarter turns.
+    pub rotation: u8,
+    /// Its triangles in [`WorldMesh::visual`] (before welding drops degenerate ones, which
+    /// only procedural seams can make; counts are exact for mesh tiles).
+    pub visual_triangles: Range<usize>,
+}
+
+/// The assembled world.
+#[derive(Clone, Debug, Default)]
+pub struct WorldMesh {
+    /// What is rendered.
+    pub visual: Mesh,
+    /// What physics collides with.
+    pub collision: Mesh,
+    /// The tile set's materials.
+    pub materials: Vec<Material>,
+    /// One entry per occupied cell, raster order.
+    pub tiles: Vec<PlacedTile>,
+}
+
+/// Makes every tile of a world and joins them.
+pub fn assemble(world: &World, tileset: &dyn TileSet) -> Result<WorldMesh, TileSetError> {
+    tileset.check(world)?;
+    let cells: Vec<Cell> = world
+        .occupancy
+        .cells()
+        .filter(|&c| *world.occupancy.get(c))
+        .collect();
+    let geometry: Vec<TileGeometry> = cells
+        .par_iter()
+        .map(|&cell| {
+            let tile = world.tiles.get(cell).expect("occupied cells have tiles");
+            let ctx = TileContext {
+                world,
+                cell,
+                tile,
+                position: world.cell_position(cell),
+                seed: derive_seed(
+                    world.resolved.seed,
+                    "tile",
+                    ((cell.level as u64) << 40) | ((cell.row as u64) << 20) | cell.col as u64,
+                ),
+            };
+            tileset.tile(&ctx).map_err(|e| {
+                TileSetError(format!(
+                    "tile at level {}, row {}, column {} ({}): {e}",
+                    cell.level,
+                    cell.row,
+                    cell.col,
+                    tile.kind.name()
+                ))
+            })
+        })
+        .collect::<Result<_, _>>()?;
+    let mut out = WorldMesh {
+        materials: tileset.materials(),
+        ..WorldMesh::default()
+    };
+    let (tri, col): (usize, usize) = geometry.iter().fold((0, 0), |(a, b), g| {
+        (
+            a + g.visual.triangle_count(),
+            b + g.collision.triangle_count(),
+        )
+    });
+    out.visual.triangles.reserve(tri);
+    out.collision.triangles.reserve(col);
+    let mut seams = geometry
+        .iter()
+        .all(|g| g.seams.is_some())
+        .then(|| (Vec::new(), Vec::new()));
+    for (cell, g) in cells.iter().zip(&geometry) {
+        let tile = world.tiles.get(*cell).expect("occupied");
+        let start = out.visual.triangle_count();
+        if let (Some((vs, cs)), Some((v, c))) = (&mut seams, &g.seams) {
+            let (vb, cb) = (
+                out.visual.positions.len() as u32,
+                out.collision.positions.len() as u32,
+            );
+            vs.extend(v.iter().map(|i| i + vb));
+            cs.extend(c.iter().map(|i| i + cb));
+        }
+        out.visual.append(&g.visual);
+        out.collision.append(&g.collision);
+        out.tiles.push(PlacedTile {
+            cell: *cell,
+            kind: tile.kind,
+            rotation: tile.rotation,
+            visual_triangles: start..out.visual.triangle_count(),
+        });
+    }
+    drop(geometry);
+    let scale = tileset.texture_scale();
+    let (visual_seams, collision_seams) = match seams {
+        Some((v, c)) => (Some(v), Some(c)),
+        None => (None, None),
+    };
+    for (mesh, seams) in [
+        (&mut out.visual, visual_seams),
+        (&mut out.collision, collision_seams),
+    ] {
+        match seams {
+            Some(s) => mesh.weld_among(&s),
+            None => mesh.weld(),
+        }
+        if mesh.normals.len() != mesh.positions.len() {
+            mesh.compute_normals();
+        }
+        if mesh.uvs.len() != mesh.positions.len() {
+            mesh.compute_box_uvs(scale);
+        }
+    }
+    Ok(out)
+}

@@ -1,0 +1,369 @@
+//! The world-wide field a procedural tile set meshes: negative in the passages, positive in
+//! the rock, the same function of world position whichever tile evaluates it.
+//!
+//! Every occupied cell contributes half-corridors from its centre to each opening (a dead end
+//! is one half-corridor, rounded at the centre), the foot of a shaft adds a vertical passage
+//! to the level above, and rocks are solid blobs on the floor. Each contribution acts only in
+//! its cell's block widened by half a pitch, so a tile needs only its 3 x 3 neighbourhood on
+//! its own level and the levels beside it, and two tiles evaluating a point on their shared
+//! face compute exactly the same number.
+
+use subtgraph_core::World;
+use subtgraph_core::grid::{Cell, Direction};
+use subtgraph_core::rng::WorldRng;
+use subtgraph_core::tile::TileKind;
+
+use crate::noise::Noise;
+
+/// Material indices used by the procedural tile sets.
+pub mod material {
+    /// Walls and ceiling.
+    pub const WALL: u8 = 0;
+    /// The floor.
+    pub const FLOOR: u8 = 1;
+    /// Rock piles and boulders.
+    pub const ROCK: u8 = 2;
+    /// Striated bands on the walls.
+    pub const STRIATED: u8 = 3;
+}
+
+/// The shape of a passage across its axis.
+pub trait Profile: Send + Sync {
+    /// Negative inside the passage: `u >= 0` metres sideways from the axis, `v` metres above
+    /// the floor, for a passage `width` wide and `height` high here.
+    fn section(&self, u: f64, v: f64, width: f64, height: f64) -> f64;
+}
+
+/// The knobs shared by the procedural tile sets, in metres unless said otherwise.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Passage {
+    /// Nominal width.
+    pub width: f64,
+    /// Nominal floor-to-ceiling height.
+    pub height: f64,
+    /// Width changes along the passage, as a fraction of the width.
+    pub width_variation: f64,
+    /// Height changes along the passage, as a fraction of the height.
+    pub height_variation: f64,
+    /// Distance over which width and height change.
+    pub variation_scale: f64,
+    /// Amplitude of wall relief.
+    pub roughness: f64,
+    /// Size of wall relief features.
+    pub roughness_scale: f64,
+    /// Amplitude of floor rubble.
+    pub floor_roughness: f64,
+    /// Rocks per tile (fractions are a probability).
+    pub rocks: f64,
+    /// Typical rock radius.
+    pub rock_size: f64,
+    /// Shaft radius as a fraction of the width.
+    pub shaft_radius: f64,
+    /// Whether walls get striated bands.
+    pub striations: bool,
+}
+
+/// A passage contribution, with the box it acts in.
+#[derive(Clone, Debug)]
+enum Feature {
+    Corridor {
+        a: [f64; 2],
+        b: [f64; 2],
+        floor: f64,
+    },
+    Shaft {
+        c: [f64; 2],
+        z0: f64,
+        z1: f64,
+        r: f64,
+    },
+}
+
+#[derive(Clone, Debug)]
+struct Bounded<T> {
+    lo: [f64; 3],
+    hi: [f64; 3],
+    item: T,
+}
+
+impl<T> Bounded<T> {
+    fn contains(&self, p: [f64; 3]) -> bool {
+        (0..3).all(|d| p[d] >= self.lo[d] && p[d] <= self.hi[d])
+    }
+}
+
+#[derive(Clone, Debug)]
+struct Rock {
+    c: [f64; 3],
+    r: f64,
+}
+
+/// Value of a contribution that does not act at a point: larger than any real value.
+const FAR: f64 = 1e9;
+
+/// The field around one tile.
+pub struct LocalField<'a> {
+    passage: &'a Passage,
+    profile: &'a dyn Profile,
+    features: Vec<Bounded<Feature>>,
+    rocks: Vec<Bounded<Rock>>,
+    walls: Noise,
+    sizes: Noise,
+    rubble: Noise,
+    bands: Noise,
+}
+
+/// Vertical layout of a world's levels for the lattice.
+#[derive(Clone, Copy, Debug)]
+pub struct Levels {
+    /// Metres between levels.
+    pub height: f64,
+    /// How far below its floor a level's block starts.
+    pub below_floor: f64,
+}
+
+impl Levels {
+    /// The z range `[lo, hi]` of level `l`'s block.
+    pub fn block_z(&self, l: usize) -> (f64, f64) {
+        let f = l as f64 * self.height;
+        (f - self.below_floor, f + self.height - self.below_floor)
+    }
+}
+
+impl<'a> LocalField<'a> {
+    /// The contributions acting on the block of `cell` (its 3 x 3 neighbourhood on levels
+    /// `level - 1 ..= level + 1`), for a lattice of spacing `lattice` metres.
+    ///
+    /// Each contribution acts in a box around it, wide enough that any lattice point within one
+    /// lattice edge of a point it makes negative is inside (so edges crossing the surface are
+    /// interpolated between true values), and never wider than half a pitch beyond its cell.
+    pub fn around(
+        world: &World,
+        cell: Cell,
+        passage: &'a Passage,
+        profile: &'a dyn Profile,
+        levels: Levels,
+        lattice: f64,
+    ) -> Self {
+        let seed = world.resolved.seed;
+        let pitch = world.resolved.tile_pitch;
+        let half = 0.5 * pitch;
+        let mut features = Vec::new();
+        let mut rocks = Vec::new();
+        let margin = 3.0 * lattice;
+        let reach =
+            (0.5 * passage.width * (1.0 + passage.width_variation) + passage.roughness + margin)
+                .min(half);
+        let top = passage.height * (1.0 + passage.height_variation)
+            + passage.roughness
+            + passage.floor_roughness
+            + margin;
+        let occ = &world.occupancy;
+        let lmin = cell.level.saturating_sub(1);
+        let lmax = (cell.level + 1).min(occ.levels() - 1);
+        for l in lmin..=lmax {
+            for dr in -1i64..=1 {
+                for dc in -1i64..=1 {
+                    let (r, c) = (cell.row as i64 + dr, cell.col as i64 + dc);
+                    if r < 0 || c < 0 || r as usize >= occ.rows() || c as usize >= occ.cols() {
+                        continue;
+                    }
+                    let n = Cell::new(l, r as usize, c as usize);
+                    let Some(tile) = world.tiles.get(n) else {
+                        continue;
+                    };
+                    let [x, y, floor] = world.cell_position(n);
+                    let (z0, z1) = levels.block_z(l);
+                    let (zlo, zhi) = (z0, (floor + top).min(z1));
+                    let mut ends: Vec<[f64; 2]> = Direction::ALL
+                        .into_iter()
+                        .filter(|d| tile.openings & d.bit() != 0)
+                        .map(|d| {
+                            let (sr, sc) = d.step();
+                            [x + f64::from(sc) * half, y - f64::from(sr) * half]
+                        })
+                        .collect();
+                    if ends.is_empty() {
+                        ends.push([x, y]);
+                    }
+                    for &b in &ends {
+                        features.push(Bounded {
+                            lo: [x.min(b[0]) - reach, y.min(b[1]) - reach, zlo],
+                            hi: [x.max(b[0]) + reach, y.max(b[1]) + reach, zhi],
+                            item: Feature::Corridor {
+                                a: [x, y],
+                                b,
+                                floor,
+                            },
+                        });
+                    }
+                    if tile.kind == TileKind::ShaftUp && l + 1 < occ.levels() {
+                        let above = floor + levels.height;
+                        let r = passage.shaft_radius * passage.width;
+                        let w = (r + passage.roughness + margin).min(half);
+                        features.push(Bounded {
+                            lo: [x - w, y - w, floor],
+                            hi: [x + w, y + w, above + 0.5 + margin],
+                            item: Feature::Shaft {
+                                c: [x, y],
+                                z0: floor + 0.5,
+                                z1: above + 0.5,
+                                r,
+                            },
+                        });
+                    }
+                    let key = ((l as u64) << 40) | ((n.row as u64) << 20) | n.col as u64;
+                    let mut rng = WorldRng::new(seed, "rocks", key);
+                    let count = passage.rocks.floor() as u32
+                        + u32::from(rng.unit() < passage.rocks.fract());
+                    for _ in 0..count {
+                        let b = ends[rng.below(ends.len() as u64) as usize];
+                        let t = rng.float_in(0.15, 0.85);
+                        let (ax, ay) = (x + (b[0] - x) * t, y + (b[1] - y) * t);
+                        // Sideways toward a wall, on the floor.
+                        let (dx, dy) = (b[0] - x, b[1] - y);
+                        let len = (dx * dx + dy * dy).sqrt().max(1e-9);
+                        let side = if rng.coin() { 1.0 } else { -1.0 };
+                        let off = rng.float_in(0.15, 0.35) * passage.width * side;
+                        let radius = passage.rock_size * rng.float_in(0.6, 1.2);
+                        let c = [
+                            ax - dy / len * off,
+                            ay + dx / len * off,
+                            floor + 0.15 * radius,
+                        ];
+                        let w = radius + passage.roughness + margin;
+                        rocks.push(Bounded {
+                            lo: [c[0] - w, c[1] - w, c[2] - w],
+                            hi: [c[0] + w, c[1] + w, c[2] + w],
+                            item: Rock { c, r: radius },
+                        });
+                    }
+                }
+            }
+        }
+        LocalField {
+            passage,
+            profile,
+            features,
+            rocks,
+            walls: Noise::new(seed, "walls"),
+            sizes: Noise::new(seed, "sizes"),
+            rubble: Noise::new(seed, "rubble"),
+            bands: Noise::new(seed, "bands"),
+        }
+    }
+
+    /// What depends only on the horizontal position: width, height and floor rubble.
+    pub fn column(&self, x: f64, y: f64) -> Column {
+        let ps = self.passage;
+        let s = 1.0 / ps.variation_scale;
+        Column {
+            width: ps.width * (1.0 + ps.width_variation * self.sizes.at(x * s, y * s, 0.5)),
+            height: ps.height * (1.0 + ps.height_variation * self.sizes.at(x * s, y * s, 7.5)),
+            rubble: if ps.floor_roughness > 0.0 {
+                ps.floor_roughness * (0.5 + 0.5 * self.rubble.fbm(x / 1.5, y / 1.5, 0.0, 2))
+            } else {
+                0.0
+            },
+        }
+    }
+
+    /// The field and material at a point.
+    pub fn at(&self, p: [f64; 3]) -> (f64, u8) {
+        self.at_column(p, &self.column(p[0], p[1]))
+    }
+
+    /// The field and material at a point whose [`column`](Self::column) is known.
+    pub fn at_column(&self, p: [f64; 3], col: &Column) -> (f64, u8) {
+        let ps = self.passage;
+        // Wall relief is evaluated only where it can matter: it never exceeds `roughness`, so
+        // farther from the surface than that (with a margin for the lattice) the sign, and so
+        // the surface, does not depend on it.
+        let cutoff = 2.0 * ps.roughness + 0.1 * ps.width + 1.0;
+        let mut relief: Option<f64> = None;
+        let mut relief_at = |p: [f64; 3]| {
+            *relief.get_or_insert_with(|| {
+                let rs = 1.0 / ps.roughness_scale;
+                ps.roughness * self.walls.fbm(p[0] * rs, p[1] * rs, p[2] * rs, 3)
+            })
+        };
+        let mut best = FAR;
+        let mut best_v = 0.0;
+        for f in &self.features {
+            if !f.contains(p) {
+                continue;
+            }
+            let (base, v, wall) = match f.item {
+                Feature::Corridor { a, b, floor } => {
+                    let u = segment_distance([p[0], p[1]], a, b);
+                    let v = p[2] - floor - col.rubble;
+                    let wall = v.clamp(0.0, 1.0);
+                    (self.profile.section(u, v, col.width, col.height), v, wall)
+                }
+                Feature::Shaft { c, z0, z1, r } => {
+                    let d = ((p[0] - c[0]).powi(2) + (p[1] - c[1]).powi(2)).sqrt();
+                    ((d - r).max(z0 - p[2]).max(p[2] - z1), 10.0, 1.0)
+                }
+            };
+            let value = if base.abs() < cutoff && wall > 0.0 {
+                base + wall * relief_at(p)
+            } else {
+                base
+            };
+            if value < best {
+                best = value;
+                best_v = v;
+            }
+        }
+        let mut material = if best_v < 0.35 {
+            material::FLOOR
+        } else if ps.striations
+            && best.abs() < cutoff
+            && self.bands.at(p[0] / 9.0, p[1] / 9.0, p[2] / 1.2) > 0.25
+        {
+            material::STRIATED
+        } else {
+            material::WALL
+        };
+        for rock in &self.rocks {
+            if !rock.contains(p) {
+                continue;
+            }
+            let r = &rock.item;
+            let d = ((p[0] - r.c[0]).powi(2) + (p[1] - r.c[1]).powi(2) + (p[2] - r.c[2]).powi(2))
+                .sqrt();
+            let base = r.r - d;
+            let solid = if base.abs() < cutoff {
+                base + 0.3 * relief_at(p)
+            } else {
+                base
+            };
+            if solid > best {
+                best = solid;
+                material = material::ROCK;
+            }
+        }
+        (best, material)
+    }
+}
+
+/// The parts of the field that depend only on the horizontal position.
+#[derive(Clone, Copy, Debug)]
+pub struct Column {
+    width: f64,
+    height: f64,
+    rubble: f64,
+}
+
+/// Distance from `p` to the segment `a`-`b` in the plane.
+fn segment_distance(p: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
+    let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
+    let len2 = dx * dx + dy * dy;
+    let t = if len2 > 0.0 {
+        (((p[0] - a[0]) * dx + (p[1] - a[1]) * dy) / len2).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    let (qx, qy) = (a[0] + t * dx - p[0], a[1] + t * dy - p[1]);
+    (qx * qx + qy * qy).sqrt()
+}

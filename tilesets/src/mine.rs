@@ -1,0 +1,78 @@
+//! `mine`: an operational mine drift: flat floor, straight walls, arched back; regular, with
+//! little relief and few rocks.
+
+use subtgraph_core::error::ConfigError;
+use subtgraph_core::mesh::Material;
+use subtgraph_core::params::Params;
+
+use crate::field::{Passage, Profile};
+use crate::procedural::{Procedural, Style};
+
+/// A drift profile: walls up to 60 % of the height, then an elliptical arch.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Drift;
+
+impl Profile for Drift {
+    fn section(&self, u: f64, v: f64, width: f64, height: f64) -> f64 {
+        let a = 0.5 * width;
+        let wall = 0.6 * height;
+        let b = height - wall;
+        let s = a.min(b);
+        let side = if v <= wall {
+            (u - a) * s / a
+        } else {
+            (((u / a).powi(2) + ((v - wall) / b).powi(2)).sqrt() - 1.0) * s
+        };
+        side.max(-v)
+    }
+}
+
+/// The `mine` tile set.
+pub fn from_params(p: &Params) -> Result<Procedural, ConfigError> {
+    Procedural::from_params(
+        Style {
+            name: "mine",
+            profile: Box::new(Drift),
+            width: 0.32,
+            height: 0.28,
+            shape: Passage {
+                width: 0.0,
+                height: 0.0,
+                width_variation: 0.02,
+                height_variation: 0.02,
+                variation_scale: 3.0,
+                roughness: 0.015,
+                roughness_scale: 0.25,
+                floor_roughness: 0.0,
+                rocks: 0.0,
+                rock_size: 0.08,
+                shaft_radius: 0.3,
+                striations: false,
+            },
+            materials: vec![
+                Material::coloured("mine-wall", [0.42, 0.40, 0.37]),
+                Material::coloured("mine-floor", [0.30, 0.28, 0.26]),
+                Material::coloured("rock-pile", [0.50, 0.46, 0.40]),
+                Material::coloured("striated-rock", [0.55, 0.50, 0.44]),
+            ],
+            rocks: 0.15,
+        },
+        p,
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_drift_has_a_flat_floor_straight_walls_and_an_arch() {
+        let (w, h) = (6.0, 5.0);
+        assert!(Drift.section(0.0, 2.0, w, h) < 0.0, "inside");
+        assert!(Drift.section(0.0, -0.1, w, h) > 0.0, "below the floor");
+        assert!(Drift.section(2.9, 0.5, w, h) < 0.0 && Drift.section(3.1, 0.5, w, h) > 0.0);
+        assert!(Drift.section(0.0, 4.9, w, h) < 0.0 && Drift.section(0.0, 5.1, w, h) > 0.0);
+        // The arch narrows: near the crown the passage is narrower than at the walls.
+        assert!(Drift.section(2.5, 4.5, w, h) > 0.0);
+    }
+}
