@@ -19,6 +19,7 @@ pub use subtgraph_tilesets as tilesets;
 
 pub mod folder;
 pub mod presets;
+pub mod preview;
 
 use subtgraph_core::Registry;
 

@@ -61,6 +61,20 @@ enum Command {
     },
     /// List the built-in presets.
     Presets,
+    /// Draw a shaded perspective picture of a world's mesh (no GPU needed).
+    Preview {
+        /// A world folder generated with a tile set.
+        world: PathBuf,
+        /// The PNG to write.
+        #[arg(long)]
+        out: PathBuf,
+        /// Picture size, WIDTHxHEIGHT pixels.
+        #[arg(long, default_value = "1280x800")]
+        size: String,
+        /// Draw the few tiles around the start instead of the whole world.
+        #[arg(long)]
+        close_up: bool,
+    },
 }
 
 fn main() -> ExitCode {
@@ -151,6 +165,26 @@ fn run(cli: Cli) -> Result<()> {
                 world.resolved.rows,
                 world.resolved.cols,
                 world.occupancy.occupied_count()
+            );
+            Ok(())
+        }
+        Command::Preview {
+            world,
+            out,
+            size,
+            close_up,
+        } => {
+            let (w, h) = size
+                .split_once('x')
+                .and_then(|(w, h)| Some((w.parse::<usize>().ok()?, h.parse::<usize>().ok()?)))
+                .filter(|&(w, h)| (16..=8192).contains(&w) && (16..=8192).contains(&h))
+                .ok_or_else(|| {
+                    anyhow!("--size must be WIDTHxHEIGHT, 16 to 8192 pixels each, like 1280x800")
+                })?;
+            let drawn = subtgraph::preview::render(&world, &out, w, h, close_up)?;
+            println!(
+                "wrote {} ({w} x {h}, {drawn} triangles drawn)",
+                out.display()
             );
             Ok(())
         }
