@@ -5,7 +5,7 @@ use std::hint::black_box;
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use subtgraph::core::export::MemoryWriter;
-use subtgraph::core::generate;
+use subtgraph::core::layout as generate;
 
 fn presets(c: &mut Criterion) {
     let registry = subtgraph::registry();

@@ -27,7 +27,7 @@ enum Command {
     /// maps/level-N.png into --out, atomically: the folder appears complete or not at all.
     Generate {
         /// A pipeline TOML file (see examples/). Without it and without --preset, the built-in
-        /// defaults (a natural cave) are used.
+        /// defaults are used: the cave preset.
         pipeline: Option<PathBuf>,
         /// A built-in preset: mine, cave or lava-tube.
         #[arg(long, conflicts_with = "pipeline")]
@@ -206,7 +206,8 @@ fn load_pipeline(file: Option<&Path>, preset: Option<&str>) -> Result<(Pipeline,
         (Some(path), _) => {
             let text = std::fs::read_to_string(path)
                 .with_context(|| format!("reading pipeline file {}", path.display()))?;
-            let p = Pipeline::parse(&text, &path.display().to_string())?;
+            let mut p = Pipeline::parse(&text, &path.display().to_string())?;
+            p.anchor_paths(path.parent().unwrap_or(Path::new(".")));
             if !p.plugins.paths.is_empty() {
                 bail!(
                     "{}: [plugins] is not supported by this version of subtgraph yet; remove the section",
@@ -216,15 +217,28 @@ fn load_pipeline(file: Option<&Path>, preset: Option<&str>) -> Result<(Pipeline,
             Ok((p, path.display().to_string()))
         }
         (None, Some(name)) => {
-            let p = presets::load(name).ok_or_else(|| {
+            let mut p = presets::load(name).ok_or_else(|| {
                 anyhow!(
                     "unknown preset '{name}'; the presets are: {}",
                     presets::names()
                 )
             })?;
+            p.anchor_paths(
+                Path::new(env!("CARGO_MANIFEST_DIR"))
+                    .join("examples")
+                    .as_path(),
+            );
             Ok((p, format!("preset {name}")))
         }
-        (None, None) => Ok((Pipeline::default(), "built-in defaults".into())),
+        (None, None) => {
+            let mut p = presets::load("cave").expect("the cave preset is built in");
+            p.anchor_paths(
+                Path::new(env!("CARGO_MANIFEST_DIR"))
+                    .join("examples")
+                    .as_path(),
+            );
+            Ok((p, "built-in defaults (the cave preset)".into()))
+        }
     }
 }
 

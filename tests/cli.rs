@@ -140,6 +140,12 @@ fn every_example_pipeline_makes_a_complete_world_and_regenerates_from_world_toml
     let tmp = tempfile::tempdir().unwrap();
     for example in examples() {
         let name = example.file_stem().unwrap().to_string_lossy().into_owned();
+        let text = std::fs::read_to_string(&example).unwrap();
+        let darpa = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/darpa-subt-tiles");
+        if text.contains("darpa-cave-type-b") && !darpa.is_dir() {
+            eprintln!("skipping {name}: {} is absent", darpa.display());
+            continue;
+        }
         let out = tmp.path().join(&name);
         let stdout = ok(&[
             "generate",
@@ -158,7 +164,11 @@ fn every_example_pipeline_makes_a_complete_world_and_regenerates_from_world_toml
             "--out",
             again.to_str().unwrap(),
         ]);
-        for f in ["occupancy.npy", "topology.json", "maps/level-0.png"] {
+        let mut files = vec!["occupancy.npy", "topology.json", "maps/level-0.png"];
+        if out.join("mesh").is_dir() {
+            files.extend(["mesh/world.obj", "mesh/collision.obj", "mesh/world.mtl"]);
+        }
+        for f in files {
             assert_eq!(
                 std::fs::read(out.join(f)).unwrap(),
                 std::fs::read(again.join(f)).unwrap(),
@@ -359,6 +369,7 @@ fn imports_reproduce_a_world_and_read_the_originals_encodings() {
         "generate",
         "--preset",
         "mine",
+        "--no-mesh",
         "--occupancy",
         made.join("occupancy.npy").to_str().unwrap(),
         "--out",

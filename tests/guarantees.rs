@@ -7,7 +7,7 @@ use subtgraph::core::graph::EdgeKind;
 use subtgraph::core::grid::Direction;
 use subtgraph::core::tile::TileKind;
 use subtgraph::core::world::fused_blocks;
-use subtgraph::core::{Error, Pipeline, World, generate};
+use subtgraph::core::{Error, Pipeline, World, layout as generate};
 
 #[allow(clippy::too_many_arguments)]
 fn pipeline(

@@ -43,6 +43,14 @@ pub struct WorldMesh {
     pub tiles: Vec<PlacedTile>,
 }
 
+fn reserve(m: &mut Mesh, vertices: usize, triangles: usize) {
+    m.positions.reserve(vertices);
+    m.normals.reserve(vertices);
+    m.uvs.reserve(vertices);
+    m.triangles.reserve(triangles);
+    m.materials.reserve(triangles);
+}
+
 /// Makes every tile of a world and joins them.
 pub fn assemble(world: &World, tileset: &dyn TileSet) -> Result<WorldMesh, TileSetError> {
     tileset.check(world)?;
@@ -51,69 +59,79 @@ pub fn assemble(world: &World, tileset: &dyn TileSet) -> Result<WorldMesh, TileS
         .cells()
         .filter(|&c| *world.occupancy.get(c))
         .collect();
-    let geometry: Vec<TileGeometry> = cells
-        .par_iter()
-        .map(|&cell| {
-            let tile = world.tiles.get(cell).expect("occupied cells have tiles");
-            let ctx = TileContext {
-                world,
-                cell,
-                tile,
-                position: world.cell_position(cell),
-                seed: derive_seed(
-                    world.resolved.seed,
-                    "tile",
-                    ((cell.level as u64) << 40) | ((cell.row as u64) << 20) | cell.col as u64,
-                ),
-            };
-            tileset.tile(&ctx).map_err(|e| {
-                TileSetError(format!(
-                    "tile at level {}, row {}, column {} ({}): {e}",
-                    cell.level,
-                    cell.row,
-                    cell.col,
-                    tile.kind.name()
-                ))
-            })
+    let make = |cell: Cell| -> Result<TileGeometry, TileSetError> {
+        let tile = world.tiles.get(cell).expect("occupied cells have tiles");
+        let ctx = TileContext {
+            world,
+            cell,
+            tile,
+            position: world.cell_position(cell),
+            seed: derive_seed(
+                world.resolved.seed,
+                "tile",
+                ((cell.level as u64) << 40) | ((cell.row as u64) << 20) | cell.col as u64,
+            ),
+        };
+        tileset.tile(&ctx).map_err(|e| {
+            TileSetError(format!(
+                "tile at level {}, row {}, column {} ({}): {e}",
+                cell.level,
+                cell.row,
+                cell.col,
+                tile.kind.name()
+            ))
         })
-        .collect::<Result<_, _>>()?;
+    };
     let mut out = WorldMesh {
         materials: tileset.materials(),
         ..WorldMesh::default()
     };
-    let (tri, col): (usize, usize) = geometry.iter().fold((0, 0), |(a, b), g| {
-        (
-            a + g.visual.triangle_count(),
-            b + g.collision.triangle_count(),
-        )
-    });
-    out.visual.triangles.reserve(tri);
-    out.collision.triangles.reserve(col);
-    let mut seams = geometry
-        .iter()
-        .all(|g| g.seams.is_some())
-        .then(|| (Vec::new(), Vec::new()));
-    for (cell, g) in cells.iter().zip(&geometry) {
-        let tile = world.tiles.get(*cell).expect("occupied");
-        let start = out.visual.triangle_count();
-        if let (Some((vs, cs)), Some((v, c))) = (&mut seams, &g.seams) {
-            let (vb, cb) = (
-                out.visual.positions.len() as u32,
-                out.collision.positions.len() as u32,
-            );
-            vs.extend(v.iter().map(|i| i + vb));
-            cs.extend(c.iter().map(|i| i + cb));
+    // Tiles are made in parallel a chunk at a time and appended in raster order, so memory
+    // holds the world plus one chunk, and the result does not depend on the thread count.
+    let chunk = 64 * rayon::current_num_threads().max(1);
+    let mut seams: Option<(Vec<u32>, Vec<u32>)> = Some((Vec::new(), Vec::new()));
+    for group in cells.chunks(chunk) {
+        let geometry: Vec<TileGeometry> = group
+            .par_iter()
+            .map(|&c| make(c))
+            .collect::<Result<_, _>>()?;
+        if out.visual.triangles.is_empty() {
+            // Size the world from the first chunk, so appending rarely reallocates.
+            let factor = cells.len() as f64 / group.len() as f64 * 1.05;
+            let count = |f: fn(&TileGeometry) -> (usize, usize)| {
+                let (v, t) = geometry
+                    .iter()
+                    .map(f)
+                    .fold((0, 0), |a, b| (a.0 + b.0, a.1 + b.1));
+                ((v as f64 * factor) as usize, (t as f64 * factor) as usize)
+            };
+            let (vv, vt) = count(|g| (g.visual.positions.len(), g.visual.triangles.len()));
+            let (cv, ct) = count(|g| (g.collision.positions.len(), g.collision.triangles.len()));
+            reserve(&mut out.visual, vv, vt);
+            reserve(&mut out.collision, cv, ct);
         }
-        out.visual.append(&g.visual);
-        out.collision.append(&g.collision);
-        out.tiles.push(PlacedTile {
-            cell: *cell,
-            kind: tile.kind,
-            rotation: tile.rotation,
-            visual_triangles: start..out.visual.triangle_count(),
-        });
+        for (cell, g) in group.iter().zip(&geometry) {
+            let tile = world.tiles.get(*cell).expect("occupied");
+            let start = out.visual.triangle_count();
+            match (&mut seams, &g.seams) {
+                (Some((vs, cs)), Some((v, c))) => {
+                    let vb = out.visual.positions.len() as u32;
+                    let cb = out.collision.positions.len() as u32;
+                    vs.extend(v.iter().map(|i| i + vb));
+                    cs.extend(c.iter().map(|i| i + cb));
+                }
+                _ => seams = None,
+            }
+            out.visual.append(&g.visual);
+            out.collision.append(&g.collision);
+            out.tiles.push(PlacedTile {
+                cell: *cell,
+                kind: tile.kind,
+                rotation: tile.rotation,
+                visual_triangles: start..out.visual.triangle_count(),
+            });
+        }
     }
-    drop(geometry);
     let scale = tileset.texture_scale();
     let (visual_seams, collision_seams) = match seams {
         Some((v, c)) => (Some(v), Some(c)),

@@ -647,6 +647,36 @@ impl Pipeline {
         Ok((p, resolved))
     }
 
+    /// Makes the path-valued keys (`manifest` of any component, `plugins.paths`) absolute,
+    /// relative to `base` (the pipeline file's folder), so a world's recorded pipeline finds
+    /// the same files from wherever it is regenerated.
+    pub fn anchor_paths(&mut self, base: &std::path::Path) {
+        let anchor = |s: &str| -> String {
+            let p = std::path::Path::new(s);
+            if p.is_absolute() {
+                return s.to_owned();
+            }
+            let joined = base.join(p);
+            joined
+                .canonicalize()
+                .unwrap_or(joined)
+                .to_string_lossy()
+                .into_owned()
+        };
+        let mut specs: Vec<&mut ComponentSpec> = Vec::new();
+        specs.extend(self.tileset.as_mut());
+        specs.extend(self.export.iter_mut());
+        specs.extend(self.topology.structures.iter_mut());
+        for spec in specs {
+            if let Some(toml::Value::String(s)) = spec.params.raw("manifest").cloned() {
+                spec.params.set("manifest", toml::Value::String(anchor(&s)));
+            }
+        }
+        for p in &mut self.plugins.paths {
+            *p = anchor(p);
+        }
+    }
+
     /// The pipeline as TOML text.
     pub fn to_toml(&self) -> String {
         toml::to_string(self).expect("a pipeline always serializes")

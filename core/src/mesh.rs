@@ -207,6 +207,9 @@ impl Mesh {
     /// Like [`weld`](Self::weld), considering only the listed vertices (sorted ascending):
     /// the others are known to be unique.
     pub fn weld_among(&mut self, candidates: &[u32]) {
+        if candidates.is_empty() {
+            return;
+        }
         use std::collections::HashMap;
         let mut map: HashMap<[u32; 3], u32, BuildFastHash> =
             HashMap::with_capacity_and_hasher(candidates.len(), BuildFastHash::default());
@@ -257,7 +260,7 @@ impl Mesh {
 
 /// A fast non-cryptographic hash for vertex keys (positions are not adversarial input).
 #[derive(Default, Clone, Copy)]
-struct FastHash(u64);
+pub struct FastHash(u64);
 
 impl std::hash::Hasher for FastHash {
     fn finish(&self) -> u64 {
@@ -279,7 +282,8 @@ impl std::hash::Hasher for FastHash {
     }
 }
 
-type BuildFastHash = std::hash::BuildHasherDefault<FastHash>;
+/// Builds [`FastHash`]ers, for hash maps keyed by vertex positions or lattice cells.
+pub type BuildFastHash = std::hash::BuildHasherDefault<FastHash>;
 
 #[cfg(test)]
 mod tests {

@@ -68,6 +68,11 @@ impl Params {
         self.values.get(key)
     }
 
+    /// Replaces a value, keeping where it was written.
+    pub fn set(&mut self, key: &str, value: toml::Value) {
+        self.values.insert(key.to_owned(), value);
+    }
+
     /// Removes a key the host consumes itself (like a structure's `count`).
     pub fn take(&mut self, key: &str) -> Option<(toml::Value, Option<Location>)> {
         self.spans.remove(key);
@@ -84,6 +89,24 @@ impl Params {
         }
         if let Some(span) = &self.section_span {
             self.section = Some(Location::of_offset(file, source, span.start));
+        }
+    }
+
+    /// A path written in the pipeline file, relative to that file's folder (absolute paths as
+    /// they are).
+    pub fn resolve_path(&self, written: &str) -> std::path::PathBuf {
+        let p = std::path::Path::new(written);
+        if p.is_absolute() {
+            return p.to_owned();
+        }
+        let file = self
+            .section
+            .as_ref()
+            .map(|l| l.file.to_string())
+            .unwrap_or_default();
+        match std::path::Path::new(&file).parent() {
+            Some(dir) if !file.starts_with('<') => dir.join(p),
+            _ => p.to_owned(),
         }
     }
 

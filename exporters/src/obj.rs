@@ -49,7 +49,9 @@ fn mtl(mesh: &WorldMesh) -> String {
 
 /// Appends `v` with four decimals.
 fn push_fixed(buf: &mut Vec<u8>, v: f32) {
-    let scaled = (f64::from(v) * 10_000.0).round() as i64;
+    let x = f64::from(v) * 10_000.0;
+    // Round half away from zero; `as` truncates toward zero (and is far cheaper than `round`).
+    let scaled = (x + if x >= 0.0 { 0.5 } else { -0.5 }) as i64;
     if scaled < 0 {
         buf.push(b'-');
     }
@@ -67,16 +69,16 @@ fn push_fixed(buf: &mut Vec<u8>, v: f32) {
 
 fn push_uint(buf: &mut Vec<u8>, mut v: u64) {
     let mut digits = [0u8; 20];
-    let mut n = 0;
+    let mut at = digits.len();
     loop {
-        digits[n] = b'0' + (v % 10) as u8;
-        n += 1;
+        at -= 1;
+        digits[at] = b'0' + (v % 10) as u8;
         v /= 10;
         if v == 0 {
             break;
         }
     }
-    buf.extend(digits[..n].iter().rev());
+    buf.extend_from_slice(&digits[at..]);
 }
 
 /// Lines formatted per parallel chunk; chunks are written in order as they are formatted, so

@@ -13,6 +13,8 @@
 //! tetrahedra ([`marching`]). Adjacent tiles therefore meet on exactly the same opening,
 //! vertex for vertex, the assembled world is one closed surface, and no two tiles are alike.
 //! A new cave type needs only a [`field::Profile`] and a [`procedural::Style`].
+//!
+//! [`mesh_files`] places meshes of your own (the DARPA SubT tiles, scans) from a manifest.
 
 use std::sync::Arc;
 
@@ -23,6 +25,7 @@ pub mod cave;
 pub mod field;
 pub mod lava_tube;
 pub mod marching;
+pub mod mesh_files;
 pub mod mine;
 pub mod noise;
 pub mod procedural;
@@ -47,6 +50,12 @@ pub fn register(registry: &mut Registry) -> Result<(), DuplicateName> {
         "built-in",
         "wide smooth elliptical tube, flat floor, side benches",
         Arc::new(|p| Ok(Box::new(lava_tube::from_params(p)?) as Box<dyn TileSet>)),
+    )?;
+    t.register(
+        "mesh-files",
+        "built-in",
+        "your own tile meshes (OBJ, Collada, STL, glTF) mapped to tile kinds by a manifest",
+        Arc::new(|p| Ok(Box::new(mesh_files::MeshFiles::from_params(p)?) as Box<dyn TileSet>)),
     )?;
     Ok(())
 }

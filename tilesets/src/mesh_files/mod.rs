@@ -1,0 +1,641 @@
+//! `mesh-files`: tiles from your own meshes (the DARPA SubT tiles, scanned sections), mapped
+//! to tile kinds by a TOML manifest.
+//!
+//! ```toml
+//! root = "../assets/cave-type-b"  # where the files are, relative to the manifest
+//! pitch = 80.0                     # metres between opposite openings in the files
+//! scale = 1.0                      # file units to metres
+//! up = "y"                         # the files' up axis: "y" or "z"
+//! shaft_rise = 64.0                # metres a shaft tile climbs
+//!
+//! [[material]]                     # optional: surface materials by part name
+//! name = "cave-wall"
+//! match = "CaveWall"
+//! colour = [0.46, 0.40, 0.33]
+//!
+//! [[tile]]
+//! kind = "straight"                # dead-end, straight, corner, t-junction, intersection,
+//! files = ["straight_01.obj"]      #   shaft-up, shaft-landing
+//! # rotation = 1                   # quarter turns from the kind's base orientation, when the
+//!                                  #   openings cannot be read from the mesh
+//!
+//! [[tile]]
+//! kind = "dead-end"
+//! files = ["corner_01.obj"]        # a corner...
+//! cap = "cap.obj"                  # ...closed by a cap on its second opening
+//! cap_faces = "north"              # which way the cap's open side faces in its file
+//! ```
+//!
+//! Each distinct file is loaded once and reused by every tile that names it. The meshes are
+//! scaled uniformly so that the manifest's pitch becomes `world.tile_pitch`. A tile's file is
+//! chosen by the tile's own seed, so the same world always gets the same files.
+
+mod load;
+
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+use std::sync::{Arc, Mutex};
+
+use serde::Deserialize;
+use subtgraph_core::World;
+use subtgraph_core::error::ConfigError;
+use subtgraph_core::grid::{Direction, Openings, rotate_openings};
+use subtgraph_core::mesh::{Material, Mesh};
+use subtgraph_core::params::Params;
+use subtgraph_core::rng::WorldRng;
+use subtgraph_core::tile::TileKind;
+use subtgraph_core::tileset::{TileContext, TileGeometry, TileSet, TileSetError};
+
+pub use load::{Part, load};
+
+/// The manifest file.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Manifest {
+    /// What this tile set is.
+    #[serde(default)]
+    pub description: String,
+    /// Folder the files are in, relative to the manifest.
+    #[serde(default)]
+    pub root: Option<String>,
+    /// Metres between opposite openings in the files (after `scale`).
+    pub pitch: f64,
+    /// File units to metres.
+    #[serde(default = "one")]
+    pub scale: f64,
+    /// The files' up axis.
+    #[serde(default = "z_up")]
+    pub up: String,
+    /// Metres a shaft tile climbs (after `scale`).
+    #[serde(default)]
+    pub shaft_rise: Option<f64>,
+    /// Surface materials, matched to part names by prefix; the first is the fallback.
+    #[serde(default, rename = "material")]
+    pub materials: Vec<ManifestMaterial>,
+    /// Tiles by kind.
+    #[serde(rename = "tile")]
+    pub tiles: Vec<ManifestTile>,
+}
+
+fn one() -> f64 {
+    1.0
+}
+fn z_up() -> String {
+    "z".into()
+}
+
+/// `[[material]]`.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ManifestMaterial {
+    /// Name in the world's files.
+    pub name: String,
+    /// Part-name prefix that selects it.
+    #[serde(rename = "match", default)]
+    pub matches: Option<String>,
+    /// Diffuse colour.
+    #[serde(default = "grey")]
+    pub colour: [f32; 3],
+}
+
+fn grey() -> [f32; 3] {
+    [0.5, 0.48, 0.45]
+}
+
+/// `[[tile]]`.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ManifestTile {
+    /// The tile kind this entry serves.
+    pub kind: String,
+    /// Mesh files, one drawn per tile.
+    pub files: Vec<String>,
+    /// Quarter turns of the files from the kind's base orientation (default: read from the
+    /// openings of the mesh).
+    #[serde(default)]
+    pub rotation: Option<u8>,
+    /// A cap closing the second opening (dead ends made from corners).
+    #[serde(default)]
+    pub cap: Option<String>,
+    /// The direction the cap's open side faces in its file.
+    #[serde(default)]
+    pub cap_faces: Option<String>,
+}
+
+/// A loaded, oriented mesh in metres, up axis z, rotated to its kind's base orientation.
+#[derive(Clone, Debug)]
+struct Asset {
+    mesh: Mesh,
+}
+
+#[derive(Clone, Debug)]
+struct Entry {
+    assets: Vec<Arc<Asset>>,
+    cap: Option<Arc<Asset>>,
+}
+
+/// The mesh-file tile set.
+pub struct MeshFiles {
+    manifest_path: PathBuf,
+    manifest: Manifest,
+    entries: BTreeMap<TileKind, Entry>,
+    materials: Vec<Material>,
+    loads: Arc<Mutex<usize>>,
+}
+
+fn kind_named(name: &str) -> Option<TileKind> {
+    TileKind::ALL.into_iter().find(|k| k.name() == name)
+}
+
+fn direction_named(name: &str) -> Option<Direction> {
+    match name {
+        "east" => Some(Direction::East),
+        "north" => Some(Direction::North),
+        "west" => Some(Direction::West),
+        "south" => Some(Direction::South),
+        _ => None,
+    }
+}
+
+/// Rotates `(x, y)` by `q` quarter turns counter-clockwise.
+fn turn(p: [f32; 3], q: u8) -> [f32; 3] {
+    (0..q % 4).fold(p, |[x, y, z], _| [-y, x, z])
+}
+
+impl MeshFiles {
+    /// Reads `[tileset] manifest = "..."` (relative to the pipeline file) and loads every file
+    /// the manifest names, once each.
+    pub fn from_params(p: &Params) -> Result<Self, ConfigError> {
+        #[derive(Deserialize)]
+        #[serde(deny_unknown_fields)]
+        struct Settings {
+            manifest: String,
+        }
+        let s: Settings = p.deserialize()?;
+        let path = p.resolve_path(&s.manifest);
+        Self::open(&path).map_err(|e| p.error("manifest", e))
+    }
+
+    /// Opens a manifest and loads its meshes. The error names the file and what to change.
+    pub fn open(path: &Path) -> Result<Self, String> {
+        let text = std::fs::read_to_string(path)
+            .map_err(|e| format!("cannot read the manifest {}: {e}", path.display()))?;
+        let manifest: Manifest = toml::from_str(&text)
+            .map_err(|e| format!("{}: {}", path.display(), e.to_string().trim()))?;
+        let root = path
+            .parent()
+            .unwrap_or(Path::new("."))
+            .join(manifest.root.as_deref().unwrap_or("."));
+        if !(manifest.pitch.is_finite() && manifest.pitch > 0.0) {
+            return Err(format!(
+                "{}: pitch must be a positive number of metres",
+                path.display()
+            ));
+        }
+        if !(manifest.scale.is_finite() && manifest.scale > 0.0) {
+            return Err(format!("{}: scale must be positive", path.display()));
+        }
+        if manifest.up != "y" && manifest.up != "z" {
+            return Err(format!(
+                "{}: up = \"{}\": the up axis is \"y\" or \"z\"",
+                path.display(),
+                manifest.up
+            ));
+        }
+        let mut materials: Vec<Material> = manifest
+            .materials
+            .iter()
+            .map(|m| Material::coloured(&m.name, m.colour))
+            .collect();
+        if materials.is_empty() {
+            materials.push(Material::coloured("rock", grey()));
+        }
+        let loads = Arc::new(Mutex::new(0usize));
+        // Every distinct file once, read in parallel.
+        let mut names: Vec<&str> = manifest
+            .tiles
+            .iter()
+            .flat_map(|t| t.files.iter().chain(t.cap.iter()))
+            .map(String::as_str)
+            .collect();
+        names.sort_unstable();
+        names.dedup();
+        let matchers = materials_of(&manifest);
+        let loaded: Vec<(PathBuf, Result<Arc<Mesh>, String>)> = {
+            use rayon::prelude::*;
+            names
+                .par_iter()
+                .map(|file| {
+                    let full = root.join(file);
+                    let mesh = if full.is_file() {
+                        load(&full)
+                            .map(|parts| Arc::new(to_metres(&parts, &manifest, &matchers)))
+                            .map_err(|e| format!("{}: {e}", path.display()))
+                    } else {
+                        Err(format!(
+                            "{}: the file {} does not exist (root is {}); fix the path or `root`",
+                            path.display(),
+                            full.display(),
+                            root.display()
+                        ))
+                    };
+                    (full, mesh)
+                })
+                .collect()
+        };
+        let mut cache: BTreeMap<PathBuf, Arc<Mesh>> = BTreeMap::new();
+        for (full, mesh) in loaded {
+            cache.insert(full, mesh?);
+            *loads.lock().expect("not poisoned") += 1;
+        }
+        let read =
+            |file: &str| -> Result<Arc<Mesh>, String> { Ok(cache[&root.join(file)].clone()) };
+        let mut entries = BTreeMap::new();
+        for t in &manifest.tiles {
+            let kind = kind_named(&t.kind).ok_or_else(|| {
+                format!(
+                    "{}: unknown tile kind '{}'; the kinds are {}",
+                    path.display(),
+                    t.kind,
+                    TileKind::ALL.map(TileKind::name).join(", ")
+                )
+            })?;
+            if t.files.is_empty() {
+                return Err(format!(
+                    "{}: tile '{}' lists no files",
+                    path.display(),
+                    t.kind
+                ));
+            }
+            let shape = if t.cap.is_some() {
+                TileKind::Corner
+            } else {
+                kind
+            };
+            let mut assets = Vec::new();
+            for f in &t.files {
+                let mesh = read(f)?;
+                let rotation = match t.rotation {
+                    Some(r) => r % 4,
+                    None => {
+                        let found = openings(&mesh, manifest.pitch * manifest.scale, shape);
+                        (0..4)
+                            .find(|&q| rotate_openings(shape.base_openings(), q) == found)
+                            .ok_or_else(|| {
+                                format!(
+                                    "{}: {f} is listed as {} but opens {} at ±{} m from its centre; \
+                                     check the kind, `pitch` and `scale`, or give `rotation`",
+                                    path.display(),
+                                    t.kind,
+                                    describe(found),
+                                    manifest.pitch * manifest.scale / 2.0
+                                )
+                            })?
+                    }
+                };
+                // Store rotated back to the base orientation.
+                let mut m = (*mesh).clone();
+                let back = (4 - rotation) % 4;
+                for p in &mut m.positions {
+                    *p = turn(*p, back);
+                }
+                for n in &mut m.normals {
+                    *n = turn(*n, back);
+                }
+                assets.push(Arc::new(Asset { mesh: m }));
+            }
+            let cap = match &t.cap {
+                None => None,
+                Some(c) => {
+                    let mesh = read(c)?;
+                    let faces = t.cap_faces.as_deref().unwrap_or("north");
+                    let d = direction_named(faces).ok_or_else(|| {
+                        format!(
+                            "{}: cap_faces = \"{faces}\": use east, north, west or south",
+                            path.display()
+                        )
+                    })?;
+                    // Turn the cap so it faces north (into a tile from its south opening), and
+                    // move it onto the south opening.
+                    let q = (Direction::North as u8 + 4 - d as u8) % 4;
+                    let half = (0.5 * manifest.pitch * manifest.scale) as f32;
+                    let mut m = (*mesh).clone();
+                    for p in &mut m.positions {
+                        let r = turn(*p, q);
+                        *p = [r[0], r[1] - half, r[2]];
+                    }
+                    for n in &mut m.normals {
+                        *n = turn(*n, q);
+                    }
+                    Some(Arc::new(Asset { mesh: m }))
+                }
+            };
+            if entries.insert(kind, Entry { assets, cap }).is_some() {
+                return Err(format!(
+                    "{}: two [[tile]] entries for '{}'",
+                    path.display(),
+                    t.kind
+                ));
+            }
+        }
+        Ok(Self {
+            manifest_path: path.to_owned(),
+            manifest,
+            entries,
+            materials,
+            loads,
+        })
+    }
+
+    /// How many files were read from disk (each distinct file once).
+    pub fn files_loaded(&self) -> usize {
+        *self.loads.lock().expect("not poisoned")
+    }
+
+    fn entry(&self, kind: TileKind) -> Option<&Entry> {
+        self.entries.get(&kind).or(match kind {
+            TileKind::ShaftUp | TileKind::ShaftLanding => self.entries.get(&TileKind::DeadEnd),
+            _ => None,
+        })
+    }
+}
+
+fn materials_of(m: &Manifest) -> Vec<(String, u8)> {
+    m.materials
+        .iter()
+        .enumerate()
+        .filter_map(|(i, mat)| mat.matches.clone().map(|p| (p, i as u8)))
+        .collect()
+}
+
+/// The parts of a file as one mesh in metres, z up, materials matched by part name.
+fn to_metres(parts: &[Part], manifest: &Manifest, matchers: &[(String, u8)]) -> Mesh {
+    let s = manifest.scale as f32;
+    let y_up = manifest.up == "y";
+    let convert = |p: [f32; 3]| {
+        if y_up {
+            [p[0] * s, -p[2] * s, p[1] * s]
+        } else {
+            [p[0] * s, p[1] * s, p[2] * s]
+        }
+    };
+    let mut mesh = Mesh::default();
+    for part in parts {
+        let material = matchers
+            .iter()
+            .find(|(prefix, _)| part.name.starts_with(prefix.as_str()))
+            .map_or(0, |(_, i)| *i);
+        let base = mesh.positions.len() as u32;
+        mesh.positions
+            .extend(part.positions.iter().map(|&p| convert(p)));
+        let unit = |n: [f32; 3]| {
+            let n = convert(n);
+            let l = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt().max(1e-12);
+            [n[0] / l, n[1] / l, n[2] / l]
+        };
+        if part.normals.len() == part.positions.len() {
+            mesh.normals.extend(part.normals.iter().map(|&n| unit(n)));
+        }
+        if part.uvs.len() == part.positions.len() {
+            mesh.uvs.extend_from_slice(&part.uvs);
+        }
+        mesh.triangles
+            .extend(part.triangles.iter().map(|t| t.map(|i| i + base)));
+        mesh.materials.resize(mesh.triangles.len(), material);
+    }
+    if mesh.normals.len() != mesh.positions.len() {
+        mesh.normals.clear();
+    }
+    if mesh.uvs.len() != mesh.positions.len() {
+        mesh.uvs.clear();
+    }
+    reindex(mesh)
+}
+
+/// Shares vertices that are identical in position, normal and texture coordinate (loaders
+/// hand out one vertex per triangle corner; a tile is copied hundreds of times, so this
+/// matters).
+fn reindex(mesh: Mesh) -> Mesh {
+    use std::collections::HashMap;
+    use subtgraph_core::mesh::BuildFastHash;
+    type Key = ([u32; 3], [u32; 3], [u32; 2]);
+    let mut map: HashMap<Key, u32, BuildFastHash> =
+        HashMap::with_capacity_and_hasher(mesh.positions.len() / 2, BuildFastHash::default());
+    let mut out = Mesh {
+        materials: mesh.materials.clone(),
+        ..Mesh::default()
+    };
+    let has_n = !mesh.normals.is_empty();
+    let has_uv = !mesh.uvs.is_empty();
+    let remap: Vec<u32> = (0..mesh.positions.len())
+        .map(|i| {
+            let key = (
+                mesh.positions[i].map(f32::to_bits),
+                if has_n {
+                    mesh.normals[i].map(f32::to_bits)
+                } else {
+                    [0; 3]
+                },
+                if has_uv {
+                    mesh.uvs[i].map(f32::to_bits)
+                } else {
+                    [0; 2]
+                },
+            );
+            *map.entry(key).or_insert_with(|| {
+                out.positions.push(mesh.positions[i]);
+                if has_n {
+                    out.normals.push(mesh.normals[i]);
+                }
+                if has_uv {
+                    out.uvs.push(mesh.uvs[i]);
+                }
+                out.positions.len() as u32 - 1
+            })
+        })
+        .collect();
+    out.triangles = mesh
+        .triangles
+        .iter()
+        .map(|t| t.map(|i| remap[i as usize]))
+        .collect();
+    out
+}
+
+/// Which sides of the tile square (side `pitch`) the mesh crosses: the sides with vertices at
+/// the tile boundary. A shaft is read on its lower half.
+fn openings(mesh: &Mesh, pitch: f64, kind: TileKind) -> Openings {
+    let half = (0.5 * pitch) as f32;
+    let tol = (0.04 * pitch) as f32;
+    let zmax = mesh
+        .bounds()
+        .map_or(0.0, |(lo, hi)| lo[2] + 0.4 * (hi[2] - lo[2]));
+    let low = |p: &&[f32; 3]| kind != TileKind::ShaftUp || p[2] <= zmax;
+    let mut counts = [0usize; 4];
+    let mut total = 0usize;
+    for p in mesh.positions.iter().filter(low) {
+        total += 1;
+        for d in Direction::ALL {
+            let (r, c) = d.step();
+            let along = p[0] * c as f32 - p[1] * r as f32;
+            if (along - half).abs() <= tol {
+                counts[d as usize] += 1;
+            }
+        }
+    }
+    let threshold = (total / 200).max(3);
+    Direction::ALL
+        .into_iter()
+        .filter(|d| counts[*d as usize] >= threshold)
+        .fold(0, |m, d| m | d.bit())
+}
+
+fn describe(o: Openings) -> String {
+    let names: Vec<&str> = Direction::ALL
+        .into_iter()
+        .filter(|d| o & d.bit() != 0)
+        .map(|d| match d {
+            Direction::East => "east",
+            Direction::North => "north",
+            Direction::West => "west",
+            Direction::South => "south",
+        })
+        .collect();
+    if names.is_empty() {
+        "nowhere".into()
+    } else {
+        names.join(" and ")
+    }
+}
+
+impl TileSet for MeshFiles {
+    fn tile(&self, ctx: &TileContext<'_>) -> Result<TileGeometry, TileSetError> {
+        let kind = ctx.tile.kind;
+        let entry = self.entry(kind).ok_or_else(|| {
+            TileSetError(format!(
+                "{} has no tile for '{}'",
+                self.manifest_path.display(),
+                kind.name()
+            ))
+        })?;
+        let mut rng = WorldRng::new(ctx.seed, "mesh-file", 0);
+        let asset = &entry.assets[rng.below(entry.assets.len() as u64) as usize];
+        let s =
+            (ctx.world.resolved.tile_pitch / (self.manifest.pitch * self.manifest.scale)) as f32;
+        let [x, y, z] = ctx.position.map(|v| v as f32);
+        let q = ctx.tile.rotation;
+        let place = |m: &Mesh| Mesh {
+            positions: m
+                .positions
+                .iter()
+                .map(|&p| {
+                    let r = turn(p, q);
+                    [x + s * r[0], y + s * r[1], z + s * r[2]]
+                })
+                .collect(),
+            normals: m.normals.iter().map(|&n| turn(n, q)).collect(),
+            uvs: m.uvs.clone(),
+            triangles: m.triangles.clone(),
+            materials: m.materials.clone(),
+        };
+        let mut visual = place(&asset.mesh);
+        if let Some(cap) = &entry.cap {
+            if matches!(kind, TileKind::DeadEnd | TileKind::ShaftLanding)
+                || (kind == TileKind::ShaftUp && !self.entries.contains_key(&TileKind::ShaftUp))
+            {
+                visual.append(&place(&cap.mesh));
+            }
+        }
+        let collision = simplify(&visual, 0.04 * ctx.world.resolved.tile_pitch as f32);
+        Ok(TileGeometry {
+            visual,
+            collision,
+            // Mesh tiles are not designed to weld: nothing to merge.
+            seams: Some((Vec::new(), Vec::new())),
+        })
+    }
+
+    fn materials(&self) -> Vec<Material> {
+        self.materials.clone()
+    }
+
+    fn pitch(&self) -> Option<f64> {
+        Some(self.manifest.pitch * self.manifest.scale)
+    }
+
+    fn check(&self, world: &World) -> Result<(), TileSetError> {
+        let mut missing = Vec::new();
+        for c in world.occupancy.cells() {
+            if let Some(t) = world.tiles.get(c) {
+                if self.entry(t.kind).is_none() && !missing.contains(&t.kind.name()) {
+                    missing.push(t.kind.name());
+                }
+            }
+        }
+        if !missing.is_empty() {
+            return Err(TileSetError(format!(
+                "{} has no tile for {} but the world needs them; add [[tile]] entries with those kinds",
+                self.manifest_path.display(),
+                missing.join(", ")
+            )));
+        }
+        if let Some(rise) = self.manifest.shaft_rise {
+            let scaled = rise * self.manifest.scale * world.resolved.tile_pitch
+                / (self.manifest.pitch * self.manifest.scale);
+            if world.resolved.levels > 1
+                && (scaled - world.resolved.level_height).abs() > 1e-6 * scaled.max(1.0)
+            {
+                return Err(TileSetError(format!(
+                    "{}: shaft tiles climb {scaled} m at this pitch but levels are {} m apart; set world.level_height = {scaled}",
+                    self.manifest_path.display(),
+                    world.resolved.level_height
+                )));
+            }
+        }
+        Ok(())
+    }
+}
+
+/// A lighter copy for collision: vertices snapped to a grid of `cell` metres and merged,
+/// triangles that collapse dropped.
+pub fn simplify(mesh: &Mesh, cell: f32) -> Mesh {
+    use std::collections::HashMap;
+    use subtgraph_core::mesh::BuildFastHash;
+    let mut index: HashMap<[i32; 3], u32, BuildFastHash> =
+        HashMap::with_capacity_and_hasher(mesh.positions.len() / 4, BuildFastHash::default());
+    let mut out = Mesh::default();
+    let remap: Vec<u32> = mesh
+        .positions
+        .iter()
+        .map(|p| {
+            let key = p.map(|v| (v / cell).round() as i32);
+            *index.entry(key).or_insert_with(|| {
+                out.positions.push(key.map(|k| k as f32 * cell));
+                out.positions.len() as u32 - 1
+            })
+        })
+        .collect();
+    let mut seen: std::collections::HashSet<[u32; 3], BuildFastHash> =
+        std::collections::HashSet::with_capacity_and_hasher(
+            mesh.triangles.len() / 4,
+            BuildFastHash::default(),
+        );
+    for t in &mesh.triangles {
+        let t = t.map(|i| remap[i as usize]);
+        if t[0] != t[1] && t[1] != t[2] && t[0] != t[2] {
+            let mut k = t;
+            k.sort_unstable();
+            if seen.insert(k) {
+                out.triangles.push(t);
+            }
+        }
+    }
+    out
+}
+
+/// The manifests shipped in this repository, by name.
+pub fn shipped_manifest(name: &str) -> Option<PathBuf> {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("manifests");
+    let p = dir.join(format!("{name}.toml"));
+    p.is_file().then_some(p)
+}
