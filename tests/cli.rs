@@ -104,6 +104,14 @@ fn check_folder(dir: &Path) -> serde_json::Value {
     let occupied = grid.values.iter().filter(|&&v| v != 0.0).count();
     assert_eq!(topo["occupied_cells"].as_u64().unwrap() as usize, occupied);
     assert_eq!(topo["per_level"].as_array().unwrap().len(), levels);
+    let edge_sum: f64 = topo["edges"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|e| e["length_m"].as_f64().unwrap())
+        .sum();
+    assert!((topo["total_length_m"].as_f64().unwrap() - edge_sum).abs() < 1e-6);
+    assert!(edge_sum > 0.0);
     for l in topo["per_level"].as_array().unwrap() {
         let a = &l["achieved"];
         let at_least = |key: &str, shape: &str| {

@@ -84,7 +84,7 @@ fn every_preset_is_one_closed_surface_over_many_seeds() {
         ("mine", "mine"),
         ("lava-tube", "lava-tube"),
     ] {
-        for seed in 0..4 {
+        for seed in 0..6 {
             let w = world(preset, seed);
             let m = mesh(&w, tileset, "resolution = 12");
             check(&w, &m, &format!("{preset} seed {seed}"));
@@ -115,6 +115,20 @@ fn every_tile_set_fits_every_preset_and_materials_can_be_switched_off() {
         used.len() >= 3,
         "wall, floor, rocks and striations are painted: {used:?}"
     );
+    let spec = ComponentSpec {
+        type_name: "cave".into(),
+        params: Params::from_table(
+            "tileset",
+            toml::from_str("width = 7.0\nheight = 6.0").unwrap(),
+        ),
+    };
+    let opening = subtgraph::registry()
+        .tilesets
+        .build(&spec)
+        .unwrap()
+        .opening(&w)
+        .unwrap();
+    assert_eq!((opening.width, opening.height), (7.0, 6.0));
     let walls_only = mesh(&w, "cave", "resolution = 12\nrocks = 2.0\nmaterials = []");
     assert!(walls_only.visual.materials.iter().all(|&m| m == 0));
 }

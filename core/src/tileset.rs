@@ -112,8 +112,9 @@ pub trait TileSet: Send + Sync {
         None
     }
 
-    /// The cross-section at every opening, when the tile set has one.
-    fn opening(&self) -> Option<CrossSection> {
+    /// The cross-section at every opening in this world, when the tile set has one shape
+    /// for all of them (procedural sets vary it along the passage around this nominal size).
+    fn opening(&self, _world: &World) -> Option<CrossSection> {
         None
     }
 

@@ -216,8 +216,12 @@ impl TileSet for Procedural {
         self.style.materials.clone()
     }
 
-    fn opening(&self) -> Option<CrossSection> {
-        None
+    fn opening(&self, world: &World) -> Option<CrossSection> {
+        let p = self.passage(world);
+        Some(CrossSection {
+            width: p.width,
+            height: p.height,
+        })
     }
 
     fn check(&self, world: &World) -> Result<(), TileSetError> {
