@@ -116,3 +116,34 @@ impl Exporter for LevelMaps {
         Ok(())
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use subtgraph_core::export::MemoryWriter;
+
+    #[test]
+    fn one_picture_per_level_with_each_tile_in_its_colour() {
+        let world = crate::test_world();
+        let mut out = MemoryWriter::default();
+        LevelMaps.export(&world, &mut out).unwrap();
+        assert_eq!(out.files.len(), world.occupancy.levels());
+        let png_bytes = out.get("maps/level-0.png").unwrap();
+        let decoder = png::Decoder::new(std::io::Cursor::new(png_bytes));
+        let mut reader = decoder.read_info().unwrap();
+        let mut img = vec![0; reader.output_buffer_size().unwrap()];
+        let info = reader.next_frame(&mut img).unwrap();
+        let s = info.width as usize / world.occupancy.cols();
+        assert_eq!(info.height as usize / s, world.occupancy.rows());
+        // The centre pixel of every occupied cell is its kind's palette entry, empty cells the
+        // background.
+        for c in world.occupancy.level_cells(0) {
+            let (x, y) = (c.col * s + s / 2 + s / 8 + 1, c.row * s + s / 2 + s / 8 + 1);
+            let px = img[y * info.line_size + x];
+            match world.tiles.get(c) {
+                Some(t) => assert_eq!(px, kind_index(t.kind), "{c:?}"),
+                None => assert_eq!(px, BACKGROUND_INDEX, "{c:?}"),
+            }
+        }
+    }
+}

@@ -45,3 +45,33 @@ pub fn write_world_folder(world: &World, out: &mut dyn WorldWriter) -> Result<()
     }
     Ok(())
 }
+
+/// A small two-level world for the exporters' tests.
+#[cfg(test)]
+fn test_world() -> World {
+    let text = "[world]\nseed = 3\nlevels = 2\nrows = 24\ncols = 24\n[topology]\nloops = 1\nt_junctions = 1\nintersections = 1\n";
+    let p = subtgraph_core::Pipeline::parse(text, "test.toml").unwrap();
+    let mut registry = Registry::with_core_shapes();
+    registry
+        .route_descriptors
+        .register(
+            "parabolic",
+            "test",
+            "",
+            std::sync::Arc::new(|_| {
+                Ok(Box::new(Straight) as Box<dyn subtgraph_core::route::RouteDescriptor>)
+            }),
+        )
+        .unwrap();
+    subtgraph_core::layout(&p, &registry).unwrap()
+}
+
+#[cfg(test)]
+struct Straight;
+
+#[cfg(test)]
+impl subtgraph_core::route::RouteDescriptor for Straight {
+    fn offset(&self, _t: f64, _s: &subtgraph_core::route::Segment) -> f64 {
+        0.0
+    }
+}

@@ -16,3 +16,28 @@ impl Exporter for OccupancyNpy {
         write_file(out, "occupancy.npy", &bytes)
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use subtgraph_core::export::MemoryWriter;
+
+    #[test]
+    fn the_grid_reads_back_with_its_spatial_codes() {
+        let world = crate::test_world();
+        let mut out = MemoryWriter::default();
+        OccupancyNpy.export(&world, &mut out).unwrap();
+        let a = npy::decode(out.get("occupancy.npy").unwrap()).unwrap();
+        assert_eq!(a.shape, world.occupancy.shape().to_vec());
+        let codes: Vec<f64> = world
+            .spatial_codes()
+            .iter()
+            .map(|&c| f64::from(c))
+            .collect();
+        assert_eq!(a.values, codes);
+        assert!(
+            a.values.contains(&11.0) && a.values.contains(&111.0),
+            "shafts coded"
+        );
+    }
+}

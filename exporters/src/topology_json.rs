@@ -63,3 +63,38 @@ impl Exporter for TopologyJson {
         write_file(out, "topology.json", text.as_bytes())
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use subtgraph_core::export::MemoryWriter;
+
+    #[test]
+    fn the_graph_and_counts_read_back() {
+        let world = crate::test_world();
+        let mut out = MemoryWriter::default();
+        TopologyJson.export(&world, &mut out).unwrap();
+        let doc: serde_json::Value =
+            serde_json::from_slice(out.get("topology.json").unwrap()).unwrap();
+        assert_eq!(
+            doc["nodes"].as_array().unwrap().len(),
+            world.graph.nodes.len()
+        );
+        assert_eq!(
+            doc["edges"].as_array().unwrap().len(),
+            world.graph.edges.len()
+        );
+        assert_eq!(doc["connected"], true);
+        assert_eq!(
+            doc["per_level"][1]["achieved"]["t_junctions"],
+            world.levels[1].achieved.t_junctions
+        );
+        let shafts = doc["edges"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .filter(|e| e["kind"] == "shaft")
+            .count();
+        assert_eq!(shafts, world.shafts.len());
+    }
+}

@@ -27,3 +27,20 @@ impl Exporter for WorldToml {
         write_file(out, "world.toml", text.as_bytes())
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use subtgraph_core::export::MemoryWriter;
+
+    #[test]
+    fn world_toml_parses_back_into_the_resolved_pipeline() {
+        let world = crate::test_world();
+        let mut out = MemoryWriter::default();
+        WorldToml.export(&world, &mut out).unwrap();
+        let text = std::str::from_utf8(out.get("world.toml").unwrap()).unwrap();
+        let back = subtgraph_core::Pipeline::parse(text, "world.toml").unwrap();
+        assert_eq!(back.resolve().unwrap().1, world.resolved);
+        assert_eq!(back.generated.unwrap().version, env!("CARGO_PKG_VERSION"));
+    }
+}
