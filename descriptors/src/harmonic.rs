@@ -39,6 +39,35 @@ pub(crate) fn check_amplitude(p: &Params, amplitude: Option<f64>) -> Result<(), 
     }
 }
 
+/// A harmonic descriptor with a fixed number of half-waves `H` and an optional `amplitude`:
+/// what `parabolic` (`H = 1`) and `sine` (`H = 2`) are.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FixedHarmonic<const H: u32> {
+    /// Peak sideways offset in cells; default `min(rows, cols) / 20`.
+    #[serde(default)]
+    pub amplitude: Option<f64>,
+}
+
+impl<const H: u32> FixedHarmonic<H> {
+    /// Reads the optional `amplitude`.
+    pub fn from_params(p: &Params) -> Result<Self, ConfigError> {
+        let d: Self = p.deserialize()?;
+        check_amplitude(p, d.amplitude)?;
+        Ok(d)
+    }
+}
+
+impl<const H: u32> RouteDescriptor for FixedHarmonic<H> {
+    fn offset(&self, t: f64, segment: &Segment) -> f64 {
+        Harmonic {
+            harmonics: H,
+            amplitude: self.amplitude,
+        }
+        .offset(t, segment)
+    }
+}
+
 impl RouteDescriptor for Harmonic {
     fn offset(&self, t: f64, segment: &Segment) -> f64 {
         let a = self.amplitude.unwrap_or_else(|| default_amplitude(segment));

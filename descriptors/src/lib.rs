@@ -16,7 +16,7 @@ mod linear;
 mod parabolic;
 mod sine;
 
-pub use harmonic::Harmonic;
+pub use harmonic::{FixedHarmonic, Harmonic};
 pub use linear::Linear;
 pub use parabolic::Parabolic;
 pub use sine::Sine;

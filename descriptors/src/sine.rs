@@ -1,40 +1,14 @@
 //! `sine`: a full wave per corridor (2 harmonics), as in lava tubes.
 
-use serde::Deserialize;
-use subtgraph_core::error::ConfigError;
-use subtgraph_core::params::Params;
-use subtgraph_core::route::{RouteDescriptor, Segment, default_amplitude, harmonic_offset};
+use crate::harmonic::FixedHarmonic;
 
-use crate::harmonic::check_amplitude;
-
-/// `[route] type = "sine"`, optional `amplitude` in cells.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct Sine {
-    /// Peak sideways offset in cells; default `min(rows, cols) / 20`.
-    #[serde(default)]
-    pub amplitude: Option<f64>,
-}
-
-impl Sine {
-    /// Reads the optional `amplitude`.
-    pub fn from_params(p: &Params) -> Result<Self, ConfigError> {
-        let d: Sine = p.deserialize()?;
-        check_amplitude(p, d.amplitude)?;
-        Ok(d)
-    }
-}
-
-impl RouteDescriptor for Sine {
-    fn offset(&self, t: f64, segment: &Segment) -> f64 {
-        let a = self.amplitude.unwrap_or_else(|| default_amplitude(segment));
-        segment.side * harmonic_offset(a, 2, t)
-    }
-}
+/// `[route] type = "sine"`, optional `amplitude` in cells: a full wave per corridor.
+pub type Sine = FixedHarmonic<2>;
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use subtgraph_core::route::{RouteDescriptor, Segment};
 
     #[test]
     fn swings_to_both_sides() {
