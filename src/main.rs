@@ -48,6 +48,9 @@ enum Command {
         /// Grids, graph and maps only: no geometry even if the pipeline has a `[tileset]`.
         #[arg(long, conflicts_with = "tileset")]
         no_mesh: bool,
+        /// A plugin library to load (repeatable), besides the pipeline's `[plugins] paths`.
+        #[arg(long = "plugin", value_name = "PATH")]
+        plugins: Vec<PathBuf>,
         /// Instead of generating, import an occupancy grid (.npy; the original's spatial,
         /// topological or structural encodings, or plain 0/1). The pipeline or preset still
         /// sets the scale (tile pitch, level height).
@@ -58,6 +61,14 @@ enum Command {
     Validate {
         /// The pipeline TOML file.
         pipeline: PathBuf,
+        /// A plugin library to load (repeatable), besides the pipeline's `[plugins] paths`.
+        #[arg(long = "plugin", value_name = "PATH")]
+        plugins: Vec<PathBuf>,
+    },
+    /// Plugins: list what plugin libraries register.
+    Plugins {
+        #[command(subcommand)]
+        command: PluginsCommand,
     },
     /// List the built-in presets.
     Presets,
@@ -75,6 +86,31 @@ enum Command {
         #[arg(long)]
         close_up: bool,
     },
+}
+
+#[derive(Subcommand)]
+enum PluginsCommand {
+    /// Load plugin libraries and list the components each registers (without PATH: the
+    /// built-in components).
+    List {
+        /// Plugin libraries (.so, .dylib, .dll).
+        paths: Vec<PathBuf>,
+    },
+}
+
+/// The registry with every built-in and the plugins of the pipeline and the command line.
+fn registry_with(p: &Pipeline, extra: &[PathBuf]) -> Result<subtgraph::core::Registry> {
+    let mut registry = subtgraph::registry();
+    let paths = p
+        .plugins
+        .paths
+        .iter()
+        .map(PathBuf::from)
+        .chain(extra.iter().cloned());
+    for path in paths {
+        subtgraph_plugins::load(&path, &mut registry)?;
+    }
+    Ok(registry)
 }
 
 fn main() -> ExitCode {
@@ -98,6 +134,7 @@ fn run(cli: Cli) -> Result<()> {
             force,
             tileset,
             no_mesh,
+            plugins,
             occupancy,
         } => {
             let (mut p, source) = load_pipeline(pipeline.as_deref(), preset.as_deref())?;
@@ -114,7 +151,7 @@ fn run(cli: Cli) -> Result<()> {
                 p.world.seed = seed;
             }
             let started = Instant::now();
-            let registry = subtgraph::registry();
+            let registry = registry_with(&p, &plugins)?;
             let world = match occupancy {
                 Some(npy_path) => {
                     let mut world = import_world(&npy_path, &p)?;
@@ -138,16 +175,33 @@ fn run(cli: Cli) -> Result<()> {
                 }
             };
             let generated_in = started.elapsed();
+            subtgraph_plugins::check_failures().map_err(|e| anyhow!(e))?;
+            let exporters = p
+                .export
+                .iter()
+                .map(|spec| {
+                    registry
+                        .exporters
+                        .build(spec)
+                        .map(|e| (spec.type_name.clone(), e))
+                })
+                .collect::<Result<Vec<_>, _>>()?;
             folder::write_atomically(&out, force, |w| {
                 subtgraph::exporters::write_world_folder(&world, w)?;
+                for (name, e) in &exporters {
+                    e.export(&world, w)
+                        .map_err(|err| anyhow!("exporter '{name}': {err}"))?;
+                }
+                subtgraph_plugins::check_failures().map_err(|e| anyhow!(e))?;
                 Ok(())
             })?;
             print_summary(&world, &out, generated_in);
             Ok(())
         }
-        Command::Validate { pipeline } => {
+        Command::Validate { pipeline, plugins } => {
             let (p, _) = load_pipeline(Some(&pipeline), None)?;
-            let world = match generate(&p, &subtgraph::registry()) {
+            let registry = registry_with(&p, &plugins)?;
+            let world = match generate(&p, &registry) {
                 Ok(w) => w,
                 Err(e @ subtgraph::core::Error::Config(_)) => return Err(e.into()),
                 Err(e) => {
@@ -157,6 +211,7 @@ fn run(cli: Cli) -> Result<()> {
                     )));
                 }
             };
+            subtgraph_plugins::check_failures().map_err(|e| anyhow!(e))?;
             println!(
                 "{}: valid; seed {} makes {} level(s) of {} x {} cells, {} occupied",
                 pipeline.display(),
@@ -188,6 +243,25 @@ fn run(cli: Cli) -> Result<()> {
             );
             Ok(())
         }
+        Command::Plugins {
+            command: PluginsCommand::List { paths },
+        } => {
+            if paths.is_empty() {
+                let r = subtgraph::registry();
+                println!("built-in components:");
+                list(&r);
+                return Ok(());
+            }
+            let mut registry = subtgraph::registry();
+            for path in &paths {
+                let plugin = subtgraph_plugins::load(path, &mut registry)?;
+                println!("{} ({})", plugin.info.name, plugin.info.path);
+                for (kind, name, summary) in &plugin.components {
+                    println!("  {kind:<17} {name:<16} {summary}");
+                }
+            }
+            Ok(())
+        }
         Command::Presets => {
             for (name, _) in presets::PRESETS {
                 println!("{name:<10} {}", presets::summary(name));
@@ -200,6 +274,18 @@ fn run(cli: Cli) -> Result<()> {
     }
 }
 
+fn list(r: &subtgraph::core::Registry) {
+    fn rows<T: ?Sized>(c: &subtgraph::core::registry::Catalogue<T>) {
+        for (name, e) in c.entries() {
+            println!("  {:<17} {name:<16} {}", c.kind(), e.summary);
+        }
+    }
+    rows(&r.route_descriptors);
+    rows(&r.constraint_shapes);
+    rows(&r.tilesets);
+    rows(&r.exporters);
+}
+
 /// The pipeline to use and a description of where it came from.
 fn load_pipeline(file: Option<&Path>, preset: Option<&str>) -> Result<(Pipeline, String)> {
     match (file, preset) {
@@ -208,12 +294,6 @@ fn load_pipeline(file: Option<&Path>, preset: Option<&str>) -> Result<(Pipeline,
                 .with_context(|| format!("reading pipeline file {}", path.display()))?;
             let mut p = Pipeline::parse(&text, &path.display().to_string())?;
             p.anchor_paths(path.parent().unwrap_or(Path::new(".")));
-            if !p.plugins.paths.is_empty() {
-                bail!(
-                    "{}: [plugins] is not supported by this version of subtgraph yet; remove the section",
-                    path.display()
-                );
-            }
             Ok((p, path.display().to_string()))
         }
         (None, Some(name)) => {

@@ -151,6 +151,20 @@ impl Params {
         })
     }
 
+    /// Fails on the first key not in `known`, listing the known ones.
+    pub fn expect_known(&self, known: &[&str]) -> Result<(), ConfigError> {
+        match self.values.keys().find(|k| !known.contains(&k.as_str())) {
+            None => Ok(()),
+            Some(k) => Err(self.error(
+                k,
+                format!(
+                    "unknown key `{k}`; this component takes: {}",
+                    known.join(", ")
+                ),
+            )),
+        }
+    }
+
     /// Fails when any parameter is present: for components that take none.
     pub fn expect_none(&self) -> Result<(), ConfigError> {
         match self.values.keys().next() {

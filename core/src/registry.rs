@@ -130,6 +130,20 @@ impl<T: ?Sized> Catalogue<T> {
     }
 }
 
+impl<T: ?Sized> Catalogue<T> {
+    /// The first name `other` has that `self` has too.
+    fn clash(&self, other: &Catalogue<T>) -> Option<DuplicateName> {
+        other.entries.iter().find_map(|(name, e)| {
+            self.entries.get(name).map(|existing| DuplicateName {
+                kind: self.kind,
+                name: name.clone(),
+                origin: e.origin.clone(),
+                existing: existing.origin.clone(),
+            })
+        })
+    }
+}
+
 impl<T: ?Sized> fmt::Debug for Catalogue<T> {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         f.debug_struct("Catalogue")
@@ -167,6 +181,28 @@ impl Registry {
             tilesets: Catalogue::new("tile set"),
             exporters: Catalogue::new("exporter"),
         }
+    }
+
+    /// Moves every component of `other` into this registry, or none if any name is taken.
+    pub fn merge(&mut self, other: Registry) -> Result<(), DuplicateName> {
+        if let Some(d) = self
+            .route_descriptors
+            .clash(&other.route_descriptors)
+            .or_else(|| self.constraint_shapes.clash(&other.constraint_shapes))
+            .or_else(|| self.tilesets.clash(&other.tilesets))
+            .or_else(|| self.exporters.clash(&other.exporters))
+        {
+            return Err(d);
+        }
+        self.route_descriptors
+            .entries
+            .extend(other.route_descriptors.entries);
+        self.constraint_shapes
+            .entries
+            .extend(other.constraint_shapes.entries);
+        self.tilesets.entries.extend(other.tilesets.entries);
+        self.exporters.entries.extend(other.exporters.entries);
+        Ok(())
     }
 
     /// A registry with the core's built-in constraint shapes (loop, T-junction,
