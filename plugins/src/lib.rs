@@ -42,7 +42,7 @@ use subtgraph_core::error::ConfigError;
 use subtgraph_core::export::{ExportError, Exporter, WorldWriter};
 use subtgraph_core::mesh::Material;
 use subtgraph_core::params::Params;
-use subtgraph_core::registry::Registry;
+use subtgraph_core::registry::{Catalogue, Registry};
 use subtgraph_core::route::{RouteDescriptor, Segment};
 use subtgraph_core::shape::{Arm, ConstraintShape, Heading, Offset};
 use subtgraph_core::tileset::{CrossSection, TileContext, TileGeometry, TileSet, TileSetError};
@@ -173,28 +173,47 @@ impl<'a> Registrar<'a> {
         }
     }
 
-    /// Registers a route descriptor.
-    pub fn route_descriptor<F>(&mut self, name: &str, summary: &str, factory: F)
-    where
-        F: Fn(&Params) -> Result<Box<dyn RouteDescriptor>, ConfigError> + Send + Sync + 'static,
+    /// Registers a component in one catalogue: its factory, and everything the factory
+    /// builds, run under `catch_unwind` here in the plugin.
+    fn add<T: ?Sized + 'static, F>(
+        &mut self,
+        catalogue: fn(&mut Registry) -> &mut Catalogue<T>,
+        wrap: fn(Box<T>, Arc<PluginInfo>) -> Box<T>,
+        name: &str,
+        summary: &str,
+        factory: F,
+    ) where
+        F: Fn(&Params) -> Result<Box<T>, ConfigError> + Send + Sync + 'static,
     {
         let info = self.info.clone();
-        let kind = "route descriptor";
         let label = name.to_owned();
         let origin = self.origin();
-        let r = self.registry.route_descriptors.register(
+        let target = catalogue(self.registry);
+        let kind = target.kind();
+        let result = target.register(
             name,
             &origin,
             summary,
             Arc::new(move |p: &Params| {
                 let inner = guarded_build(&info, &label, kind, p, &factory)?;
-                Ok(Box::new(Guarded {
-                    inner,
-                    info: info.clone(),
-                }) as Box<dyn RouteDescriptor>)
+                Ok(wrap(inner, info.clone()))
             }),
         );
-        self.note(kind, name, r);
+        self.note(kind, name, result);
+    }
+
+    /// Registers a route descriptor.
+    pub fn route_descriptor<F>(&mut self, name: &str, summary: &str, factory: F)
+    where
+        F: Fn(&Params) -> Result<Box<dyn RouteDescriptor>, ConfigError> + Send + Sync + 'static,
+    {
+        self.add(
+            |r| &mut r.route_descriptors,
+            |inner, info| Box::new(Guarded { inner, info }),
+            name,
+            summary,
+            factory,
+        );
     }
 
     /// Registers a constraint shape.
@@ -202,23 +221,13 @@ impl<'a> Registrar<'a> {
     where
         F: Fn(&Params) -> Result<Box<dyn ConstraintShape>, ConfigError> + Send + Sync + 'static,
     {
-        let info = self.info.clone();
-        let kind = "constraint shape";
-        let label = name.to_owned();
-        let origin = self.origin();
-        let r = self.registry.constraint_shapes.register(
+        self.add(
+            |r| &mut r.constraint_shapes,
+            |inner, info| Box::new(Guarded { inner, info }),
             name,
-            &origin,
             summary,
-            Arc::new(move |p: &Params| {
-                let inner = guarded_build(&info, &label, kind, p, &factory)?;
-                Ok(Box::new(Guarded {
-                    inner,
-                    info: info.clone(),
-                }) as Box<dyn ConstraintShape>)
-            }),
+            factory,
         );
-        self.note(kind, name, r);
     }
 
     /// Registers a tile set.
@@ -226,23 +235,13 @@ impl<'a> Registrar<'a> {
     where
         F: Fn(&Params) -> Result<Box<dyn TileSet>, ConfigError> + Send + Sync + 'static,
     {
-        let info = self.info.clone();
-        let kind = "tile set";
-        let label = name.to_owned();
-        let origin = self.origin();
-        let r = self.registry.tilesets.register(
+        self.add(
+            |r| &mut r.tilesets,
+            |inner, info| Box::new(Guarded { inner, info }),
             name,
-            &origin,
             summary,
-            Arc::new(move |p: &Params| {
-                let inner = guarded_build(&info, &label, kind, p, &factory)?;
-                Ok(Box::new(Guarded {
-                    inner,
-                    info: info.clone(),
-                }) as Box<dyn TileSet>)
-            }),
+            factory,
         );
-        self.note(kind, name, r);
     }
 
     /// Registers an exporter.
@@ -250,23 +249,13 @@ impl<'a> Registrar<'a> {
     where
         F: Fn(&Params) -> Result<Box<dyn Exporter>, ConfigError> + Send + Sync + 'static,
     {
-        let info = self.info.clone();
-        let kind = "exporter";
-        let label = name.to_owned();
-        let origin = self.origin();
-        let r = self.registry.exporters.register(
+        self.add(
+            |r| &mut r.exporters,
+            |inner, info| Box::new(Guarded { inner, info }),
             name,
-            &origin,
             summary,
-            Arc::new(move |p: &Params| {
-                let inner = guarded_build(&info, &label, kind, p, &factory)?;
-                Ok(Box::new(Guarded {
-                    inner,
-                    info: info.clone(),
-                }) as Box<dyn Exporter>)
-            }),
+            factory,
         );
-        self.note(kind, name, r);
     }
 }
 
