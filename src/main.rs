@@ -296,28 +296,20 @@ fn load_pipeline(file: Option<&Path>, preset: Option<&str>) -> Result<(Pipeline,
             p.anchor_paths(path.parent().unwrap_or(Path::new(".")));
             Ok((p, path.display().to_string()))
         }
-        (None, Some(name)) => {
+        (None, preset) => {
+            let name = preset.unwrap_or("cave");
             let mut p = presets::load(name).ok_or_else(|| {
                 anyhow!(
                     "unknown preset '{name}'; the presets are: {}",
                     presets::names()
                 )
             })?;
-            p.anchor_paths(
-                Path::new(env!("CARGO_MANIFEST_DIR"))
-                    .join("examples")
-                    .as_path(),
-            );
-            Ok((p, format!("preset {name}")))
-        }
-        (None, None) => {
-            let mut p = presets::load("cave").expect("the cave preset is built in");
-            p.anchor_paths(
-                Path::new(env!("CARGO_MANIFEST_DIR"))
-                    .join("examples")
-                    .as_path(),
-            );
-            Ok((p, "built-in defaults (the cave preset)".into()))
+            p.anchor_paths(&Path::new(env!("CARGO_MANIFEST_DIR")).join("examples"));
+            let source = match preset {
+                Some(_) => format!("preset {name}"),
+                None => "built-in defaults (the cave preset)".into(),
+            };
+            Ok((p, source))
         }
     }
 }

@@ -433,35 +433,25 @@ fn imports_reproduce_a_world_and_read_the_originals_encodings() {
     assert_eq!(topo["shafts"].as_array().unwrap().len(), 1);
 
     // Bad input: a value outside every encoding, a wrong shape, not an npy at all.
-    std::fs::write(&f, npy_i64(&[2, 2], &[0, 1, 7, 0])).unwrap();
-    let err = fails(&[
-        "generate",
-        "--occupancy",
-        f.to_str().unwrap(),
-        "--out",
-        tmp.path().join("x").to_str().unwrap(),
-    ]);
+    let x = tmp.path().join("x");
+    let import_fails = |bytes: &[u8]| {
+        std::fs::write(&f, bytes).unwrap();
+        fails(&[
+            "generate",
+            "--occupancy",
+            f.to_str().unwrap(),
+            "--out",
+            x.to_str().unwrap(),
+        ])
+    };
+    let err = import_fails(&npy_i64(&[2, 2], &[0, 1, 7, 0]));
     assert!(err.contains("value 7 at [level 0, row 1, col 0]"), "{err}");
-    std::fs::write(&f, npy_i64(&[2, 2, 2, 2], &[1; 16])).unwrap();
-    let err = fails(&[
-        "generate",
-        "--occupancy",
-        f.to_str().unwrap(),
-        "--out",
-        tmp.path().join("x").to_str().unwrap(),
-    ]);
+    let err = import_fails(&npy_i64(&[2, 2, 2, 2], &[1; 16]));
     assert!(
         err.contains("expected [rows, cols] or [levels, rows, cols]"),
         "{err}"
     );
-    std::fs::write(&f, "not numpy").unwrap();
-    let err = fails(&[
-        "generate",
-        "--occupancy",
-        f.to_str().unwrap(),
-        "--out",
-        tmp.path().join("x").to_str().unwrap(),
-    ]);
+    let err = import_fails(b"not numpy");
     assert!(err.contains("not a .npy file"), "{err}");
     assert!(!tmp.path().join("x").exists());
 }

@@ -130,8 +130,8 @@ impl PluginInfo {
 pub struct Registrar<'a> {
     registry: &'a mut Registry,
     info: Arc<PluginInfo>,
-    /// `(kind, name)` of everything registered.
-    pub registered: Vec<(&'static str, String)>,
+    /// `(kind, name, summary)` of everything registered.
+    pub registered: Vec<(&'static str, String, String)>,
 }
 
 impl<'a> Registrar<'a> {
@@ -162,10 +162,13 @@ impl<'a> Registrar<'a> {
         &mut self,
         kind: &'static str,
         name: &str,
+        summary: &str,
         result: Result<(), subtgraph_core::registry::DuplicateName>,
     ) {
         match result {
-            Ok(()) => self.registered.push((kind, name.to_owned())),
+            Ok(()) => self
+                .registered
+                .push((kind, name.to_owned(), summary.to_owned())),
             Err(e) => {
                 let mut f = self.info.failure.lock().unwrap_or_else(|e| e.into_inner());
                 f.get_or_insert(e.to_string());
@@ -199,7 +202,7 @@ impl<'a> Registrar<'a> {
                 Ok(wrap(inner, info.clone()))
             }),
         );
-        self.note(kind, name, result);
+        self.note(kind, name, summary, result);
     }
 
     /// Registers a route descriptor.

@@ -155,7 +155,7 @@ pub fn load(path: &Path, registry: &mut Registry) -> Result<LoadedPlugin, Plugin
         failure: Mutex::new(None),
     });
     let mut scratch = Registry::empty();
-    let registered = {
+    let components = {
         let mut r = Registrar::new(&mut scratch, info.clone());
         (decl.register)(&mut r).map_err(PluginError::Panicked)?;
         r.registered
@@ -167,32 +167,6 @@ pub fn load(path: &Path, registry: &mut Registry) -> Result<LoadedPlugin, Plugin
         .take()
     {
         return Err(PluginError::Panicked(f));
-    }
-    let mut components = Vec::new();
-    for (kind, name) in &registered {
-        let summary = match *kind {
-            "route descriptor" => scratch
-                .route_descriptors
-                .entries()
-                .find(|(n, _)| n == name)
-                .map(|(_, e)| e.summary.clone()),
-            "constraint shape" => scratch
-                .constraint_shapes
-                .entries()
-                .find(|(n, _)| n == name)
-                .map(|(_, e)| e.summary.clone()),
-            "tile set" => scratch
-                .tilesets
-                .entries()
-                .find(|(n, _)| n == name)
-                .map(|(_, e)| e.summary.clone()),
-            _ => scratch
-                .exporters
-                .entries()
-                .find(|(n, _)| n == name)
-                .map(|(_, e)| e.summary.clone()),
-        };
-        components.push((*kind, name.clone(), summary.unwrap_or_default()));
     }
     registry
         .merge(scratch)
