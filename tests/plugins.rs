@@ -234,6 +234,16 @@ fn the_loader_refuses_what_it_cannot_trust_and_says_what_to_rebuild() {
         "{err}"
     );
 
+    let err = with_plugin(
+        library("subtgraph-test-plugin-other-sources")
+            .to_str()
+            .unwrap(),
+    );
+    assert!(
+        err.contains("other subtgraph sources") && err.contains("same checkout"),
+        "{err}"
+    );
+
     // The same plugin twice: its names are taken.
     let meander = library("subtgraph-plugin-meander");
     let err = refused(&[

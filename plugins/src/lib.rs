@@ -21,8 +21,9 @@
 //!
 //! - Rust has no stable ABI, so trait objects cross the library boundary only between the same
 //!   compiler and the same `subtgraph-core`. The declaration carries the plugin API version,
-//!   the compiler version and the crate version; the loader checks all three before calling
-//!   anything, and refuses with what to rebuild.
+//!   the compiler version, the crate version and a fingerprint of the sources whose types
+//!   cross the boundary (a checkout changes them without changing its version); the loader
+//!   checks all of them before calling anything, and refuses with what to rebuild.
 //! - Each shared library carries its own copy of the standard library, so a panic must never
 //!   unwind out of plugin code into the host (the host's runtime would see a foreign exception
 //!   and abort). Everything a plugin hands the host is therefore wrapped, in the plugin, by
@@ -52,11 +53,14 @@ mod loader;
 pub use loader::{LoadedPlugin, PluginError, check_failures, load, loaded};
 
 /// The plugin API version: bumped whenever the declaration or [`Registrar`] changes.
-pub const API_VERSION: u32 = 1;
+pub const API_VERSION: u32 = 2;
 /// The compiler that built this copy of the crate.
 pub const RUSTC_VERSION: &str = env!("SUBTGRAPH_RUSTC_VERSION");
 /// The version of the subtgraph crates this copy belongs to.
 pub const CRATE_VERSION: &str = env!("CARGO_PKG_VERSION");
+/// A fingerprint of the sources of this crate and `subtgraph-core`: the types that cross the
+/// library boundary. Two builds of the same version from different sources differ here.
+pub const ABI_FINGERPRINT: &str = env!("SUBTGRAPH_ABI_FINGERPRINT");
 /// The symbol a plugin exports.
 pub const SYMBOL: &str = "SUBTGRAPH_PLUGIN";
 
@@ -69,6 +73,8 @@ pub struct PluginDeclaration {
     pub rustc_version: &'static str,
     /// [`CRATE_VERSION`] of the plugin's build.
     pub crate_version: &'static str,
+    /// [`ABI_FINGERPRINT`] of the plugin's build.
+    pub abi_fingerprint: &'static str,
     /// The plugin's name.
     pub name: &'static str,
     /// Registers the plugin's components; runs the plugin's code under `catch_unwind`.
@@ -89,6 +95,7 @@ macro_rules! declare_plugin {
             api_version: $crate::API_VERSION,
             rustc_version: $crate::RUSTC_VERSION,
             crate_version: $crate::CRATE_VERSION,
+            abi_fingerprint: $crate::ABI_FINGERPRINT,
             name: $name,
             register: __subtgraph_register,
         };

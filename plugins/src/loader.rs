@@ -7,7 +7,8 @@ use std::sync::{Arc, Mutex};
 use subtgraph_core::registry::{DuplicateName, Registry};
 
 use crate::{
-    API_VERSION, CRATE_VERSION, PluginDeclaration, PluginInfo, RUSTC_VERSION, Registrar, SYMBOL,
+    ABI_FINGERPRINT, API_VERSION, CRATE_VERSION, PluginDeclaration, PluginInfo, RUSTC_VERSION,
+    Registrar, SYMBOL,
 };
 
 /// Why a plugin was refused. Each says what to rebuild or fix.
@@ -55,6 +56,18 @@ pub enum PluginError {
         found_rustc: String,
         /// Its crate version.
         found_version: String,
+    },
+    /// Built against other sources of the same version (a different checkout).
+    #[error(
+        "plugin {path}: built against other subtgraph sources (fingerprint {found}, this subtgraph \
+         has {ABI_FINGERPRINT}) of the same version; rebuild the plugin against the same checkout \
+         or release as this subtgraph"
+    )]
+    Sources {
+        /// The file.
+        path: PathBuf,
+        /// Its fingerprint.
+        found: String,
     },
     /// Its registration panicked.
     #[error("{0}")]
@@ -147,6 +160,12 @@ pub fn load(path: &Path, registry: &mut Registry) -> Result<LoadedPlugin, Plugin
             path: path.to_owned(),
             found_rustc: decl.rustc_version.to_owned(),
             found_version: decl.crate_version.to_owned(),
+        });
+    }
+    if decl.abi_fingerprint != ABI_FINGERPRINT {
+        return Err(PluginError::Sources {
+            path: path.to_owned(),
+            found: decl.abi_fingerprint.to_owned(),
         });
     }
     let info = Arc::new(PluginInfo {

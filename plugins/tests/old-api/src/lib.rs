@@ -11,6 +11,7 @@ pub static SUBTGRAPH_PLUGIN: subtgraph_plugins::PluginDeclaration =
         api_version: 0,
         rustc_version: subtgraph_plugins::RUSTC_VERSION,
         crate_version: subtgraph_plugins::CRATE_VERSION,
+        abi_fingerprint: subtgraph_plugins::ABI_FINGERPRINT,
         name: "old-api",
         register,
     };
