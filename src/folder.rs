@@ -47,6 +47,10 @@ impl WorldWriter for FolderWriter {
         fs::write(self.path_of(path)?, bytes)
     }
 
+    fn contains(&self, path: &str) -> bool {
+        self.root.join(path).is_file()
+    }
+
     fn stream(
         &mut self,
         path: &str,

@@ -18,6 +18,7 @@ pub use subtgraph_exporters as exporters;
 pub use subtgraph_tilesets as tilesets;
 
 pub mod folder;
+pub mod make;
 pub mod presets;
 pub mod preview;
 

@@ -7,9 +7,8 @@ use std::time::Instant;
 use anyhow::{Context, Result, anyhow, bail};
 use clap::{Parser, Subcommand};
 
-use subtgraph::core::config::Provenance;
 use subtgraph::core::{Pipeline, World, generate, import, npy};
-use subtgraph::{folder, presets};
+use subtgraph::presets;
 
 /// Procedural subterranean worlds with controlled topology, for robot simulation.
 #[derive(Parser)]
@@ -45,9 +44,14 @@ enum Command {
         /// pipeline's `[tileset]`.
         #[arg(long, value_name = "NAME")]
         tileset: Option<String>,
-        /// Grids, graph and maps only: no geometry even if the pipeline has a `[tileset]`.
+        /// Grids, graph and maps only: no geometry even if the pipeline has a `[tileset]`
+        /// (exporters that write geometry are skipped, with a note).
         #[arg(long, conflicts_with = "tileset")]
         no_mesh: bool,
+        /// Formats to export besides the pipeline's `[[export]]`s, separated by commas:
+        /// obj, gltf, sdf, urdf, mjcf, usd, and the ground-truth files (see `plugins list`).
+        #[arg(long, value_name = "LIST")]
+        format: Vec<String>,
         /// A plugin library to load (repeatable), besides the pipeline's `[plugins] paths`.
         #[arg(long = "plugin", value_name = "PATH")]
         plugins: Vec<PathBuf>,
@@ -98,20 +102,7 @@ enum PluginsCommand {
     },
 }
 
-/// The registry with every built-in and the plugins of the pipeline and the command line.
-fn registry_with(p: &Pipeline, extra: &[PathBuf]) -> Result<subtgraph::core::Registry> {
-    let mut registry = subtgraph::registry();
-    let paths = p
-        .plugins
-        .paths
-        .iter()
-        .map(PathBuf::from)
-        .chain(extra.iter().cloned());
-    for path in paths {
-        subtgraph_plugins::load(&path, &mut registry)?;
-    }
-    Ok(registry)
-}
+use subtgraph::make::{self, registry_with};
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
@@ -134,6 +125,7 @@ fn run(cli: Cli) -> Result<()> {
             force,
             tileset,
             no_mesh,
+            format,
             plugins,
             occupancy,
         } => {
@@ -150,8 +142,10 @@ fn run(cli: Cli) -> Result<()> {
                 }
                 p.world.seed = seed;
             }
-            let started = Instant::now();
+            make::add_formats(&mut p, &format)?;
             let registry = registry_with(&p, &plugins)?;
+            let exporters = make::exporters(&p, &registry, no_mesh)?;
+            let started = Instant::now();
             let world = match occupancy {
                 Some(npy_path) => {
                     let mut world = import_world(&npy_path, &p)?;
@@ -164,37 +158,11 @@ fn run(cli: Cli) -> Result<()> {
                     }
                     world
                 }
-                None => {
-                    let mut world = generate(&p, &registry)?;
-                    world.pipeline.generated = Some(Provenance {
-                        tool: "subtgraph".into(),
-                        version: env!("CARGO_PKG_VERSION").into(),
-                        source: Some(source),
-                    });
-                    world
-                }
+                None => make::generate(&p, &registry, &source)?,
             };
             let generated_in = started.elapsed();
             subtgraph_plugins::check_failures().map_err(|e| anyhow!(e))?;
-            let exporters = p
-                .export
-                .iter()
-                .map(|spec| {
-                    registry
-                        .exporters
-                        .build(spec)
-                        .map(|e| (spec.type_name.clone(), e))
-                })
-                .collect::<Result<Vec<_>, _>>()?;
-            folder::write_atomically(&out, force, |w| {
-                subtgraph::exporters::write_world_folder(&world, w)?;
-                for (name, e) in &exporters {
-                    e.export(&world, w)
-                        .map_err(|err| anyhow!("exporter '{name}': {err}"))?;
-                }
-                subtgraph_plugins::check_failures().map_err(|e| anyhow!(e))?;
-                Ok(())
-            })?;
+            make::write(&world, &exporters, &out, force)?;
             print_summary(&world, &out, generated_in);
             Ok(())
         }

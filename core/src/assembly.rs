@@ -25,9 +25,11 @@ pub struct PlacedTile {
     pub kind: TileKind,
     /// Its quarter turns.
     pub rotation: u8,
-    /// Its triangles in [`WorldMesh::visual`] (before welding drops degenerate ones, which
-    /// only procedural seams can make; counts are exact for mesh tiles).
+    /// Its triangles in [`WorldMesh::visual`] (exact: kept up to date when welding drops
+    /// collapsed triangles).
     pub visual_triangles: Range<usize>,
+    /// Its triangles in [`WorldMesh::collision`].
+    pub collision_triangles: Range<usize>,
 }
 
 /// The assembled world.
@@ -113,6 +115,7 @@ pub fn assemble(world: &World, tileset: &dyn TileSet) -> Result<WorldMesh, TileS
         for (cell, g) in group.iter().zip(&geometry) {
             let tile = world.tiles.get(*cell).expect("occupied");
             let start = out.visual.triangle_count();
+            let collision_start = out.collision.triangle_count();
             match (&mut seams, &g.seams) {
                 (Some((vs, cs)), Some((v, c))) => {
                     let vb = out.visual.positions.len() as u32;
@@ -129,6 +132,7 @@ pub fn assemble(world: &World, tileset: &dyn TileSet) -> Result<WorldMesh, TileS
                 kind: tile.kind,
                 rotation: tile.rotation,
                 visual_triangles: start..out.visual.triangle_count(),
+                collision_triangles: collision_start..out.collision.triangle_count(),
             });
         }
     }
@@ -137,13 +141,21 @@ pub fn assemble(world: &World, tileset: &dyn TileSet) -> Result<WorldMesh, TileS
         Some((v, c)) => (Some(v), Some(c)),
         None => (None, None),
     };
-    for (mesh, seams) in [
-        (&mut out.visual, visual_seams),
-        (&mut out.collision, collision_seams),
+    for (which, mesh, seams) in [
+        (0, &mut out.visual, visual_seams),
+        (1, &mut out.collision, collision_seams),
     ] {
-        match seams {
+        let kept = match seams {
             Some(s) => mesh.weld_among(&s),
             None => mesh.weld(),
+        };
+        for t in &mut out.tiles {
+            let r = if which == 0 {
+                &mut t.visual_triangles
+            } else {
+                &mut t.collision_triangles
+            };
+            *r = kept[r.start]..kept[r.end];
         }
         if mesh.normals.len() != mesh.positions.len() {
             mesh.compute_normals();

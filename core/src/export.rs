@@ -11,6 +11,12 @@ pub trait WorldWriter {
     /// Writes one whole file.
     fn write(&mut self, path: &str, bytes: &[u8]) -> std::io::Result<()>;
 
+    /// Whether a file was already written in this world folder: exporters that share files
+    /// (the per-part meshes that SDF, URDF and MJCF all reference) write them once.
+    fn contains(&self, _path: &str) -> bool {
+        false
+    }
+
     /// Writes one file through a stream, for files too large to hold in memory. The default
     /// collects the stream and calls [`write`](WorldWriter::write).
     fn stream(
@@ -35,6 +41,10 @@ impl WorldWriter for MemoryWriter {
     fn write(&mut self, path: &str, bytes: &[u8]) -> std::io::Result<()> {
         self.files.push((path.to_owned(), bytes.to_vec()));
         Ok(())
+    }
+
+    fn contains(&self, path: &str) -> bool {
+        self.get(path).is_some()
     }
 }
 
@@ -87,6 +97,13 @@ pub enum ExportError {
 pub trait Exporter: Send + Sync {
     /// Writes the files.
     fn export(&self, world: &World, out: &mut dyn WorldWriter) -> Result<(), ExportError>;
+
+    /// Whether this exporter writes geometry and so needs the pipeline's `[tileset]`. The
+    /// command line refuses such an exporter in a pipeline without one before generating
+    /// anything, and skips it (saying so) under `--no-mesh`.
+    fn needs_geometry(&self) -> bool {
+        false
+    }
 }
 
 /// Streams a file, turning an I/O failure into an [`ExportError`] naming the file.

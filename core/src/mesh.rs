@@ -199,16 +199,21 @@ impl Mesh {
 
     /// Merges vertices with bit-identical positions (tiles compute their shared openings from
     /// the same numbers, so the seams weld exactly), dropping triangles that collapse.
-    pub fn weld(&mut self) {
+    /// Returns where the old triangles went, as [`weld_among`](Self::weld_among) does.
+    pub fn weld(&mut self) -> Vec<usize> {
         let all: Vec<u32> = (0..self.positions.len() as u32).collect();
-        self.weld_among(&all);
+        self.weld_among(&all)
     }
 
     /// Like [`weld`](Self::weld), considering only the listed vertices (sorted ascending):
     /// the others are known to be unique.
-    pub fn weld_among(&mut self, candidates: &[u32]) {
+    ///
+    /// Returns, for every old triangle index `i` (and one past the last), how many triangles
+    /// before it were kept: old range `a..b` is new range `kept[a]..kept[b]`. That keeps
+    /// per-tile triangle ranges exact when welding drops collapsed triangles.
+    pub fn weld_among(&mut self, candidates: &[u32]) -> Vec<usize> {
         if candidates.is_empty() {
-            return;
+            return (0..=self.triangles.len()).collect();
         }
         use std::collections::HashMap;
         let mut map: HashMap<[u32; 3], u32, BuildFastHash> =
@@ -241,7 +246,9 @@ impl Mesh {
         }
         let mut triangles = Vec::with_capacity(self.triangles.len());
         let mut materials = Vec::with_capacity(self.materials.len());
+        let mut kept = Vec::with_capacity(self.triangles.len() + 1);
         for (k, t) in self.triangles.iter().enumerate() {
+            kept.push(triangles.len());
             let t = t.map(|i| remap[i as usize]);
             if t[0] != t[1] && t[1] != t[2] && t[0] != t[2] {
                 triangles.push(t);
@@ -253,8 +260,59 @@ impl Mesh {
         self.positions = positions;
         self.normals = normals;
         self.uvs = uvs;
+        kept.push(triangles.len());
         self.triangles = triangles;
         self.materials = materials;
+        kept
+    }
+
+    /// A mesh of the triangles in `ranges` only, with just the vertices they use (in order of
+    /// first use), keeping normals, UVs and materials. For writing a part of a world, or one
+    /// tile, without copying the rest.
+    pub fn extract(&self, ranges: &[std::ops::Range<usize>]) -> Mesh {
+        let count: usize = ranges.iter().map(|r| r.len()).sum();
+        let mut out = Mesh::default();
+        out.triangles.reserve(count);
+        let with_n = self.normals.len() == self.positions.len();
+        let with_uv = self.uvs.len() == self.positions.len();
+        let with_m = self.materials.len() == self.triangles.len();
+        // Vertex map sized to the span the ranges touch, not to the whole mesh.
+        let (mut lo, mut hi) = (u32::MAX, 0u32);
+        for r in ranges {
+            for t in &self.triangles[r.clone()] {
+                for &v in t {
+                    lo = lo.min(v);
+                    hi = hi.max(v);
+                }
+            }
+        }
+        if count == 0 {
+            return out;
+        }
+        let mut map = vec![u32::MAX; (hi - lo + 1) as usize];
+        for r in ranges {
+            for k in r.clone() {
+                let t = self.triangles[k].map(|v| {
+                    let slot = &mut map[(v - lo) as usize];
+                    if *slot == u32::MAX {
+                        *slot = out.positions.len() as u32;
+                        out.positions.push(self.positions[v as usize]);
+                        if with_n {
+                            out.normals.push(self.normals[v as usize]);
+                        }
+                        if with_uv {
+                            out.uvs.push(self.uvs[v as usize]);
+                        }
+                    }
+                    *slot
+                });
+                out.triangles.push(t);
+                if with_m {
+                    out.materials.push(self.materials[k]);
+                }
+            }
+        }
+        out
     }
 }
 

@@ -10,7 +10,10 @@
 //! | `maps/level-N.png` | a top-down picture per level, tile kinds in distinct colours |
 //! | `mesh/world.obj`, `mesh/world.mtl`, `mesh/collision.obj` | the geometry, when the pipeline has a `[tileset]` |
 //!
-//! Simulator formats (`[[export]]`) come with the exporters stage and register here.
+//! The `[[export]]` exporters (one file each) register in [`register`]. Those that write
+//! geometry for simulators cut large worlds into [`parts`] and share per-part meshes.
+
+use std::sync::Arc;
 
 use subtgraph_core::World;
 use subtgraph_core::export::{ExportError, Exporter, WorldWriter};
@@ -19,6 +22,7 @@ use subtgraph_core::registry::{DuplicateName, Registry};
 mod level_maps;
 mod obj;
 mod occupancy_npy;
+pub mod parts;
 mod topology_json;
 mod world_toml;
 
@@ -28,9 +32,15 @@ pub use occupancy_npy::OccupancyNpy;
 pub use topology_json::TopologyJson;
 pub use world_toml::WorldToml;
 
-/// Adds the built-in `[[export]]` exporters to a registry (none yet: the world folder's own
-/// files are always written by [`write_world_folder`]).
-pub fn register(_registry: &mut Registry) -> Result<(), DuplicateName> {
+/// Adds the built-in `[[export]]` exporters to a registry.
+pub fn register(registry: &mut Registry) -> Result<(), DuplicateName> {
+    let e = &mut registry.exporters;
+    e.register(
+        "obj",
+        "built-in",
+        "Wavefront OBJ + MTL, visual and collision; `split` adds one OBJ pair per part",
+        Arc::new(|p| Ok(Box::new(Obj::from_params(p)?) as Box<dyn Exporter>)),
+    )?;
     Ok(())
 }
 
@@ -41,15 +51,43 @@ pub fn write_world_folder(world: &World, out: &mut dyn WorldWriter) -> Result<()
         e.export(world, out)?;
     }
     if world.mesh.is_some() {
-        Obj.export(world, out)?;
+        Obj::default().export(world, out)?;
     }
     Ok(())
+}
+
+/// A small two-level world with a coarse cave mesh, for the exporters' tests.
+#[cfg(test)]
+pub(crate) fn test_world_with_mesh() -> World {
+    let mut world = test_world_from("level_height = 40.0");
+    let spec = subtgraph_core::params::ComponentSpec {
+        type_name: "cave".into(),
+        params: subtgraph_core::params::Params::from_table(
+            "tileset",
+            toml::from_str("resolution = 8\ncollision_resolution = 4\nwidth = 7.0\nheight = 6.0")
+                .unwrap(),
+        ),
+    };
+    let mut registry = Registry::empty();
+    subtgraph_tilesets::register(&mut registry).unwrap();
+    let tileset = registry.tilesets.build(&spec).unwrap();
+    world.mesh = Some(subtgraph_core::assembly::assemble(&world, tileset.as_ref()).unwrap());
+    world
 }
 
 /// A small two-level world for the exporters' tests.
 #[cfg(test)]
 fn test_world() -> World {
-    let text = "[world]\nseed = 3\nlevels = 2\nrows = 24\ncols = 24\n[topology]\nloops = 1\nt_junctions = 1\nintersections = 1\n";
+    test_world_from("")
+}
+
+/// [`test_world`] with extra `[world]` keys.
+#[cfg(test)]
+fn test_world_from(world_keys: &str) -> World {
+    let text = format!(
+        "[world]\nseed = 3\nlevels = 2\nrows = 24\ncols = 24\n{world_keys}\n[topology]\nloops = 1\nt_junctions = 1\nintersections = 1\n"
+    );
+    let text = text.as_str();
     let p = subtgraph_core::Pipeline::parse(text, "test.toml").unwrap();
     let mut registry = Registry::with_core_shapes();
     registry

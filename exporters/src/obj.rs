@@ -6,13 +6,35 @@
 
 use rayon::prelude::*;
 use subtgraph_core::World;
-use subtgraph_core::assembly::WorldMesh;
+use subtgraph_core::error::ConfigError;
 use subtgraph_core::export::{ExportError, Exporter, WorldWriter, stream_file, write_file};
-use subtgraph_core::mesh::Mesh;
+use subtgraph_core::mesh::{Material, Mesh};
+use subtgraph_core::params::Params;
 
-/// Writes the world's meshes as Wavefront OBJ.
+use crate::parts::{Split, parts, write_part_meshes};
+
+/// Writes the world's meshes as Wavefront OBJ: `mesh/world.obj` (visual, one object, grouped
+/// by material), `mesh/world.mtl` and `mesh/collision.obj`. Every world folder with geometry
+/// has these; as an `[[export]]` with a `split`, it also writes one OBJ pair per part under
+/// `mesh/parts/<split>/`.
 #[derive(Clone, Copy, Debug, Default)]
-pub struct Obj;
+pub struct Obj {
+    /// Also write per-part meshes cut this way.
+    pub split: Option<Split>,
+}
+
+impl Obj {
+    /// From an `[[export]] type = "obj"` table: an optional `split` (and `region_tiles`).
+    pub fn from_params(params: &Params) -> Result<Obj, ConfigError> {
+        params.expect_known(&Split::KEYS)?;
+        Ok(Obj {
+            split: match params.raw("split") {
+                Some(_) => Some(Split::from_params(params)?),
+                None => None,
+            },
+        })
+    }
+}
 
 impl Exporter for Obj {
     fn export(&self, world: &World, out: &mut dyn WorldWriter) -> Result<(), ExportError> {
@@ -21,20 +43,35 @@ impl Exporter for Obj {
                 "the OBJ exporter needs geometry: add a [tileset] to the pipeline (or drop --no-mesh)".into(),
             ));
         };
-        write_file(out, "mesh/world.mtl", mtl(mesh).as_bytes())?;
-        stream_file(out, "mesh/world.obj", |w| {
-            write_obj(w, &mesh.visual, "world", Some(mesh))
-        })?;
-        stream_file(out, "mesh/collision.obj", |w| {
-            write_obj(w, &mesh.collision, "collision", None)
-        })?;
+        if !out.contains("mesh/world.obj") {
+            write_file(out, "mesh/world.mtl", mtl(&mesh.materials).as_bytes())?;
+            stream_file(out, "mesh/world.obj", |w| {
+                write_obj(
+                    w,
+                    &mesh.visual,
+                    "world",
+                    Some((&mesh.materials, "world.mtl")),
+                )
+            })?;
+            stream_file(out, "mesh/collision.obj", |w| {
+                write_obj(w, &mesh.collision, "collision", None)
+            })?;
+        }
+        if let Some(split) = self.split {
+            write_part_meshes(out, mesh, split, &parts(world, mesh, split))?;
+        }
         Ok(())
+    }
+
+    fn needs_geometry(&self) -> bool {
+        true
     }
 }
 
-fn mtl(mesh: &WorldMesh) -> String {
+/// The MTL text for a tile set's materials.
+pub(crate) fn mtl(materials: &[Material]) -> String {
     let mut s = String::from("# subtgraph materials\n");
-    for m in &mesh.materials {
+    for m in materials {
         let [r, g, b] = m.colour;
         s.push_str(&format!(
             "\nnewmtl {}\nKa 0 0 0\nKd {r:.4} {g:.4} {b:.4}\nKs 0.05 0.05 0.05\nNs 10\nd 1\nillum 2\n",
@@ -48,7 +85,7 @@ fn mtl(mesh: &WorldMesh) -> String {
 }
 
 /// Appends `v` with four decimals.
-fn push_fixed(buf: &mut Vec<u8>, v: f32) {
+pub(crate) fn push_fixed(buf: &mut Vec<u8>, v: f32) {
     let x = f64::from(v) * 10_000.0;
     // Round half away from zero; `as` truncates toward zero (and is far cheaper than `round`).
     let scaled = (x + if x >= 0.0 { 0.5 } else { -0.5 }) as i64;
@@ -67,7 +104,8 @@ fn push_fixed(buf: &mut Vec<u8>, v: f32) {
     ]);
 }
 
-fn push_uint(buf: &mut Vec<u8>, mut v: u64) {
+/// Appends an unsigned integer in decimal.
+pub(crate) fn push_uint(buf: &mut Vec<u8>, mut v: u64) {
     let mut digits = [0u8; 20];
     let mut at = digits.len();
     loop {
@@ -85,8 +123,9 @@ fn push_uint(buf: &mut Vec<u8>, mut v: u64) {
 /// memory stays bounded by a few chunks whatever the mesh size.
 const CHUNK: usize = 1 << 16;
 
-/// Formats `count` lines in parallel, `CHUNK` at a time, and writes them in order.
-fn write_lines(
+/// Formats `count` lines in parallel, `CHUNK` at a time, and writes them in order: the output
+/// does not depend on the thread count. Other text formats use it too.
+pub(crate) fn write_lines(
     w: &mut dyn std::io::Write,
     count: usize,
     line: impl Fn(&mut Vec<u8>, usize) + Sync,
@@ -116,15 +155,17 @@ fn write_lines(
     Ok(())
 }
 
-fn write_obj(
+/// Writes one mesh as one OBJ object, with `(materials, mtllib file name)` when its triangles
+/// are to be grouped by material.
+pub(crate) fn write_obj(
     w: &mut dyn std::io::Write,
     mesh: &Mesh,
     name: &str,
-    materials: Option<&WorldMesh>,
+    materials: Option<(&[Material], &str)>,
 ) -> std::io::Result<()> {
     w.write_all(b"# subtgraph world mesh: metres, x east, y north, z up\n")?;
-    if materials.is_some() {
-        w.write_all(b"mtllib world.mtl\n")?;
+    if let Some((_, lib)) = materials {
+        w.write_all(format!("mtllib {lib}\n").as_bytes())?;
     }
     w.write_all(format!("o {name}\n").as_bytes())?;
     let line3 = |buf: &mut Vec<u8>, tag: &[u8], v: &[f32]| {
@@ -185,9 +226,8 @@ fn write_obj(
         } else {
             order.len()
         };
-        if let Some(wm) = materials {
-            let name = wm
-                .materials
+        if let Some((mats, _)) = materials {
+            let name = mats
                 .get(usize::from(m))
                 .map_or("default", |m| m.name.as_str());
             w.write_all(format!("usemtl {name}\n").as_bytes())?;

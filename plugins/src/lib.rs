@@ -53,7 +53,7 @@ mod loader;
 pub use loader::{LoadedPlugin, PluginError, check_failures, load, loaded};
 
 /// The plugin API version: bumped whenever the declaration or [`Registrar`] changes.
-pub const API_VERSION: u32 = 2;
+pub const API_VERSION: u32 = 3;
 /// The compiler that built this copy of the crate.
 pub const RUSTC_VERSION: &str = env!("SUBTGRAPH_RUSTC_VERSION");
 /// The version of the subtgraph crates this copy belongs to.
@@ -404,5 +404,8 @@ impl Exporter for Guarded<dyn Exporter> {
         self.try_call("Exporter::export", ExportError::Unsupported, |e| {
             e.export(world, out)
         })
+    }
+    fn needs_geometry(&self) -> bool {
+        self.call("Exporter::needs_geometry", || false, |e| e.needs_geometry())
     }
 }

@@ -35,6 +35,10 @@ impl Exporter for Ply {
         }
         write_file(out, "mesh/world.ply", s.as_bytes())
     }
+
+    fn needs_geometry(&self) -> bool {
+        true
+    }
 }
 
 fn register(r: &mut subtgraph_plugins::Registrar<'_>) {

@@ -1,0 +1,134 @@
+//! Helpers shared by the integration tests: running the command line, and checking our files
+//! with the real programs that read them (Python readers from `.venv`, set up by
+//! `scripts/test`).
+#![allow(dead_code)]
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+/// Runs `subtgraph` with arguments, from the repository root.
+pub fn subtgraph(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_subtgraph"))
+        .args(args)
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .output()
+        .expect("the binary runs")
+}
+
+/// Runs `subtgraph`, asserting success; returns standard output.
+pub fn ok(args: &[&str]) -> String {
+    let out = subtgraph(args);
+    assert!(
+        out.status.success(),
+        "subtgraph {args:?} failed:\n{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    String::from_utf8(out.stdout).unwrap()
+}
+
+/// Runs `subtgraph`, asserting failure; returns standard error.
+pub fn fails(args: &[&str]) -> String {
+    let out = subtgraph(args);
+    assert!(!out.status.success(), "subtgraph {args:?} should fail");
+    String::from_utf8(out.stderr).unwrap()
+}
+
+/// A path as a `&str` argument.
+pub fn arg(p: &Path) -> &str {
+    p.to_str().expect("test paths are UTF-8")
+}
+
+/// The Python that has the readers (`SUBTGRAPH_PYTHON`, set by `scripts/test`), if it has
+/// every module in `modules`. Without it a test says so and returns `None`, unless
+/// `SUBTGRAPH_REQUIRE_PYTHON=1` (as `scripts/test` sets), where a missing reader fails.
+pub fn python_with(modules: &[&str]) -> Option<PathBuf> {
+    let python = PathBuf::from(std::env::var("SUBTGRAPH_PYTHON").unwrap_or_else(|_| "python3".into()));
+    let imports = modules
+        .iter()
+        .map(|m| format!("import {m}"))
+        .collect::<Vec<_>>()
+        .join("; ");
+    let has = Command::new(&python)
+        .args(["-c", &imports])
+        .output()
+        .is_ok_and(|o| o.status.success());
+    if has {
+        return Some(python);
+    }
+    assert!(
+        std::env::var("SUBTGRAPH_REQUIRE_PYTHON").is_err(),
+        "{} cannot import {modules:?}; run scripts/test, which installs the readers",
+        python.display()
+    );
+    eprintln!(
+        "skipping: {} cannot import {modules:?} (run scripts/test to install the readers)",
+        python.display()
+    );
+    None
+}
+
+/// Runs `tests/readers/<script>` with arguments under a Python that has `modules`, asserting
+/// it succeeds; returns its standard output (`None` when skipped, see [`python_with`]).
+pub fn read_with_python(modules: &[&str], script: &str, args: &[&str]) -> Option<String> {
+    let python = python_with(modules)?;
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/readers")
+        .join(script);
+    let out = Command::new(python)
+        .arg(&path)
+        .args(args)
+        .output()
+        .expect("python runs");
+    assert!(
+        out.status.success(),
+        "{script} {args:?} failed:\n{}\n{}",
+        String::from_utf8_lossy(&out.stdout),
+        String::from_utf8_lossy(&out.stderr)
+    );
+    Some(String::from_utf8(out.stdout).unwrap())
+}
+
+/// The DARPA SubT cave tiles beside the checkout (`../shared/darpa-subt-tiles`), or `None`
+/// with a message saying the test that needs them is skipped.
+pub fn darpa_tiles() -> Option<PathBuf> {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/darpa-subt-tiles/cave-type-b");
+    if dir.is_dir() {
+        Some(dir)
+    } else {
+        eprintln!("skipping: ../shared/darpa-subt-tiles is absent (DARPA tiles are test data kept beside the checkout)");
+        None
+    }
+}
+
+/// Every file of a folder, relative path and bytes, sorted.
+pub fn folder_bytes(dir: &Path) -> Vec<(String, Vec<u8>)> {
+    let mut out = Vec::new();
+    let mut stack = vec![dir.to_owned()];
+    while let Some(d) = stack.pop() {
+        for e in std::fs::read_dir(&d).unwrap() {
+            let p = e.unwrap().path();
+            if p.is_dir() {
+                stack.push(p);
+            } else {
+                let rel = p.strip_prefix(dir).unwrap().to_string_lossy().into_owned();
+                out.push((rel, std::fs::read(&p).unwrap()));
+            }
+        }
+    }
+    out.sort();
+    out
+}
+
+/// A small pipeline with a coarse cave tile set: quick to mesh and to load in a simulator.
+/// `levels` levels of 20 x 20 cells, 16 m pitch, a loop, junctions and an intersection.
+pub fn small_cave_pipeline(dir: &Path, levels: u32, extra: &str) -> PathBuf {
+    let text = format!(
+        "[world]\nseed = 5\nlevels = {levels}\nrows = 20\ncols = 20\ntile_pitch = 16.0\nlevel_height = 16.0\n\n\
+         [topology]\nloops = 1\nt_junctions = 1\nintersections = 1\n\n\
+         [route]\ntype = \"parabolic\"\n\n\
+         [tileset]\ntype = \"cave\"\nwidth = 5.0\nheight = 4.0\nresolution = 8\ncollision_resolution = 4\nrocks = 0\n\n{extra}"
+    );
+    let path = dir.join("small-cave.toml");
+    std::fs::write(&path, text).unwrap();
+    path
+}
