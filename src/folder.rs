@@ -69,6 +69,9 @@ pub enum FolderError {
     /// The destination exists and `--force` was not given.
     #[error("{0} already exists; pass --force to replace it, or choose another --out")]
     Exists(PathBuf),
+    /// A file stands where a folder on the way to the destination should be.
+    #[error("{0} is a file, not a folder, so --out cannot be made inside it; choose another --out")]
+    NotAFolder(PathBuf),
     /// `--force` was given but the destination is not a world folder.
     #[error(
         "{0} exists and is not a subtgraph world folder (no world.toml in it); refusing to replace it even with --force"
@@ -134,6 +137,13 @@ pub fn write_atomically(
         Some(p) if !p.as_os_str().is_empty() => p.to_owned(),
         _ => PathBuf::from("."),
     };
+    if let Some(file) = parent
+        .ancestors()
+        .find(|a| a.exists())
+        .filter(|a| !a.is_dir())
+    {
+        return Err(FolderError::NotAFolder(file.to_owned()));
+    }
     fs::create_dir_all(&parent).map_err(io("creating", &parent))?;
     let stamp = SystemTime::now()
         .duration_since(UNIX_EPOCH)

@@ -42,7 +42,8 @@ pub fn arg(p: &Path) -> &str {
 /// every module in `modules`. Without it a test says so and returns `None`, unless
 /// `SUBTGRAPH_REQUIRE_PYTHON=1` (as `scripts/test` sets), where a missing reader fails.
 pub fn python_with(modules: &[&str]) -> Option<PathBuf> {
-    let python = PathBuf::from(std::env::var("SUBTGRAPH_PYTHON").unwrap_or_else(|_| "python3".into()));
+    let python =
+        PathBuf::from(std::env::var("SUBTGRAPH_PYTHON").unwrap_or_else(|_| "python3".into()));
     let imports = modules
         .iter()
         .map(|m| format!("import {m}"))
@@ -95,7 +96,9 @@ pub fn darpa_tiles() -> Option<PathBuf> {
     if dir.is_dir() {
         Some(dir)
     } else {
-        eprintln!("skipping: ../shared/darpa-subt-tiles is absent (DARPA tiles are test data kept beside the checkout)");
+        eprintln!(
+            "skipping: ../shared/darpa-subt-tiles is absent (DARPA tiles are test data kept beside the checkout)"
+        );
         None
     }
 }
@@ -117,6 +120,26 @@ pub fn folder_bytes(dir: &Path) -> Vec<(String, Vec<u8>)> {
     }
     out.sort();
     out
+}
+
+/// Asserts two folders hold the same files with the same bytes, except the files named in
+/// `except`; a failure names the files that differ rather than printing their bytes.
+pub fn assert_same_files(a: &Path, b: &Path, except: &[&str]) {
+    let keep = |v: Vec<(String, Vec<u8>)>| -> Vec<(String, Vec<u8>)> {
+        v.into_iter()
+            .filter(|(n, _)| !except.contains(&n.as_str()))
+            .collect()
+    };
+    let (fa, fb) = (keep(folder_bytes(a)), keep(folder_bytes(b)));
+    let names = |v: &[(String, Vec<u8>)]| v.iter().map(|(n, _)| n.clone()).collect::<Vec<_>>();
+    assert_eq!(names(&fa), names(&fb), "the same files");
+    let differ: Vec<&str> = fa
+        .iter()
+        .zip(&fb)
+        .filter(|(x, y)| x.1 != y.1)
+        .map(|(x, _)| x.0.as_str())
+        .collect();
+    assert!(differ.is_empty(), "these files differ: {differ:?}");
 }
 
 /// A small pipeline with a coarse cave tile set: quick to mesh and to load in a simulator.
