@@ -162,8 +162,10 @@ fn run(cli: Cli) -> Result<()> {
             };
             let generated_in = started.elapsed();
             subtgraph_plugins::check_failures().map_err(|e| anyhow!(e))?;
+            let writing = Instant::now();
             make::write(&world, &exporters, &out, force)?;
             print_summary(&world, &out, generated_in);
+            print_written(&out, writing.elapsed());
             Ok(())
         }
         Command::Validate { pipeline, plugins } => {
@@ -289,6 +291,31 @@ fn import_world(path: &Path, p: &Pipeline) -> Result<World> {
     let (world, encoding) = import::import_occupancy(&array, &name, p, env!("CARGO_PKG_VERSION"))?;
     eprintln!("imported {name}: {encoding:?} encoding");
     Ok(world)
+}
+
+/// Prints how many files and bytes the world folder holds and how long writing them (every
+/// exporter included) took: what `scripts/bench-exports` reads.
+fn print_written(out: &Path, took: std::time::Duration) {
+    let (mut files, mut bytes) = (0u64, 0u64);
+    let mut stack = vec![out.to_owned()];
+    while let Some(dir) = stack.pop() {
+        for e in std::fs::read_dir(&dir).into_iter().flatten().flatten() {
+            match e.metadata() {
+                Ok(m) if m.is_dir() => stack.push(e.path()),
+                Ok(m) => {
+                    files += 1;
+                    bytes += m.len();
+                }
+                Err(_) => {}
+            }
+        }
+    }
+    let text = format!(
+        "  wrote {files} files, {:.1} MB, in {:.1} ms\n",
+        bytes as f64 / 1e6,
+        took.as_secs_f64() * 1e3
+    );
+    let _ = std::io::Write::write_all(&mut std::io::stdout().lock(), text.as_bytes());
 }
 
 /// Prints what was made. A closed standard output (`| head`) is not an error.
