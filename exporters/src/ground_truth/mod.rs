@@ -70,6 +70,9 @@ impl Settings {
 
     /// Reads an `[[export]]` table that may hold only `keys`, checking each value.
     pub fn from_params(params: &Params, keys: &[&str]) -> Result<Settings, ConfigError> {
+        if keys.is_empty() {
+            params.expect_none()?;
+        }
         params.expect_known(keys)?;
         let s: Settings = params.deserialize()?;
         let metres = [
