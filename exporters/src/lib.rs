@@ -19,6 +19,7 @@ use subtgraph_core::World;
 use subtgraph_core::export::{ExportError, Exporter, WorldWriter};
 use subtgraph_core::registry::{DuplicateName, Registry};
 
+pub mod ground_truth;
 mod level_maps;
 mod obj;
 mod occupancy_npy;
@@ -26,6 +27,10 @@ pub mod parts;
 mod topology_json;
 mod world_toml;
 
+pub use ground_truth::{
+    FreeSpace, GraphFiles, GroundTruth, RosMap, SemanticLabels, Settings as GroundTruthSettings,
+    SpawnPoses,
+};
 pub use level_maps::{LevelMaps, kind_colour};
 pub use obj::Obj;
 pub use occupancy_npy::OccupancyNpy;
@@ -40,6 +45,57 @@ pub fn register(registry: &mut Registry) -> Result<(), DuplicateName> {
         "built-in",
         "Wavefront OBJ + MTL, visual and collision; `split` adds one OBJ pair per part",
         Arc::new(|p| Ok(Box::new(Obj::from_params(p)?) as Box<dyn Exporter>)),
+    )?;
+    e.register(
+        "graph",
+        "built-in",
+        "ground truth: the topology graph as ground_truth/graph.json and graph.graphml (networkx)",
+        Arc::new(|p| {
+            GroundTruthSettings::from_params(p, &[])?;
+            Ok(Box::new(GraphFiles) as Box<dyn Exporter>)
+        }),
+    )?;
+    e.register(
+        "ros-map",
+        "built-in",
+        "ground truth: a ROS map_server occupancy map per level (ground_truth/maps/level-N.pgm + .yaml); `resolution`, `height`",
+        Arc::new(|p| {
+            let s = GroundTruthSettings::from_params(p, &RosMap::KEYS)?;
+            Ok(Box::new(RosMap::from_settings(&s)) as Box<dyn Exporter>)
+        }),
+    )?;
+    e.register(
+        "free-space",
+        "built-in",
+        "ground truth: the 3D free space as a bit-packed voxel grid (ground_truth/free_space.npy + .json); `voxel`",
+        Arc::new(|p| {
+            let s = GroundTruthSettings::from_params(p, &FreeSpace::KEYS)?;
+            Ok(Box::new(FreeSpace::from_settings(&s)) as Box<dyn Exporter>)
+        }),
+    )?;
+    e.register(
+        "semantic-labels",
+        "built-in",
+        "ground truth: every tile's kind, rotation, openings and position (ground_truth/semantic_labels.json + .csv)",
+        Arc::new(|p| {
+            GroundTruthSettings::from_params(p, &[])?;
+            Ok(Box::new(SemanticLabels) as Box<dyn Exporter>)
+        }),
+    )?;
+    e.register(
+        "spawn-poses",
+        "built-in",
+        "ground truth: spawn and goal poses for several robots (ground_truth/spawn_poses.json); `robots`, `clearance`, `spacing`",
+        Arc::new(|p| {
+            let s = GroundTruthSettings::from_params(p, &SpawnPoses::KEYS)?;
+            Ok(Box::new(SpawnPoses::from_settings(&s)) as Box<dyn Exporter>)
+        }),
+    )?;
+    e.register(
+        "ground-truth",
+        "built-in",
+        "ground truth: graph, ros-map, free-space, semantic-labels and spawn-poses with their keys",
+        Arc::new(|p| Ok(Box::new(GroundTruth::from_params(p)?) as Box<dyn Exporter>)),
     )?;
     Ok(())
 }

@@ -1,0 +1,155 @@
+//! `semantic-labels`: what each tile is, for scoring place categorisation and topometric
+//! segmentation: `ground_truth/semantic_labels.json` and `ground_truth/semantic_labels.csv`.
+//!
+//! One entry per occupied cell, in raster order (level, row, column): its kind in the robotics
+//! user's words (`dead-end`, `straight` = a straight corridor, `corner`, `t-junction`,
+//! `intersection`, `shaft-up`, `shaft-landing`), the original's spatial code, its rotation
+//! (quarter turns counter-clockwise from the kind's base orientation), its openings, and the
+//! world position of the tile centre on its level's floor. The CSV holds the same rows; its
+//! metadata (seed, frame) is in the JSON, as CSV has no place for it.
+
+use serde::Serialize;
+use subtgraph_core::World;
+use subtgraph_core::export::{ExportError, Exporter, WorldWriter, write_file};
+use subtgraph_core::grid::Direction;
+
+use super::FRAME;
+use crate::obj::{push_fixed, push_uint};
+
+/// Writes `ground_truth/semantic_labels.json` and `.csv`.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct SemanticLabels;
+
+#[derive(Serialize)]
+struct Label {
+    level: usize,
+    row: usize,
+    col: usize,
+    kind: &'static str,
+    code: u8,
+    rotation: u8,
+    openings: Vec<&'static str>,
+    position: [f64; 3],
+    start: bool,
+}
+
+#[derive(Serialize)]
+struct Document {
+    format: &'static str,
+    seed: u64,
+    frame: &'static str,
+    units: &'static str,
+    tile_pitch_m: f64,
+    level_height_m: f64,
+    kinds: [&'static str; 7],
+    tiles: Vec<Label>,
+}
+
+fn direction_name(d: Direction) -> &'static str {
+    match d {
+        Direction::East => "east",
+        Direction::North => "north",
+        Direction::West => "west",
+        Direction::South => "south",
+    }
+}
+
+fn labels(world: &World) -> Vec<Label> {
+    world
+        .occupancy
+        .cells()
+        .filter_map(|c| {
+            let t = world.tiles.get(c).as_ref()?;
+            Some(Label {
+                level: c.level,
+                row: c.row,
+                col: c.col,
+                kind: t.kind.name(),
+                code: t.kind.spatial_code(),
+                rotation: t.rotation,
+                openings: Direction::ALL
+                    .into_iter()
+                    .filter(|d| t.openings & d.bit() != 0)
+                    .map(direction_name)
+                    .collect(),
+                position: world.cell_position(c),
+                start: world.start == Some(c),
+            })
+        })
+        .collect()
+}
+
+fn csv(labels: &[Label]) -> Vec<u8> {
+    let mut s = b"level,row,col,kind,code,rotation,openings,x,y,z,start\n".to_vec();
+    for l in labels {
+        for v in [l.level, l.row, l.col] {
+            push_uint(&mut s, v as u64);
+            s.push(b',');
+        }
+        s.extend_from_slice(l.kind.as_bytes());
+        s.push(b',');
+        push_uint(&mut s, u64::from(l.code));
+        s.push(b',');
+        push_uint(&mut s, u64::from(l.rotation));
+        s.push(b',');
+        // Openings joined by spaces: no quoting needed.
+        s.extend_from_slice(l.openings.join(" ").as_bytes());
+        for v in l.position {
+            s.push(b',');
+            push_fixed(&mut s, v as f32);
+        }
+        s.extend_from_slice(if l.start { b",1\n" } else { b",0\n" });
+    }
+    s
+}
+
+impl Exporter for SemanticLabels {
+    fn export(&self, world: &World, out: &mut dyn WorldWriter) -> Result<(), ExportError> {
+        let doc = Document {
+            format: "subtgraph-semantic-labels/1",
+            seed: world.resolved.seed,
+            frame: FRAME,
+            units: "metres; rotation in quarter turns counter-clockwise seen from above",
+            tile_pitch_m: world.resolved.tile_pitch,
+            level_height_m: world.resolved.level_height,
+            kinds: subtgraph_core::tile::TileKind::ALL.map(|k| k.name()),
+            tiles: labels(world),
+        };
+        write_file(out, "ground_truth/semantic_labels.csv", &csv(&doc.tiles))?;
+        let mut json = serde_json::to_string_pretty(&doc).expect("plain data serializes");
+        json.push('\n');
+        write_file(out, "ground_truth/semantic_labels.json", json.as_bytes())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use subtgraph_core::export::MemoryWriter;
+
+    #[test]
+    fn one_label_per_occupied_cell_in_both_files() {
+        let world = crate::test_world();
+        let mut out = MemoryWriter::default();
+        SemanticLabels.export(&world, &mut out).unwrap();
+        let doc: serde_json::Value =
+            serde_json::from_slice(out.get("ground_truth/semantic_labels.json").unwrap()).unwrap();
+        let tiles = doc["tiles"].as_array().unwrap();
+        assert_eq!(tiles.len(), world.occupancy.occupied_count());
+        let csv = String::from_utf8(
+            out.get("ground_truth/semantic_labels.csv")
+                .unwrap()
+                .to_vec(),
+        )
+        .unwrap();
+        assert_eq!(csv.lines().count(), tiles.len() + 1);
+        for (line, t) in csv.lines().skip(1).zip(tiles) {
+            let f: Vec<&str> = line.split(',').collect();
+            assert_eq!(f[3], t["kind"].as_str().unwrap());
+            assert_eq!(
+                f[6].split(' ').count(),
+                t["openings"].as_array().unwrap().len()
+            );
+        }
+    }
+}
