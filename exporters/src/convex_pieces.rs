@@ -9,14 +9,19 @@
 //! 1. Adjacent triangles are gathered into near-planar **patches**: each triangle's normal is
 //!    within about 45 degrees of the patch plane's, every vertex lies within `tolerance`
 //!    metres of the plane and within [`MAX_EXTENT`] metres of the seed triangle. The patch
-//!    stays a disc (a triangle closing a ring around an opening is refused) and fills at least
-//!    [`MIN_FILL`] of its own convex hull in the plane, so its hull bridges only notches of at
-//!    most 3% of its area, never an opening such as a shaft or a side passage. The plane is the seed
-//!    triangle's, then refitted to the first patch and grown again.
-//! 2. Each patch becomes a thin **slab**: the patch's vertices, plus its outline in the plane
-//!    pushed `thickness` metres into the rock (against the normal, which points into the
-//!    passage). The slab's hull rises at most `tolerance` above the plane on the passage side
-//!    and otherwise lies in rock, so the passage stays hollow.
+//!    stays a disc (a triangle closing a ring around an opening is refused), covers at least
+//!    [`MIN_FILL`] of its own convex hull in the plane and leaves at most [`MAX_GAP`] of it
+//!    uncovered, so a slab never bridges an opening such as a shaft or a side passage. The
+//!    plane is the seed triangle's, then refitted to the first patch and grown again.
+//! 2. Each patch becomes a thin **slab**: the patch's outline (the vertices of its hull in
+//!    the plane, at their own heights), plus the same outline pushed `thickness` metres into
+//!    the rock (against the normal, which points into the passage). The slab's hull rises at
+//!    most `tolerance` above the plane, so at most twice that above the real surface (in a
+//!    dip of a rough floor), and otherwise lies in rock: the passage stays hollow.
+//!
+//! The number of pieces follows the surface's roughness at the scale of `tolerance`: on the
+//! cave preset's walls, most candidate triangles are refused for leaving the band, not for
+//! the other limits, so a coarser `tolerance` is the one knob that makes fewer pieces.
 //!
 //! Every triangle belongs to exactly one patch, so the slabs cover the whole surface. The
 //! result depends only on the mesh (triangles are visited in order), not on thread count.
@@ -29,8 +34,13 @@ use subtgraph_core::mesh::Mesh;
 /// a simulator's broad phase culls them well, and bounds the hull checks.
 pub const MAX_EXTENT: f64 = 4.0;
 
-/// The least fraction of its in-plane convex hull a patch must cover.
-pub const MIN_FILL: f64 = 0.97;
+/// The least fraction of its in-plane convex hull a patch must cover (an L-shaped patch, whose
+/// hull would cover the inside of a bend, is about 0.75).
+pub const MIN_FILL: f64 = 0.85;
+
+/// The most area (m²) of its in-plane hull a patch may leave uncovered: far smaller than any
+/// opening a robot could pass, a jagged outline of marching-cubes triangles well within it.
+pub const MAX_GAP: f64 = 0.25;
 
 /// At most this many triangles per patch.
 const MAX_TRIANGLES: usize = 96;
@@ -41,8 +51,8 @@ const MIN_COS: f64 = 0.7;
 /// How to cut the surface.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct PieceSettings {
-    /// How far (m) a patch's vertices may stray from its plane: the most a slab stands
-    /// proud of the real surface into the passage.
+    /// How far (m) a patch's vertices may stray from its plane: a slab stands at most this
+    /// above the plane, at most twice this above the real surface.
     pub tolerance: f64,
     /// How deep (m) each slab reaches into the rock.
     pub thickness: f64,
@@ -68,11 +78,11 @@ pub struct Piece {
     pub origin: [f64; 3],
     /// The plane's unit normal, pointing into the passage.
     pub normal: [f64; 3],
-    /// How many of `points` are the patch's vertices (the rest are its outline, `thickness`
-    /// below the plane).
+    /// How many of `points` are on the surface (the patch's outline); as many follow,
+    /// `thickness` below the plane.
     pub surface: usize,
-    /// The slab's corners: the patch's vertices, then its outline pushed into the rock. A
-    /// simulator takes their convex hull.
+    /// The slab's corners: the patch's outline on the surface, then the same outline pushed
+    /// into the rock. A simulator takes their convex hull.
     pub points: Vec<[f32; 3]>,
 }
 
@@ -282,7 +292,8 @@ impl Surface<'_> {
                         .chain(&fresh)
                         .map(|&v| plane.flat(self.pos(v))),
                 );
-                if area < MIN_FILL * hull(&flat).1 {
+                let hull_area2 = hull(&flat).1;
+                if area < MIN_FILL * hull_area2 || hull_area2 - area > 2.0 * MAX_GAP {
                     continue;
                 }
             }
@@ -362,13 +373,14 @@ pub fn convex_pieces(mesh: &Mesh, settings: &PieceSettings) -> Vec<Piece> {
         for &t in &members {
             s.owner[t as usize] = id;
         }
-        // The top: every patch vertex. The bottom: the patch's outline in the plane, pushed
-        // `thickness` below it, into the rock.
+        // The slab's corners: the patch's outline in the plane, at the vertices' own heights
+        // (interior vertices lie under the hull of these, within the band), and the same
+        // outline `thickness` below the plane, in the rock.
         let flat: Vec<[f64; 2]> = vertices.iter().map(|&v| plane.flat(s.pos(v))).collect();
         let (outline, _) = hull(&flat);
-        let mut points: Vec<[f32; 3]> = vertices
+        let mut points: Vec<[f32; 3]> = outline
             .iter()
-            .map(|&v| mesh.positions[v as usize])
+            .map(|&i| mesh.positions[vertices[i] as usize])
             .collect();
         points.extend(outline.iter().map(|&i| {
             let [x, y] = flat[i];
@@ -381,7 +393,7 @@ pub fn convex_pieces(mesh: &Mesh, settings: &PieceSettings) -> Vec<Piece> {
             triangles: members,
             origin: plane.origin,
             normal: plane.normal,
-            surface: vertices.len(),
+            surface: outline.len(),
             points,
         });
     }
@@ -454,7 +466,7 @@ mod tests {
             |p: [f32; 3], margin: f32| (0..3).all(|k| p[k] > margin && p[k] < size[k] - margin);
         for p in &pieces {
             // The patch's vertices, then its outline `thickness` below the plane, in the rock.
-            assert!(p.points.len() >= p.surface + 3);
+            assert!(p.surface >= 3 && p.points.len() == 2 * p.surface);
             for (k, q) in p.points.iter().enumerate() {
                 let h = dot(sub(q.map(f64::from), p.origin), p.normal);
                 if k >= p.surface {

@@ -7,7 +7,8 @@ Checks, printing one line per check and exiting non-zero on the first failure:
 - a free ball (radius 0.2 m) added 1.5 m above the floor at the middle cell of a corridor
   touches nothing at t = 0, and after 5 simulated seconds rests on that corridor's floor:
   its height within 0.6 m of floor + radius (the floor of a cave is uneven), still within
-  half a tile pitch of the cell, slow.
+  half a tile pitch of the cell, slow;
+- mujoco/level-1.xml, when there is one, loads alone and holds part of the world.
 With --one-mesh the world's whole collision surface is instead one mesh geom (what a naive
 export does): MuJoCo collides it as its convex hull, so the same drop must fail. The test runs
 both, so it is known able to fail.
@@ -88,6 +89,13 @@ def main():
         sys.exit("FAIL: the ball left the corridor's cell")
     if speed > 0.2:
         sys.exit(f"FAIL: the ball is still moving at {speed:.3f} m/s")
+    # One level alone: every part file is a complete model.
+    part = os.path.join(folder, "mujoco", "level-1.xml")
+    if os.path.exists(part):
+        one = mujoco.MjModel.from_xml_path(part)
+        print(f"level-1.xml alone: {one.ngeom} geoms")
+        if not 1 < one.ngeom < model.ngeom - 1:
+            sys.exit("FAIL: level-1.xml alone is not one level of the world")
     print("OK")
 
 
