@@ -12,7 +12,8 @@
 //!
 //! Every part file is a complete model (`<mujoco>` root, its own `<compiler meshdir="..">`,
 //! which resolves against the folder of the file MuJoCo opened, `mujoco/` in both cases), so
-//! `mujoco/level-2.xml` loads one level alone. Collision slabs are in group 3 (hidden in the
+//! `mujoco/level-2.xml` loads one level alone (with `split = "whole"`, the one part is
+//! `mujoco/whole.xml`). Collision slabs are in group 3 (hidden in the
 //! viewer by default). Nothing moves: the file holds the world only, no robot.
 //!
 //! ```toml
@@ -184,8 +185,15 @@ impl Exporter for Mjcf {
         );
         for ((part, file), pieces) in parts.iter().zip(&files).zip(&pieces) {
             let name = xml_escape(&part.name);
-            let path = format!("mujoco/{}.xml", part.name);
-            main.push_str(&format!("  <include file=\"{}.xml\"/>\n", name));
+            // The whole world as one part is named `world`: its file must not replace the
+            // main file.
+            let stem = if part.name == "world" {
+                "whole"
+            } else {
+                &part.name
+            };
+            let path = format!("mujoco/{stem}.xml");
+            main.push_str(&format!("  <include file=\"{}.xml\"/>\n", xml_escape(stem)));
             let colour = part_colour(mesh, part);
             stream_file(out, &path, |w| {
                 let mut head = Vec::new();
@@ -223,6 +231,40 @@ impl Exporter for Mjcf {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use subtgraph_core::export::MemoryWriter;
+
+    #[test]
+    fn every_include_names_a_part_file_written_beside_it() {
+        let world = crate::test_world_with_mesh();
+        for split in [Split::Whole, Split::Level, Split::Region { tiles: 6 }] {
+            let mut out = MemoryWriter::default();
+            let m = Mjcf {
+                split,
+                ..Mjcf::default()
+            };
+            m.export(&world, &mut out).unwrap();
+            let main = String::from_utf8(out.get("mujoco/world.xml").unwrap().to_vec()).unwrap();
+            let includes: Vec<&str> = main
+                .split("<include file=\"")
+                .skip(1)
+                .map(|s| &s[..s.find('"').unwrap()])
+                .collect();
+            let count = parts(&world, world.mesh.as_ref().unwrap(), split).len();
+            assert_eq!(includes.len(), count, "{split:?}");
+            let mut slabs = 0;
+            for inc in includes {
+                let part = out
+                    .get(&format!("mujoco/{inc}"))
+                    .expect("included file written");
+                let text = String::from_utf8(part.to_vec()).unwrap();
+                let visual = text.split("file=\"").nth(1).unwrap();
+                let visual = &visual[..visual.find('"').unwrap()];
+                assert!(out.contains(visual), "{visual} written");
+                slabs += text.matches("-rock-").count();
+            }
+            assert!(slabs > 100, "collision slabs: {slabs}");
+        }
+    }
 
     #[test]
     fn bad_lengths_name_the_key() {
