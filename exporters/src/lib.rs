@@ -19,12 +19,15 @@ use subtgraph_core::World;
 use subtgraph_core::export::{ExportError, Exporter, WorldWriter};
 use subtgraph_core::registry::{DuplicateName, Registry};
 
+pub mod convex_pieces;
 pub mod ground_truth;
 mod level_maps;
+mod mjcf;
 mod obj;
 mod occupancy_npy;
 pub mod parts;
 mod topology_json;
+mod urdf;
 mod world_toml;
 
 pub use ground_truth::{
@@ -32,9 +35,11 @@ pub use ground_truth::{
     SpawnPoses,
 };
 pub use level_maps::{LevelMaps, kind_colour};
+pub use mjcf::Mjcf;
 pub use obj::Obj;
 pub use occupancy_npy::OccupancyNpy;
 pub use topology_json::TopologyJson;
+pub use urdf::Urdf;
 pub use world_toml::WorldToml;
 
 /// Adds the built-in `[[export]]` exporters to a registry.
@@ -96,6 +101,18 @@ pub fn register(registry: &mut Registry) -> Result<(), DuplicateName> {
         "built-in",
         "ground truth: graph, ros-map, free-space, semantic-labels and spawn-poses with their keys",
         Arc::new(|p| Ok(Box::new(GroundTruth::from_params(p)?) as Box<dyn Exporter>)),
+    )?;
+    e.register(
+        "mjcf",
+        "built-in",
+        "MuJoCo MJCF: mujoco/world.xml including a file per part; collision as convex slabs in the rock (`tolerance`, `thickness`)",
+        Arc::new(|p| Ok(Box::new(Mjcf::from_params(p)?) as Box<dyn Exporter>)),
+    )?;
+    e.register(
+        "urdf",
+        "built-in",
+        "URDF for PyBullet: urdf/world.urdf, one static link, concave collision meshes per part",
+        Arc::new(|p| Ok(Box::new(Urdf::from_params(p)?) as Box<dyn Exporter>)),
     )?;
     Ok(())
 }

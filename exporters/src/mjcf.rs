@@ -1,0 +1,281 @@
+//! MuJoCo MJCF: `mujoco/world.xml` including one `mujoco/<part>.xml` per part (per level by
+//! default), metres and Z up as MuJoCo's own frame.
+//!
+//! MuJoCo collides every mesh geom as its convex hull, so the world's collision surface as one
+//! mesh would be a solid block. Each part's collision surface is therefore cut into thin convex
+//! slabs lying in the rock ([`crate::convex_pieces`]), each an inline `<mesh vertex="...">`
+//! (MuJoCo takes the hull of the points: no extra file, no faces to write). The visual mesh is
+//! the shared per-part OBJ, a static geom with `contype="0" conaffinity="0"` in group 1, with
+//! `inertia="shell"` so an open surface never fails MuJoCo's volume check. MuJoCo ignores an
+//! OBJ's per-face materials: each visual geom gets the colour of the part's most used
+//! tile-set material.
+//!
+//! Every part file is a complete model (`<mujoco>` root, its own `<compiler meshdir="..">`,
+//! which resolves against the folder of the file MuJoCo opened, `mujoco/` in both cases), so
+//! `mujoco/level-2.xml` loads one level alone (with `split = "whole"`, the one part is
+//! `mujoco/whole.xml`). Collision slabs are in group 3 (hidden in the
+//! viewer by default). Nothing moves: the file holds the world only, no robot.
+//!
+//! ```toml
+//! [[export]]
+//! type = "mjcf"
+//! tolerance = 0.1    # m a collision slab may stand proud of the surface
+//! thickness = 0.5    # m each slab reaches into the rock
+//! split = "level"    # or "region" (with region_tiles) or "whole"
+//! ```
+
+use rayon::prelude::*;
+use subtgraph_core::World;
+use subtgraph_core::assembly::WorldMesh;
+use subtgraph_core::error::ConfigError;
+use subtgraph_core::export::{ExportError, Exporter, WorldWriter, stream_file, write_file};
+use subtgraph_core::params::Params;
+
+use crate::convex_pieces::{Piece, PieceSettings, convex_pieces};
+use crate::obj::{push_fixed, push_uint, write_lines};
+use crate::parts::{Part, Split, parts, write_part_meshes};
+
+/// Writes the world for MuJoCo.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Mjcf {
+    /// How the world is cut into included files.
+    pub split: Split,
+    /// How the collision surface is cut into convex slabs.
+    pub pieces: PieceSettings,
+}
+
+impl Default for Mjcf {
+    fn default() -> Self {
+        Mjcf {
+            split: Split::Level,
+            pieces: PieceSettings::default(),
+        }
+    }
+}
+
+/// Reads a length in metres from an exporter's table.
+pub(crate) fn metres(
+    params: &Params,
+    key: &str,
+    default: f64,
+    range: (f64, f64),
+    example: &str,
+) -> Result<f64, ConfigError> {
+    let v = match params.raw(key) {
+        None => return Ok(default),
+        Some(toml::Value::Float(f)) => *f,
+        Some(toml::Value::Integer(i)) => *i as f64,
+        Some(_) => f64::NAN,
+    };
+    if v.is_finite() && v > range.0 && v <= range.1 {
+        Ok(v)
+    } else {
+        Err(params.error(
+            key,
+            format!(
+                "{key} must be a length in metres above {} and at most {}, like {key} = {example}",
+                range.0, range.1
+            ),
+        ))
+    }
+}
+
+impl Mjcf {
+    /// The keys of an `[[export]] type = "mjcf"` table.
+    pub const KEYS: [&'static str; 4] = ["split", "region_tiles", "tolerance", "thickness"];
+
+    /// From an `[[export]] type = "mjcf"` table.
+    pub fn from_params(params: &Params) -> Result<Mjcf, ConfigError> {
+        params.expect_known(&Self::KEYS)?;
+        let d = PieceSettings::default();
+        Ok(Mjcf {
+            split: Split::from_params(params)?,
+            pieces: PieceSettings {
+                tolerance: metres(params, "tolerance", d.tolerance, (0.0, 1.0), "0.1")?,
+                thickness: metres(params, "thickness", d.thickness, (0.0, 10.0), "0.5")?,
+            },
+        })
+    }
+}
+
+/// The `r g b a` of the material most of a part's visual triangles use.
+pub(crate) fn part_colour(mesh: &WorldMesh, part: &Part) -> [f32; 3] {
+    let mut count = vec![0usize; mesh.materials.len().max(1)];
+    for r in &part.visual_ranges {
+        for t in r.clone() {
+            let m = mesh.visual.materials.get(t).copied().unwrap_or(0);
+            if let Some(c) = count.get_mut(usize::from(m)) {
+                *c += 1;
+            }
+        }
+    }
+    // The first of the most used, so ties break the same way every time.
+    let best = (0..count.len())
+        .rev()
+        .max_by_key(|&i| count[i])
+        .unwrap_or(0);
+    mesh.materials
+        .get(best)
+        .map_or([0.6, 0.55, 0.5], |m| m.colour)
+}
+
+fn push_colour(buf: &mut Vec<u8>, c: [f32; 3], alpha: f32) {
+    for v in c.into_iter().chain([alpha]) {
+        push_fixed(buf, v);
+        buf.push(b' ');
+    }
+    buf.pop();
+}
+
+/// Escapes text for an XML attribute (names come from tile sets and part names).
+pub(crate) fn xml_escape(s: &str) -> String {
+    s.replace('&', "&amp;")
+        .replace('<', "&lt;")
+        .replace('>', "&gt;")
+        .replace('"', "&quot;")
+}
+
+fn piece_asset(buf: &mut Vec<u8>, part: &str, i: usize, p: &Piece) {
+    buf.extend_from_slice(b"    <mesh name=\"");
+    buf.extend_from_slice(part.as_bytes());
+    buf.extend_from_slice(b"-rock-");
+    push_uint(buf, i as u64);
+    buf.extend_from_slice(b"\" vertex=\"");
+    for (k, q) in p.points.iter().enumerate() {
+        if k > 0 {
+            buf.push(b' ');
+        }
+        for (j, v) in q.iter().enumerate() {
+            if j > 0 {
+                buf.push(b' ');
+            }
+            push_fixed(buf, *v);
+        }
+    }
+    buf.extend_from_slice(b"\"/>\n");
+}
+
+fn piece_geom(buf: &mut Vec<u8>, part: &str, i: usize) {
+    buf.extend_from_slice(b"    <geom type=\"mesh\" mesh=\"");
+    buf.extend_from_slice(part.as_bytes());
+    buf.extend_from_slice(b"-rock-");
+    push_uint(buf, i as u64);
+    buf.extend_from_slice(b"\" group=\"3\" rgba=\"0.5 0.5 0.5 0.4\"/>\n");
+}
+
+impl Exporter for Mjcf {
+    fn export(&self, world: &World, out: &mut dyn WorldWriter) -> Result<(), ExportError> {
+        let Some(mesh) = &world.mesh else {
+            return Err(ExportError::Unsupported(
+                "the MJCF exporter needs geometry: add a [tileset] to the pipeline (or drop --no-mesh)".into(),
+            ));
+        };
+        let parts = parts(world, mesh, self.split);
+        let files = write_part_meshes(out, mesh, self.split, &parts)?;
+        // Slabs of every part in parallel; each part's are cut alone, so the result does not
+        // depend on the thread count.
+        let pieces: Vec<Vec<Piece>> = parts
+            .par_iter()
+            .map(|p| convex_pieces(&p.collision(mesh), &self.pieces))
+            .collect();
+        let compiler = "  <compiler angle=\"radian\" meshdir=\"..\"/>\n";
+        let mut main = format!(
+            "<mujoco model=\"subtgraph world, seed {}\">\n  <!-- metres, x east, y north, z up; visual geoms in group 1, collision slabs (convex, in the rock) in group 3 -->\n{compiler}",
+            world.resolved.seed
+        );
+        for ((part, file), pieces) in parts.iter().zip(&files).zip(&pieces) {
+            let name = xml_escape(&part.name);
+            // The whole world as one part is named `world`: its file must not replace the
+            // main file.
+            let stem = if part.name == "world" {
+                "whole"
+            } else {
+                &part.name
+            };
+            let path = format!("mujoco/{stem}.xml");
+            main.push_str(&format!("  <include file=\"{}.xml\"/>\n", xml_escape(stem)));
+            let colour = part_colour(mesh, part);
+            stream_file(out, &path, |w| {
+                let mut head = Vec::new();
+                head.extend_from_slice(
+                    format!(
+                        "<mujoco model=\"{name}\">\n{compiler}  <asset>\n    <mesh name=\"{name}-visual\" file=\"{}\" inertia=\"shell\"/>\n",
+                        xml_escape(&file.visual)
+                    )
+                    .as_bytes(),
+                );
+                w.write_all(&head)?;
+                write_lines(w, pieces.len(), |b, i| piece_asset(b, &name, i, &pieces[i]))?;
+                let mut mid = Vec::new();
+                mid.extend_from_slice(b"  </asset>\n  <worldbody>\n");
+                mid.extend_from_slice(
+                    format!("    <geom name=\"{name}-visual\" type=\"mesh\" mesh=\"{name}-visual\" group=\"1\" contype=\"0\" conaffinity=\"0\" rgba=\"")
+                        .as_bytes(),
+                );
+                push_colour(&mut mid, colour, 1.0);
+                mid.extend_from_slice(b"\"/>\n");
+                w.write_all(&mid)?;
+                write_lines(w, pieces.len(), |b, i| piece_geom(b, &name, i))?;
+                w.write_all(b"  </worldbody>\n</mujoco>\n")
+            })?;
+        }
+        main.push_str("</mujoco>\n");
+        write_file(out, "mujoco/world.xml", main.as_bytes())
+    }
+
+    fn needs_geometry(&self) -> bool {
+        true
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use subtgraph_core::export::MemoryWriter;
+
+    #[test]
+    fn every_include_names_a_part_file_written_beside_it() {
+        let world = crate::test_world_with_mesh();
+        for split in [Split::Whole, Split::Level, Split::Region { tiles: 6 }] {
+            let mut out = MemoryWriter::default();
+            let m = Mjcf {
+                split,
+                ..Mjcf::default()
+            };
+            m.export(&world, &mut out).unwrap();
+            let main = String::from_utf8(out.get("mujoco/world.xml").unwrap().to_vec()).unwrap();
+            let includes: Vec<&str> = main
+                .split("<include file=\"")
+                .skip(1)
+                .map(|s| &s[..s.find('"').unwrap()])
+                .collect();
+            let count = parts(&world, world.mesh.as_ref().unwrap(), split).len();
+            assert_eq!(includes.len(), count, "{split:?}");
+            let mut slabs = 0;
+            for inc in includes {
+                let part = out
+                    .get(&format!("mujoco/{inc}"))
+                    .expect("included file written");
+                let text = String::from_utf8(part.to_vec()).unwrap();
+                let visual = text.split("file=\"").nth(1).unwrap();
+                let visual = &visual[..visual.find('"').unwrap()];
+                assert!(out.contains(visual), "{visual} written");
+                slabs += text.matches("-rock-").count();
+            }
+            assert!(slabs > 100, "collision slabs: {slabs}");
+        }
+    }
+
+    #[test]
+    fn bad_lengths_name_the_key() {
+        let table = |s: &str| Params::from_table("export[0]", toml::from_str(s).unwrap());
+        let m = Mjcf::from_params(&table("tolerance = 0.1\nthickness = 2")).unwrap();
+        assert_eq!((m.pieces.tolerance, m.pieces.thickness), (0.1, 2.0));
+        for bad in ["tolerance = -1.0", "tolerance = \"big\"", "thickness = 0"] {
+            let e = Mjcf::from_params(&table(bad)).unwrap_err();
+            let key = bad.split(' ').next().unwrap();
+            assert_eq!(e.key, format!("export[0].{key}"), "{bad}");
+            assert!(e.message.contains(&format!("{key} = ")), "{}", e.message);
+        }
+    }
+}

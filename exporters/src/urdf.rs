@@ -1,0 +1,82 @@
+//! URDF for PyBullet: `urdf/world.urdf`, one fixed link named `world` with a `<visual>` and a
+//! `<collision>` per part, referencing the shared per-part OBJs by paths relative to the URDF
+//! file (`../mesh/parts/level/level-0.obj`), as PyBullet and ROS tools resolve them.
+//!
+//! PyBullet collides a mesh as its convex hull unless told otherwise, which would fill the
+//! tunnels. Its URDF reader takes a non-standard `concave="yes"` on the `<link>` and on each
+//! `<collision>`: the mesh is then kept as a static triangle mesh (a BVH), which is right for a
+//! world that never moves. The link has zero mass (static); load it with
+//! `loadURDF("urdf/world.urdf", useFixedBase=True)`. Other URDF readers ignore the attribute.
+//!
+//! ```toml
+//! [[export]]
+//! type = "urdf"
+//! split = "level"    # or "region" (with region_tiles) or "whole"
+//! ```
+
+use subtgraph_core::World;
+use subtgraph_core::error::ConfigError;
+use subtgraph_core::export::{ExportError, Exporter, WorldWriter, write_file};
+use subtgraph_core::params::Params;
+
+use crate::mjcf::{part_colour, xml_escape};
+use crate::parts::{Split, parts, write_part_meshes};
+
+/// Writes the world as a URDF with one static link.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Urdf {
+    /// How the world is cut into visual/collision pairs.
+    pub split: Split,
+}
+
+impl Default for Urdf {
+    fn default() -> Self {
+        Urdf {
+            split: Split::Level,
+        }
+    }
+}
+
+impl Urdf {
+    /// From an `[[export]] type = "urdf"` table: `split` and `region_tiles`.
+    pub fn from_params(params: &Params) -> Result<Urdf, ConfigError> {
+        params.expect_known(&Split::KEYS)?;
+        Ok(Urdf {
+            split: Split::from_params(params)?,
+        })
+    }
+}
+
+impl Exporter for Urdf {
+    fn export(&self, world: &World, out: &mut dyn WorldWriter) -> Result<(), ExportError> {
+        let Some(mesh) = &world.mesh else {
+            return Err(ExportError::Unsupported(
+                "the URDF exporter needs geometry: add a [tileset] to the pipeline (or drop --no-mesh)".into(),
+            ));
+        };
+        let parts = parts(world, mesh, self.split);
+        let files = write_part_meshes(out, mesh, self.split, &parts)?;
+        let mut s = format!(
+            "<?xml version=\"1.0\"?>\n<!-- subtgraph world, seed {}: metres, x east, y north, z up. PyBullet: loadURDF(\"urdf/world.urdf\", useFixedBase=True) -->\n<robot name=\"subtgraph_world\">\n  <link name=\"world\" concave=\"yes\">\n    <inertial>\n      <mass value=\"0\"/>\n      <inertia ixx=\"0\" ixy=\"0\" ixz=\"0\" iyy=\"0\" iyz=\"0\" izz=\"0\"/>\n    </inertial>\n",
+            world.resolved.seed
+        );
+        for (part, file) in parts.iter().zip(&files) {
+            let name = xml_escape(&part.name);
+            let [r, g, b] = part_colour(mesh, part);
+            s.push_str(&format!(
+                "    <visual name=\"{name}\">\n      <geometry>\n        <mesh filename=\"../{}\"/>\n      </geometry>\n      <material name=\"{name}-rock\">\n        <color rgba=\"{r:.4} {g:.4} {b:.4} 1\"/>\n      </material>\n    </visual>\n",
+                xml_escape(&file.visual)
+            ));
+            s.push_str(&format!(
+                "    <collision name=\"{name}\" concave=\"yes\">\n      <geometry>\n        <mesh filename=\"../{}\"/>\n      </geometry>\n    </collision>\n",
+                xml_escape(&file.collision)
+            ));
+        }
+        s.push_str("  </link>\n</robot>\n");
+        write_file(out, "urdf/world.urdf", s.as_bytes())
+    }
+
+    fn needs_geometry(&self) -> bool {
+        true
+    }
+}

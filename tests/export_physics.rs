@@ -1,0 +1,146 @@
+//! The physics exporters, checked by the simulators themselves: MuJoCo loads `mujoco/world.xml`
+//! and PyBullet `urdf/world.urdf` (from another working directory), a ball dropped in a
+//! corridor rests on its floor, and the naive exports (one convex mesh) are shown to fail the
+//! same checks. Plus determinism across thread counts and errors naming bad keys.
+
+mod common;
+
+use std::path::Path;
+use std::process::Command;
+
+use common::{arg, fails, folder_bytes, ok, read_with_python, small_cave_pipeline};
+
+const BOTH: &str = "[[export]]\ntype = \"mjcf\"\n\n[[export]]\ntype = \"urdf\"\n";
+
+/// The small two-level cave with a collision lattice fine enough to hold its 5 m tunnels:
+/// the helper's `collision_resolution = 4` samples a 16 m tile every 4 m, which closes the
+/// passage in places (rock 1.5 m above the floor mid-corridor) whatever the exporter does.
+fn physics_world(dir: &Path) -> std::path::PathBuf {
+    let path = small_cave_pipeline(dir, 2, BOTH);
+    let text = std::fs::read_to_string(&path).unwrap();
+    assert!(text.contains("collision_resolution = 4"));
+    std::fs::write(
+        &path,
+        text.replace("collision_resolution = 4", "collision_resolution = 8"),
+    )
+    .unwrap();
+    let out = dir.join("world");
+    ok(&["generate", arg(&path), "--out", arg(&out)]);
+    out
+}
+
+#[test]
+fn a_ball_rests_on_a_corridor_floor_in_mujoco_and_pybullet() {
+    let tmp = tempfile::tempdir().unwrap();
+    let world = physics_world(tmp.path());
+    for f in [
+        "mujoco/world.xml",
+        "mujoco/level-0.xml",
+        "mujoco/level-1.xml",
+        "urdf/world.urdf",
+    ] {
+        assert!(world.join(f).is_file(), "{f} written");
+    }
+    let xml = std::fs::read_to_string(world.join("mujoco/world.xml")).unwrap();
+    assert!(xml.contains("<include file=\"level-1.xml\"/>"), "{xml}");
+    if let Some(out) = read_with_python(&["mujoco", "numpy"], "mujoco_check.py", &[arg(&world)]) {
+        assert!(out.contains("OK"), "{out}");
+    }
+    if let Some(out) = read_with_python(&["pybullet"], "pybullet_check.py", &[arg(&world)]) {
+        assert!(out.contains("OK"), "{out}");
+    }
+}
+
+/// The checks can fail: the same drops against the naive exports (the whole collision surface
+/// as one MuJoCo mesh geom; the URDF without `concave="yes"`) find the passage filled.
+#[test]
+fn naive_convex_exports_fail_the_same_drop() {
+    let tmp = tempfile::tempdir().unwrap();
+    let world = physics_world(tmp.path());
+    let python = std::env::var("SUBTGRAPH_PYTHON").unwrap_or_else(|_| "python3".into());
+    for (modules, script, flag) in [
+        (&["mujoco", "numpy"][..], "mujoco_check.py", "--one-mesh"),
+        (&["pybullet"][..], "pybullet_check.py", "--convex"),
+    ] {
+        if common::python_with(modules).is_none() {
+            continue;
+        }
+        let out = Command::new(&python)
+            .arg(
+                Path::new(env!("CARGO_MANIFEST_DIR"))
+                    .join("tests/readers")
+                    .join(script),
+            )
+            .args([arg(&world), flag])
+            .output()
+            .unwrap();
+        let text = String::from_utf8_lossy(&out.stderr);
+        assert!(
+            !out.status.success() && text.contains("FAIL"),
+            "{script} {flag} should fail:\n{}\n{text}",
+            String::from_utf8_lossy(&out.stdout)
+        );
+    }
+}
+
+#[test]
+fn physics_files_are_identical_on_one_and_three_threads() {
+    let tmp = tempfile::tempdir().unwrap();
+    let pipeline = small_cave_pipeline(tmp.path(), 2, BOTH);
+    let mut folders = Vec::new();
+    for threads in ["1", "3"] {
+        let out = tmp.path().join(format!("world-{threads}"));
+        let run = Command::new(env!("CARGO_BIN_EXE_subtgraph"))
+            .args(["generate", arg(&pipeline), "--out", arg(&out)])
+            .env("RAYON_NUM_THREADS", threads)
+            .output()
+            .unwrap();
+        assert!(
+            run.status.success(),
+            "{}",
+            String::from_utf8_lossy(&run.stderr)
+        );
+        let files: Vec<_> = folder_bytes(&out)
+            .into_iter()
+            .filter(|(p, _)| {
+                p.starts_with("mujoco") || p.starts_with("urdf") || p.starts_with("mesh")
+            })
+            .collect();
+        assert!(files.iter().any(|(p, _)| p == "mujoco/level-0.xml"));
+        folders.push(files);
+    }
+    assert!(folders[0] == folders[1], "thread count changed the files");
+}
+
+#[test]
+fn bad_physics_settings_name_the_key() {
+    let tmp = tempfile::tempdir().unwrap();
+    for (table, key, hint) in [
+        (
+            "type = \"mjcf\"\nthicknes = 0.5",
+            "export[0].thicknes",
+            "thickness",
+        ),
+        (
+            "type = \"mjcf\"\ntolerance = -0.1",
+            "export[0].tolerance",
+            "tolerance = 0.1",
+        ),
+        (
+            "type = \"mjcf\"\nthickness = \"deep\"",
+            "export[0].thickness",
+            "thickness = 0.5",
+        ),
+        (
+            "type = \"urdf\"\nconcave = true",
+            "export[0].concave",
+            "split",
+        ),
+    ] {
+        let pipeline = small_cave_pipeline(tmp.path(), 1, &format!("[[export]]\n{table}\n"));
+        let out = tmp.path().join("never");
+        let err = fails(&["generate", arg(&pipeline), "--out", arg(&out)]);
+        assert!(err.contains(key) && err.contains(hint), "{table}: {err}");
+        assert!(!out.exists());
+    }
+}
