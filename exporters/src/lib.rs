@@ -23,12 +23,14 @@ mod level_maps;
 mod obj;
 mod occupancy_npy;
 pub mod parts;
+mod sdf;
 mod topology_json;
 mod world_toml;
 
 pub use level_maps::{LevelMaps, kind_colour};
 pub use obj::Obj;
 pub use occupancy_npy::OccupancyNpy;
+pub use sdf::{Lights, Sdf};
 pub use topology_json::TopologyJson;
 pub use world_toml::WorldToml;
 
@@ -40,6 +42,12 @@ pub fn register(registry: &mut Registry) -> Result<(), DuplicateName> {
         "built-in",
         "Wavefront OBJ + MTL, visual and collision; `split` adds one OBJ pair per part",
         Arc::new(|p| Ok(Box::new(Obj::from_params(p)?) as Box<dyn Exporter>)),
+    )?;
+    e.register(
+        "sdf",
+        "built-in",
+        "Gazebo SDFormat 1.9 world (gz-sim): a static model per part, visual and collision meshes, cave lighting",
+        Arc::new(|p| Ok(Box::new(Sdf::from_params(p)?) as Box<dyn Exporter>)),
     )?;
     Ok(())
 }
