@@ -210,3 +210,68 @@ fn scene_files_do_not_depend_on_the_thread_count() {
         "files differ between 1 and 3 threads"
     );
 }
+
+/// Runs `usd_check.py` on a world folder with extra arguments; returns its JSON summary.
+fn check_usd(world: &Path, extra: &[&str]) -> Option<serde_json::Value> {
+    let mut args = vec![arg(world)];
+    args.extend_from_slice(extra);
+    let out = read_with_python(&["pxr"], "usd_check.py", &args)?;
+    Some(serde_json::from_str(out.trim()).unwrap())
+}
+
+#[test]
+fn usd_opens_in_usd_core_with_triangle_mesh_colliders() {
+    let dir = tempfile::tempdir().unwrap();
+    // With the SDF exporter, which writes the per-level OBJs the USD meshes are compared to.
+    let w = world(
+        dir.path(),
+        "[[export]]\ntype = \"sdf\"\n\n[[export]]\ntype = \"usd\"\n",
+    );
+    let parts = w.join("mesh/parts/level");
+    let Some(summary) = check_usd(&w, &["--parts", arg(&parts)]) else {
+        return;
+    };
+    // A layer, a visual mesh and a collider per level; procedural tiles never repeat.
+    assert_eq!(summary["parts"], 2, "{summary}");
+    assert_eq!(summary["colliders"], 2, "{summary}");
+    assert_eq!(summary["instances"], 0, "{summary}");
+    for p in level_parts(&w) {
+        assert!(w.join(format!("usd/parts/{p}.usda")).is_file(), "{p}");
+    }
+}
+
+#[test]
+fn usd_of_darpa_tiles_instances_repeated_tiles() {
+    let Some(_) = common::darpa_tiles() else {
+        return;
+    };
+    let dir = tempfile::tempdir().unwrap();
+    let manifest =
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("tilesets/manifests/darpa-cave-type-b.toml");
+    let pipeline = dir.path().join("darpa.toml");
+    std::fs::write(
+        &pipeline,
+        format!(
+            "[world]\nseed = 2\nlevels = 1\nrows = 16\ncols = 16\ntile_pitch = 80.0\n\n\
+             [topology]\nloops = 0\nt_junctions = 1\nintersections = 1\n\n\
+             [route]\ntype = \"parabolic\"\n\n\
+             [tileset]\ntype = \"mesh-files\"\nmanifest = {manifest:?}\n\n\
+             [[export]]\ntype = \"usd\"\n"
+        ),
+    )
+    .unwrap();
+    let w = dir.path().join("world");
+    ok(&["generate", arg(&pipeline), "--out", arg(&w)]);
+    let Some(summary) = check_usd(&w, &["--min-instances", "2"]) else {
+        return;
+    };
+    // The check above counted every face once, through the instances, against world.obj.
+    let instances = summary["instances"].as_u64().unwrap();
+    assert!(instances >= 10, "{summary}");
+    let prototypes = std::fs::read_to_string(w.join("usd/parts/prototypes.usda")).unwrap();
+    let count = prototypes.matches("def Xform \"tile_").count() as u64;
+    assert!(
+        count > 0 && count < instances,
+        "{count} prototypes for {instances} instances"
+    );
+}

@@ -19,12 +19,14 @@ use subtgraph_core::World;
 use subtgraph_core::export::{ExportError, Exporter, WorldWriter};
 use subtgraph_core::registry::{DuplicateName, Registry};
 
+mod instances;
 mod level_maps;
 mod obj;
 mod occupancy_npy;
 pub mod parts;
 mod sdf;
 mod topology_json;
+mod usd;
 mod world_toml;
 
 pub use level_maps::{LevelMaps, kind_colour};
@@ -32,6 +34,7 @@ pub use obj::Obj;
 pub use occupancy_npy::OccupancyNpy;
 pub use sdf::{Lights, Sdf};
 pub use topology_json::TopologyJson;
+pub use usd::Usd;
 pub use world_toml::WorldToml;
 
 /// Adds the built-in `[[export]]` exporters to a registry.
@@ -48,6 +51,12 @@ pub fn register(registry: &mut Registry) -> Result<(), DuplicateName> {
         "built-in",
         "Gazebo SDFormat 1.9 world (gz-sim): a static model per part, visual and collision meshes, cave lighting",
         Arc::new(|p| Ok(Box::new(Sdf::from_params(p)?) as Box<dyn Exporter>)),
+    )?;
+    e.register(
+        "usd",
+        "built-in",
+        "USD (Isaac Sim, Omniverse): usd/world.usda with a layer per part, UsdPhysics triangle-mesh colliders, repeated tiles instanced",
+        Arc::new(|p| Ok(Box::new(Usd::from_params(p)?) as Box<dyn Exporter>)),
     )?;
     Ok(())
 }
