@@ -275,3 +275,35 @@ fn usd_of_darpa_tiles_instances_repeated_tiles() {
         "{count} prototypes for {instances} instances"
     );
 }
+
+#[test]
+fn obj_and_glb_are_the_same_closed_surface_in_trimesh() {
+    let dir = tempfile::tempdir().unwrap();
+    let w = world(dir.path(), SCENES);
+    let Some(out) = read_with_python(&["trimesh", "numpy"], "trimesh_check.py", &[arg(&w)]) else {
+        return;
+    };
+    let summary: serde_json::Value = serde_json::from_str(out.trim()).unwrap();
+    // The script checked watertightness of all three, and that the GLB (turned back to Z up)
+    // has the OBJ's triangles, bounds and enclosed volume.
+    assert!(summary["triangles"].as_u64().unwrap() > 10_000, "{summary}");
+    // A node per level, each split by trimesh into a geometry per material primitive.
+    assert!(summary["glb_nodes"].as_u64().unwrap() >= 2, "{summary}");
+    let glb = std::fs::read(w.join("mesh/world.glb")).unwrap();
+    let json_len = u32::from_le_bytes(glb[12..16].try_into().unwrap()) as usize;
+    let doc: serde_json::Value = serde_json::from_slice(&glb[20..20 + json_len]).unwrap();
+    let nodes: Vec<&str> = doc["nodes"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|n| n["name"].as_str().unwrap())
+        .collect();
+    let parts: Vec<String> = level_parts(&w).into_iter().collect();
+    assert_eq!(nodes, parts);
+    assert!(
+        doc["asset"]["generator"]
+            .as_str()
+            .unwrap()
+            .starts_with("subtgraph")
+    );
+}

@@ -19,6 +19,7 @@ use subtgraph_core::World;
 use subtgraph_core::export::{ExportError, Exporter, WorldWriter};
 use subtgraph_core::registry::{DuplicateName, Registry};
 
+mod gltf;
 mod instances;
 mod level_maps;
 mod obj;
@@ -29,6 +30,7 @@ mod topology_json;
 mod usd;
 mod world_toml;
 
+pub use gltf::Gltf;
 pub use level_maps::{LevelMaps, kind_colour};
 pub use obj::Obj;
 pub use occupancy_npy::OccupancyNpy;
@@ -57,6 +59,12 @@ pub fn register(registry: &mut Registry) -> Result<(), DuplicateName> {
         "built-in",
         "USD (Isaac Sim, Omniverse): usd/world.usda with a layer per part, UsdPhysics triangle-mesh colliders, repeated tiles instanced",
         Arc::new(|p| Ok(Box::new(Usd::from_params(p)?) as Box<dyn Exporter>)),
+    )?;
+    e.register(
+        "gltf",
+        "built-in",
+        "binary glTF 2.0 (Blender, Unity, web viewers): mesh/world.glb, a node per part, Y up",
+        Arc::new(|p| Ok(Box::new(Gltf::from_params(p)?) as Box<dyn Exporter>)),
     )?;
     Ok(())
 }
