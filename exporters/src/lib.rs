@@ -20,15 +20,21 @@ use subtgraph_core::export::{ExportError, Exporter, WorldWriter};
 use subtgraph_core::registry::{DuplicateName, Registry};
 
 pub mod convex_pieces;
+mod gltf;
 pub mod ground_truth;
+mod instances;
 mod level_maps;
 mod mjcf;
 mod obj;
 mod occupancy_npy;
 pub mod parts;
+mod sdf;
 mod topology_json;
 mod urdf;
+mod usd;
 mod world_toml;
+
+pub use gltf::Gltf;
 
 pub use ground_truth::{
     FreeSpace, GraphFiles, GroundTruth, RosMap, SemanticLabels, Settings as GroundTruthSettings,
@@ -38,8 +44,10 @@ pub use level_maps::{LevelMaps, kind_colour};
 pub use mjcf::Mjcf;
 pub use obj::Obj;
 pub use occupancy_npy::OccupancyNpy;
+pub use sdf::{Lights, Sdf};
 pub use topology_json::TopologyJson;
 pub use urdf::Urdf;
+pub use usd::Usd;
 pub use world_toml::WorldToml;
 
 /// Adds the built-in `[[export]]` exporters to a registry.
@@ -113,6 +121,24 @@ pub fn register(registry: &mut Registry) -> Result<(), DuplicateName> {
         "built-in",
         "URDF for PyBullet: urdf/world.urdf, one static link, concave collision meshes per part",
         Arc::new(|p| Ok(Box::new(Urdf::from_params(p)?) as Box<dyn Exporter>)),
+    )?;
+    e.register(
+        "sdf",
+        "built-in",
+        "Gazebo SDFormat 1.9 world (gz-sim): a static model per part, visual and collision meshes, cave lighting",
+        Arc::new(|p| Ok(Box::new(Sdf::from_params(p)?) as Box<dyn Exporter>)),
+    )?;
+    e.register(
+        "usd",
+        "built-in",
+        "USD (Isaac Sim, Omniverse): usd/world.usda with a layer per part, UsdPhysics triangle-mesh colliders, repeated tiles instanced",
+        Arc::new(|p| Ok(Box::new(Usd::from_params(p)?) as Box<dyn Exporter>)),
+    )?;
+    e.register(
+        "gltf",
+        "built-in",
+        "binary glTF 2.0 (Blender, Unity, web viewers): mesh/world.glb, a node per part, Y up",
+        Arc::new(|p| Ok(Box::new(Gltf::from_params(p)?) as Box<dyn Exporter>)),
     )?;
     Ok(())
 }

@@ -1,0 +1,299 @@
+//! `mesh/world.glb`: the visual world as binary glTF 2.0, for Blender, Unity, Unreal and web
+//! viewers.
+//!
+//! One node and one mesh per part, one primitive per material (the primitives of a mesh share
+//! its POSITION, NORMAL and TEXCOORD_0 accessors and differ by their `u32` indices), and a
+//! `pbrMetallicRoughness` material per tile set material from its colour. glTF is Y up in
+//! metres, so a point (x east, y north, z up) is written as (x, z, -y): a rotation, which keeps
+//! the triangles' winding (front faces seen from inside the passage). Texture coordinates are
+//! flipped to glTF's top-left image origin (v becomes 1 - v).
+//!
+//! Written by hand (a GLB is a 12-byte header, a JSON chunk and a binary chunk) and streamed:
+//! a first pass cuts each part once to size its arrays, a second cuts it again and writes it,
+//! so memory holds one part at a time, never a second copy of the world.
+//!
+//! ```toml
+//! [[export]]
+//! type = "gltf"
+//! split = "level"      # a node per part: "level" (default), "region" or "whole"
+//! ```
+
+use std::io::Write;
+
+use serde_json::{Value, json};
+use subtgraph_core::World;
+use subtgraph_core::error::ConfigError;
+use subtgraph_core::export::{ExportError, Exporter, WorldWriter, stream_file};
+use subtgraph_core::mesh::Mesh;
+use subtgraph_core::params::Params;
+
+use crate::parts::{Part, Split, parts};
+
+/// Writes `mesh/world.glb`.
+#[derive(Clone, Copy, Debug)]
+pub struct Gltf {
+    /// A node per part cut this way.
+    pub split: Split,
+}
+
+impl Gltf {
+    /// From an `[[export]] type = "gltf"` table: `split` and `region_tiles` only.
+    pub fn from_params(params: &Params) -> Result<Gltf, ConfigError> {
+        params.expect_known(&Split::KEYS)?;
+        Ok(Gltf {
+            split: Split::from_params(params)?,
+        })
+    }
+}
+
+/// Our frame (x east, y north, z up) to glTF's (y up, -z north).
+fn y_up(p: [f32; 3]) -> [f32; 3] {
+    [p[0], p[2], -p[1]]
+}
+
+/// What the first pass learns about a part.
+struct Sizes {
+    vertices: usize,
+    normals: bool,
+    uvs: bool,
+    /// Triangles per material index.
+    per_material: Vec<usize>,
+    min: [f32; 3],
+    max: [f32; 3],
+}
+
+fn material_of(mesh: &Mesh, t: usize) -> usize {
+    usize::from(mesh.materials.get(t).copied().unwrap_or(0))
+}
+
+fn sizes(m: &Mesh, materials: usize) -> Sizes {
+    let mut per_material = vec![0; materials.max(1)];
+    for t in 0..m.triangles.len() {
+        let k = material_of(m, t).min(per_material.len() - 1);
+        per_material[k] += 1;
+    }
+    let (mut min, mut max) = ([f32::INFINITY; 3], [f32::NEG_INFINITY; 3]);
+    for &p in &m.positions {
+        let q = y_up(p);
+        for k in 0..3 {
+            min[k] = min[k].min(q[k]);
+            max[k] = max[k].max(q[k]);
+        }
+    }
+    Sizes {
+        vertices: m.positions.len(),
+        normals: m.normals.len() == m.positions.len(),
+        uvs: m.uvs.len() == m.positions.len(),
+        per_material,
+        min,
+        max,
+    }
+}
+
+/// The JSON document and the binary chunk's length.
+fn document(names: &[&Part], sizes: &[Sizes], materials: &[Value]) -> (Value, usize) {
+    let mut views = Vec::new();
+    let mut accessors = Vec::new();
+    let mut meshes = Vec::new();
+    let mut offset = 0usize;
+    let mut view = |len: usize, target: u32, views: &mut Vec<Value>| {
+        views.push(json!({"buffer": 0, "byteOffset": offset, "byteLength": len, "target": target}));
+        offset += len;
+        views.len() - 1
+    };
+    for (part, s) in names.iter().zip(sizes) {
+        let mut attributes = serde_json::Map::new();
+        let v = view(s.vertices * 12, 34962, &mut views);
+        accessors.push(
+            json!({"bufferView": v, "componentType": 5126, "count": s.vertices,
+            "type": "VEC3", "min": s.min, "max": s.max}),
+        );
+        attributes.insert("POSITION".into(), json!(accessors.len() - 1));
+        if s.normals {
+            let v = view(s.vertices * 12, 34962, &mut views);
+            accessors.push(json!({"bufferView": v, "componentType": 5126, "count": s.vertices, "type": "VEC3"}));
+            attributes.insert("NORMAL".into(), json!(accessors.len() - 1));
+        }
+        if s.uvs {
+            let v = view(s.vertices * 8, 34962, &mut views);
+            accessors.push(json!({"bufferView": v, "componentType": 5126, "count": s.vertices, "type": "VEC2"}));
+            attributes.insert("TEXCOORD_0".into(), json!(accessors.len() - 1));
+        }
+        let mut primitives = Vec::new();
+        for (m, &n) in s.per_material.iter().enumerate().filter(|(_, n)| **n > 0) {
+            let v = view(n * 12, 34963, &mut views);
+            accessors.push(
+                json!({"bufferView": v, "componentType": 5125, "count": n * 3, "type": "SCALAR"}),
+            );
+            let mut p = json!({"attributes": attributes.clone(), "indices": accessors.len() - 1, "mode": 4});
+            if m < materials.len() {
+                p["material"] = json!(m);
+            }
+            primitives.push(p);
+        }
+        meshes.push(json!({"name": part.name, "primitives": primitives}));
+    }
+    let nodes: Vec<Value> = names
+        .iter()
+        .enumerate()
+        .map(|(i, p)| json!({"name": p.name, "mesh": i}))
+        .collect();
+    let doc = json!({
+        "asset": {
+            "version": "2.0",
+            "generator": format!("subtgraph {}", env!("CARGO_PKG_VERSION")),
+        },
+        "scene": 0,
+        "scenes": [{"name": "subtgraph", "nodes": (0..nodes.len()).collect::<Vec<_>>()}],
+        "nodes": nodes,
+        "meshes": meshes,
+        "materials": materials,
+        "accessors": accessors,
+        "bufferViews": views,
+        "buffers": [{"byteLength": offset}],
+    });
+    (doc, offset)
+}
+
+/// Writes little-endian `f32`s, a buffer's worth at a time.
+fn floats(
+    w: &mut dyn Write,
+    count: usize,
+    per: usize,
+    value: impl Fn(usize, &mut [f32]),
+) -> std::io::Result<()> {
+    const BATCH: usize = 1 << 14;
+    let mut buf = Vec::with_capacity(BATCH * per * 4);
+    let mut v = vec![0f32; per];
+    for i in 0..count {
+        value(i, &mut v);
+        for x in &v {
+            buf.extend_from_slice(&x.to_le_bytes());
+        }
+        if buf.len() >= BATCH * per * 4 {
+            w.write_all(&buf)?;
+            buf.clear();
+        }
+    }
+    w.write_all(&buf)
+}
+
+fn write_part(w: &mut dyn Write, m: &Mesh, s: &Sizes) -> std::io::Result<()> {
+    floats(w, s.vertices, 3, |i, v| {
+        v.copy_from_slice(&y_up(m.positions[i]))
+    })?;
+    if s.normals {
+        floats(w, s.vertices, 3, |i, v| {
+            v.copy_from_slice(&y_up(m.normals[i]))
+        })?;
+    }
+    if s.uvs {
+        floats(w, s.vertices, 2, |i, v| {
+            v.copy_from_slice(&[m.uvs[i][0], 1.0 - m.uvs[i][1]]);
+        })?;
+    }
+    let last = s.per_material.len() - 1;
+    for (k, &n) in s.per_material.iter().enumerate().filter(|(_, n)| **n > 0) {
+        let mut buf = Vec::with_capacity(n * 12);
+        for (t, tri) in m.triangles.iter().enumerate() {
+            if material_of(m, t).min(last) == k {
+                for i in tri {
+                    buf.extend_from_slice(&i.to_le_bytes());
+                }
+            }
+        }
+        w.write_all(&buf)?;
+    }
+    Ok(())
+}
+
+impl Exporter for Gltf {
+    fn export(&self, world: &World, out: &mut dyn WorldWriter) -> Result<(), ExportError> {
+        let Some(mesh) = &world.mesh else {
+            return Err(ExportError::Unsupported(
+                "the glTF exporter needs geometry: add a [tileset] to the pipeline (or drop --no-mesh)".into(),
+            ));
+        };
+        let ps: Vec<Part> = parts(world, mesh, self.split)
+            .into_iter()
+            .filter(|p| p.visual_triangles() > 0)
+            .collect();
+        let sized: Vec<Sizes> = ps
+            .iter()
+            .map(|p| sizes(&p.visual(mesh), mesh.materials.len()))
+            .collect();
+        let materials: Vec<Value> = mesh
+            .materials
+            .iter()
+            .map(|m| {
+                let [r, g, b] = m.colour;
+                json!({"name": m.name, "pbrMetallicRoughness": {
+                    "baseColorFactor": [r, g, b, 1.0], "metallicFactor": 0.0, "roughnessFactor": 0.9}})
+            })
+            .collect();
+        let refs: Vec<&Part> = ps.iter().collect();
+        let (doc, bin_len) = document(&refs, &sized, &materials);
+        let mut text = serde_json::to_vec(&doc).expect("JSON of plain values");
+        while text.len() % 4 != 0 {
+            text.push(b' ');
+        }
+        let total = 12 + 8 + text.len() + 8 + bin_len;
+        let too_big = || {
+            ExportError::Unsupported(format!(
+                "the world is {total} bytes as GLB, over the format's 4 GiB; use split = \"region\" with fewer tiles or another format"
+            ))
+        };
+        let total32 = u32::try_from(total).map_err(|_| too_big())?;
+        stream_file(out, "mesh/world.glb", |w| {
+            w.write_all(b"glTF")?;
+            w.write_all(&2u32.to_le_bytes())?;
+            w.write_all(&total32.to_le_bytes())?;
+            w.write_all(&(text.len() as u32).to_le_bytes())?;
+            w.write_all(b"JSON")?;
+            w.write_all(&text)?;
+            w.write_all(&(bin_len as u32).to_le_bytes())?;
+            w.write_all(b"BIN\0")?;
+            for (p, s) in ps.iter().zip(&sized) {
+                write_part(w, &p.visual(mesh), s)?;
+            }
+            Ok(())
+        })
+    }
+
+    fn needs_geometry(&self) -> bool {
+        true
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use subtgraph_core::export::MemoryWriter;
+
+    #[test]
+    fn chunks_are_aligned_and_the_buffer_is_as_long_as_declared() {
+        let world = crate::test_world_with_mesh();
+        let mut out = MemoryWriter::default();
+        Gltf {
+            split: Split::Level,
+        }
+        .export(&world, &mut out)
+        .unwrap();
+        let glb = out.get("mesh/world.glb").unwrap();
+        let u32_at = |i: usize| u32::from_le_bytes(glb[i..i + 4].try_into().unwrap()) as usize;
+        assert_eq!(&glb[..4], b"glTF");
+        assert_eq!(u32_at(8), glb.len());
+        let json_len = u32_at(12);
+        assert_eq!(json_len % 4, 0);
+        let doc: Value = serde_json::from_slice(&glb[20..20 + json_len]).unwrap();
+        let bin_len = u32_at(20 + json_len);
+        assert_eq!(&glb[24 + json_len..28 + json_len], b"BIN\0");
+        assert_eq!(28 + json_len + bin_len, glb.len());
+        assert_eq!(doc["buffers"][0]["byteLength"], bin_len);
+        assert_eq!(
+            doc["nodes"].as_array().unwrap().len(),
+            2,
+            "a node per level"
+        );
+    }
+}

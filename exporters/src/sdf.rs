@@ -1,0 +1,273 @@
+//! `gazebo/world.sdf`: an SDFormat 1.9 world for Gazebo (gz-sim, Fortress and later; libsdformat
+//! 12+). One static model per part, each with a visual mesh and a separate, lighter collision
+//! mesh, plus lighting suited to a dark cave.
+//!
+//! Meshes are the shared per-part OBJs (`mesh/parts/<split>/`), referenced by paths relative to
+//! the SDF file (`../mesh/parts/level/level-0.obj`). gz-sim resolves such a path against the
+//! directory of the file that names it, so the world loads with `gz sim gazebo/world.sdf` from
+//! anywhere and without `GZ_SIM_RESOURCE_PATH`; `model://` URIs would need that variable to
+//! point at a model folder. Gazebo classic (11) reads the same relative paths, but its
+//! libsdformat 9 only knows SDFormat up to 1.7 and refuses this file.
+//!
+//! Colours come from the OBJ's material library (one `usemtl` per tile set material). An SDF
+//! `<material>` on a visual replaces every colour of its mesh in gz-sim, so it is written only
+//! when the tile set has a single material, as a fallback for viewers that ignore MTL files.
+//!
+//! ```toml
+//! [[export]]
+//! type = "sdf"
+//! lights = "dim"       # "dim" (default), "dark" (robots bring their own lights) or "lamps"
+//! lamps_every = 2      # tiles between lamps along corridors, for lights = "lamps"
+//! lamp_height = 2.0    # metres above the floor, for lights = "lamps"
+//! split = "level"      # parts: "level" (default), "region" or "whole" (see `parts`)
+//! ```
+
+use std::collections::BTreeSet;
+use std::fmt::Write as _;
+
+use subtgraph_core::World;
+use subtgraph_core::error::ConfigError;
+use subtgraph_core::export::{ExportError, Exporter, WorldWriter, write_file};
+use subtgraph_core::graph::EdgeKind;
+use subtgraph_core::params::Params;
+
+use crate::obj::push_fixed;
+use crate::parts::{Split, parts, write_part_meshes};
+
+/// How the world is lit.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Lights {
+    /// Weak ambient light and a faint directional light: the cave is visible but dark.
+    Dim,
+    /// No sun and almost no ambient light, for robots that carry their own lights.
+    Dark,
+    /// Point lights along the corridors, `every` tiles apart, `height` metres above the floor.
+    Lamps {
+        /// Tiles between lamps.
+        every: usize,
+        /// Metres above the floor.
+        height: f64,
+    },
+}
+
+/// Writes `gazebo/world.sdf` and the shared per-part meshes it references.
+#[derive(Clone, Copy, Debug)]
+pub struct Sdf {
+    /// How the world is cut into models.
+    pub split: Split,
+    /// The lighting.
+    pub lights: Lights,
+}
+
+impl Sdf {
+    /// The keys of an `[[export]] type = "sdf"` table.
+    pub const KEYS: [&'static str; 5] = [
+        "split",
+        "region_tiles",
+        "lights",
+        "lamps_every",
+        "lamp_height",
+    ];
+
+    /// From an `[[export]] type = "sdf"` table.
+    pub fn from_params(params: &Params) -> Result<Sdf, ConfigError> {
+        params.expect_known(&Self::KEYS)?;
+        let split = Split::from_params(params)?;
+        let every = match params.raw("lamps_every") {
+            None => 2,
+            Some(toml::Value::Integer(n)) if (1..=1000).contains(n) => *n as usize,
+            Some(_) => {
+                return Err(params.error(
+                    "lamps_every",
+                    "lamps_every must be a whole number of tiles from 1 to 1000, like 2",
+                ));
+            }
+        };
+        let height = match params.raw("lamp_height") {
+            None => 2.0,
+            Some(toml::Value::Float(h)) if h.is_finite() && *h >= 0.0 => *h,
+            Some(toml::Value::Integer(h)) if *h >= 0 => *h as f64,
+            Some(_) => {
+                return Err(params.error(
+                    "lamp_height",
+                    "lamp_height must be metres above the floor, zero or more, like 2.0",
+                ));
+            }
+        };
+        let lights = match params.raw("lights") {
+            None => Lights::Dim,
+            Some(toml::Value::String(s)) => match s.as_str() {
+                "dim" => Lights::Dim,
+                "dark" => Lights::Dark,
+                "lamps" => Lights::Lamps { every, height },
+                other => {
+                    return Err(params.error(
+                        "lights",
+                        format!(
+                            "unknown lights '{other}'; use \"dim\" (faint ambient and sun), \"dark\" (robots bring their own lights) or \"lamps\" (point lights along corridors)"
+                        ),
+                    ));
+                }
+            },
+            Some(_) => {
+                return Err(params.error(
+                    "lights",
+                    "lights must be a string: \"dim\", \"dark\" or \"lamps\"",
+                ));
+            }
+        };
+        Ok(Sdf { split, lights })
+    }
+}
+
+/// `x y z` with four decimals.
+fn triple(s: &mut String, v: [f64; 3]) {
+    let mut b = Vec::new();
+    for (i, x) in v.into_iter().enumerate() {
+        if i > 0 {
+            b.push(b' ');
+        }
+        push_fixed(&mut b, x as f32);
+    }
+    s.push_str(std::str::from_utf8(&b).expect("digits are ASCII"));
+}
+
+/// Where the lamps go: every `every`-th cell along each corridor (its ends included), each
+/// cell once, in the order of the graph's corridors.
+pub(crate) fn lamp_positions(world: &World, every: usize, height: f64) -> Vec<[f64; 3]> {
+    let mut seen = BTreeSet::new();
+    let mut out = Vec::new();
+    for e in world
+        .graph
+        .edges
+        .iter()
+        .filter(|e| e.kind == EdgeKind::Corridor)
+    {
+        let last = e.cells.len().saturating_sub(1);
+        for (i, &c) in e.cells.iter().enumerate() {
+            if (i % every == 0 || i == last) && seen.insert(c) {
+                let p = world.cell_position(c);
+                out.push([p[0], p[1], p[2] + height]);
+            }
+        }
+    }
+    out
+}
+
+fn lights_xml(s: &mut String, world: &World, lights: Lights) {
+    let (ambient, background) = match lights {
+        Lights::Dim => ("0.15 0.15 0.15 1", "0.02 0.02 0.02 1"),
+        Lights::Dark | Lights::Lamps { .. } => ("0.01 0.01 0.01 1", "0 0 0 1"),
+    };
+    let _ = write!(
+        s,
+        "    <scene>\n      <ambient>{ambient}</ambient>\n      <background>{background}</background>\n      <shadows>false</shadows>\n      <grid>false</grid>\n    </scene>\n"
+    );
+    match lights {
+        Lights::Dim => s.push_str(
+            "    <light type=\"directional\" name=\"sun\">\n      <cast_shadows>false</cast_shadows>\n      <pose>0 0 100 0 0 0</pose>\n      <diffuse>0.25 0.25 0.25 1</diffuse>\n      <specular>0.05 0.05 0.05 1</specular>\n      <direction>-0.3 0.2 -0.9</direction>\n    </light>\n",
+        ),
+        Lights::Dark => {}
+        Lights::Lamps { every, height } => {
+            let range = world.resolved.tile_pitch * every as f64 * 1.5;
+            for (i, p) in lamp_positions(world, every, height).into_iter().enumerate() {
+                let _ = write!(
+                    s,
+                    "    <light type=\"point\" name=\"lamp-{i}\">\n      <cast_shadows>false</cast_shadows>\n      <pose>"
+                );
+                triple(s, p);
+                let _ = write!(
+                    s,
+                    " 0 0 0</pose>\n      <diffuse>0.9 0.8 0.6 1</diffuse>\n      <specular>0.1 0.1 0.1 1</specular>\n      <attenuation>\n        <range>{range:.1}</range>\n        <constant>0.5</constant>\n        <linear>0.05</linear>\n        <quadratic>0.005</quadratic>\n      </attenuation>\n    </light>\n"
+                );
+            }
+        }
+    }
+}
+
+impl Exporter for Sdf {
+    fn export(&self, world: &World, out: &mut dyn WorldWriter) -> Result<(), ExportError> {
+        let Some(mesh) = &world.mesh else {
+            return Err(ExportError::Unsupported(
+                "the SDF exporter needs geometry: add a [tileset] to the pipeline (or drop --no-mesh)".into(),
+            ));
+        };
+        let ps = parts(world, mesh, self.split);
+        let files = write_part_meshes(out, mesh, self.split, &ps)?;
+        let mut s = String::from("<?xml version=\"1.0\"?>\n");
+        s.push_str("<!-- subtgraph world: metres, x east, y north, z up. Meshes are relative to this file. -->\n");
+        s.push_str("<sdf version=\"1.9\">\n  <world name=\"subtgraph\">\n");
+        s.push_str(
+            "    <gravity>0 0 -9.8</gravity>\n    <physics name=\"default\" type=\"ode\">\n      <max_step_size>0.001</max_step_size>\n      <real_time_factor>1</real_time_factor>\n      <real_time_update_rate>1000</real_time_update_rate>\n    </physics>\n",
+        );
+        lights_xml(&mut s, world, self.lights);
+        if let Some(start) = world.start {
+            // Classic's user camera, inside the passage at the start, looking east.
+            let p = world.cell_position(start);
+            s.push_str("    <gui>\n      <camera name=\"user_camera\">\n        <pose>");
+            triple(&mut s, [p[0], p[1], p[2] + 1.5]);
+            s.push_str(" 0 0.1 0</pose>\n      </camera>\n    </gui>\n");
+        }
+        let single = match mesh.materials.as_slice() {
+            [m] => Some(m.colour),
+            _ => None,
+        };
+        // Models are named `subt-<part>`: SDFormat reserves the name `world`.
+        for f in &files {
+            let _ = write!(
+                s,
+                "    <model name=\"subt-{name}\">\n      <static>true</static>\n      <link name=\"link\">\n        <visual name=\"visual\">\n          <geometry>\n            <mesh>\n              <uri>../{visual}</uri>\n            </mesh>\n          </geometry>\n",
+                name = f.name,
+                visual = f.visual,
+            );
+            if let Some([r, g, b]) = single {
+                let _ = write!(
+                    s,
+                    "          <material>\n            <ambient>{r:.4} {g:.4} {b:.4} 1</ambient>\n            <diffuse>{r:.4} {g:.4} {b:.4} 1</diffuse>\n            <specular>0.05 0.05 0.05 1</specular>\n          </material>\n"
+                );
+            }
+            let _ = write!(
+                s,
+                "        </visual>\n        <collision name=\"collision\">\n          <geometry>\n            <mesh>\n              <uri>../{collision}</uri>\n            </mesh>\n          </geometry>\n        </collision>\n      </link>\n    </model>\n",
+                collision = f.collision,
+            );
+        }
+        s.push_str("  </world>\n</sdf>\n");
+        write_file(out, "gazebo/world.sdf", s.as_bytes())
+    }
+
+    fn needs_geometry(&self) -> bool {
+        true
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use subtgraph_core::export::MemoryWriter;
+
+    #[test]
+    fn lamps_light_every_corridor() {
+        let world = crate::test_world_with_mesh();
+        let sdf = Sdf {
+            split: Split::Level,
+            lights: Lights::Lamps {
+                every: 2,
+                height: 2.0,
+            },
+        };
+        let mut out = MemoryWriter::default();
+        sdf.export(&world, &mut out).unwrap();
+        let text = String::from_utf8(out.get("gazebo/world.sdf").unwrap().to_vec()).unwrap();
+        let lamps = text.matches("type=\"point\"").count();
+        assert_eq!(lamps, lamp_positions(&world, 2, 2.0).len());
+        let corridors = world
+            .graph
+            .edges
+            .iter()
+            .filter(|e| e.kind == EdgeKind::Corridor)
+            .count();
+        assert!(lamps > corridors, "{lamps} lamps for {corridors} corridors");
+        assert!(!text.contains("name=\"sun\""));
+    }
+}

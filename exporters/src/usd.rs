@@ -1,0 +1,409 @@
+//! `usd/world.usda` (+ `usd/parts/<part>.usda`): the world as USD for Isaac Sim and
+//! Omniverse, in the text form usd-core and every USD tool open.
+//!
+//! The root layer states the units (`metersPerUnit = 1`, `upAxis = "Z"`), holds `/World` with
+//! a `UsdPhysics` scene and the `UsdPreviewSurface` materials, and sublayers one layer per part
+//! (so a large world's parts can be loaded or muted one at a time). Each part has a visual mesh
+//! (points, vertex normals, `primvars:st`, extent, a `GeomSubset` per material bound with
+//! `familyName = "materialBind"`) and a collision mesh (`purpose = "guide"`, so it is not
+//! rendered) with `PhysicsCollisionAPI` + `PhysicsMeshCollisionAPI` and
+//! `physics:approximation = "none"`: a triangle mesh, since the convex hull Isaac Sim uses by
+//! default would fill the cave. There is no rigid body: the cave is static.
+//!
+//! Tiles whose visual geometry repeats up to a translation (the same mesh file placed with
+//! the same rotation, as with the DARPA tiles) become `instanceable` references to one
+//! prototype under `/Prototypes` (an abstract `class`, so not drawn itself), placed by
+//! `xformOp:translate`: see [`instances`](crate::instances). Their collision triangles stay
+//! in the part's collision mesh.
+//!
+//! ```toml
+//! [[export]]
+//! type = "usd"
+//! split = "level"      # one layer per part: "level" (default), "region" or "whole"
+//! instancing = true    # repeated tiles as instanceable references (default true)
+//! ```
+
+use std::io::Write;
+
+use subtgraph_core::World;
+use subtgraph_core::assembly::WorldMesh;
+use subtgraph_core::error::ConfigError;
+use subtgraph_core::export::{ExportError, Exporter, WorldWriter, stream_file, write_file};
+use subtgraph_core::mesh::Mesh;
+use subtgraph_core::params::Params;
+
+use crate::instances::{Instances, find_instances};
+use crate::obj::{push_fixed, push_uint, write_lines};
+use crate::parts::{Split, parts};
+
+/// Writes the world as USD layers.
+#[derive(Clone, Copy, Debug)]
+pub struct Usd {
+    /// One layer per part cut this way.
+    pub split: Split,
+    /// Repeated tiles as instanceable references.
+    pub instancing: bool,
+}
+
+impl Usd {
+    /// The keys of an `[[export]] type = "usd"` table.
+    pub const KEYS: [&'static str; 3] = ["split", "region_tiles", "instancing"];
+
+    /// From an `[[export]] type = "usd"` table.
+    pub fn from_params(params: &Params) -> Result<Usd, ConfigError> {
+        params.expect_known(&Self::KEYS)?;
+        let instancing = match params.raw("instancing") {
+            None => true,
+            Some(toml::Value::Boolean(b)) => *b,
+            Some(_) => {
+                return Err(params.error(
+                    "instancing",
+                    "instancing must be true (repeated tiles as instanceable references) or false",
+                ));
+            }
+        };
+        Ok(Usd {
+            split: Split::from_params(params)?,
+            instancing,
+        })
+    }
+}
+
+/// A USD prim name from ours: letters, digits and `_` only, not starting with a digit.
+pub(crate) fn prim_name(name: &str) -> String {
+    let mut s: String = name
+        .chars()
+        .map(|c| if c.is_ascii_alphanumeric() { c } else { '_' })
+        .collect();
+    if s.is_empty() || s.starts_with(|c: char| c.is_ascii_digit()) {
+        s.insert(0, '_');
+    }
+    s
+}
+
+const HEADER: &str = "#usda 1.0\n(\n    metersPerUnit = 1\n    upAxis = \"Z\"\n)\n\n";
+
+/// Writes `name = [a, b, ...]` with `count` elements, formatted in parallel.
+fn array(
+    w: &mut dyn Write,
+    indent: &str,
+    decl: &str,
+    count: usize,
+    element: impl Fn(&mut Vec<u8>, usize) + Sync,
+) -> std::io::Result<()> {
+    write!(w, "{indent}{decl} = [")?;
+    write_lines(w, count, |b, i| {
+        if i > 0 {
+            b.extend_from_slice(b", ");
+        }
+        element(b, i);
+    })?;
+    w.write_all(b"]")
+}
+
+fn tuple(b: &mut Vec<u8>, v: &[f32]) {
+    b.push(b'(');
+    for (k, x) in v.iter().enumerate() {
+        if k > 0 {
+            b.extend_from_slice(b", ");
+        }
+        push_fixed(b, *x);
+    }
+    b.push(b')');
+}
+
+/// What a mesh prim is for.
+#[derive(Clone, Copy, PartialEq)]
+enum Role {
+    Visual,
+    Collision,
+}
+
+/// Writes one `Mesh` prim (its points relative to `origin`).
+fn write_mesh(
+    w: &mut dyn Write,
+    indent: &str,
+    name: &str,
+    mesh: &Mesh,
+    role: Role,
+    materials: &[String],
+    origin: [f32; 3],
+) -> std::io::Result<()> {
+    let schemas = match role {
+        Role::Visual => "\"MaterialBindingAPI\"",
+        Role::Collision => "\"PhysicsCollisionAPI\", \"PhysicsMeshCollisionAPI\"",
+    };
+    writeln!(
+        w,
+        "{indent}def Mesh \"{name}\" (\n{indent}    prepend apiSchemas = [{schemas}]\n{indent})\n{indent}{{"
+    )?;
+    let inner = format!("{indent}    ");
+    let at = |i: usize| {
+        let p = mesh.positions[i];
+        [p[0] - origin[0], p[1] - origin[1], p[2] - origin[2]]
+    };
+    if let Some((lo, hi)) = mesh.bounds() {
+        let mut b = Vec::new();
+        b.extend_from_slice(inner.as_bytes());
+        b.extend_from_slice(b"float3[] extent = [");
+        tuple(
+            &mut b,
+            &[lo[0] - origin[0], lo[1] - origin[1], lo[2] - origin[2]],
+        );
+        b.extend_from_slice(b", ");
+        tuple(
+            &mut b,
+            &[hi[0] - origin[0], hi[1] - origin[1], hi[2] - origin[2]],
+        );
+        b.extend_from_slice(b"]\n");
+        w.write_all(&b)?;
+    }
+    let n = mesh.triangles.len();
+    array(w, &inner, "int[] faceVertexCounts", n, |b, _| b.push(b'3'))?;
+    writeln!(w)?;
+    array(w, &inner, "int[] faceVertexIndices", n * 3, |b, i| {
+        push_uint(b, u64::from(mesh.triangles[i / 3][i % 3]));
+    })?;
+    writeln!(w)?;
+    array(
+        w,
+        &inner,
+        "point3f[] points",
+        mesh.positions.len(),
+        |b, i| tuple(b, &at(i)),
+    )?;
+    writeln!(w)?;
+    writeln!(w, "{inner}uniform token subdivisionScheme = \"none\"")?;
+    match role {
+        Role::Collision => {
+            writeln!(w, "{inner}uniform token purpose = \"guide\"")?;
+            writeln!(w, "{inner}bool physics:collisionEnabled = 1")?;
+            writeln!(w, "{inner}uniform token physics:approximation = \"none\"")?;
+        }
+        Role::Visual => {
+            if mesh.normals.len() == mesh.positions.len() {
+                array(
+                    w,
+                    &inner,
+                    "normal3f[] normals",
+                    mesh.normals.len(),
+                    |b, i| tuple(b, &mesh.normals[i]),
+                )?;
+                writeln!(w, " (\n{inner}    interpolation = \"vertex\"\n{inner})")?;
+            }
+            if mesh.uvs.len() == mesh.positions.len() {
+                array(
+                    w,
+                    &inner,
+                    "texCoord2f[] primvars:st",
+                    mesh.uvs.len(),
+                    |b, i| tuple(b, &mesh.uvs[i]),
+                )?;
+                writeln!(w, " (\n{inner}    interpolation = \"vertex\"\n{inner})")?;
+            }
+            write_bindings(w, &inner, mesh, materials)?;
+        }
+    }
+    writeln!(w, "{indent}}}")
+}
+
+/// Binds the materials: the whole mesh when it has one, else a `GeomSubset` per material.
+fn write_bindings(
+    w: &mut dyn Write,
+    inner: &str,
+    mesh: &Mesh,
+    materials: &[String],
+) -> std::io::Result<()> {
+    let material_of = |t: usize| usize::from(mesh.materials.get(t).copied().unwrap_or(0));
+    let mut used = vec![false; materials.len().max(1)];
+    for t in 0..mesh.triangles.len() {
+        if let Some(u) = used.get_mut(material_of(t)) {
+            *u = true;
+        }
+    }
+    let look = |m: usize| {
+        format!(
+            "</World/Looks/{}>",
+            materials.get(m).map_or("default", |s| s)
+        )
+    };
+    let present: Vec<usize> = (0..used.len()).filter(|&m| used[m]).collect();
+    if present.len() <= 1 {
+        let m = present.first().copied().unwrap_or(0);
+        return writeln!(w, "{inner}rel material:binding = {}", look(m));
+    }
+    writeln!(
+        w,
+        "{inner}uniform token subsetFamily:materialBind:familyType = \"partition\""
+    )?;
+    for m in present {
+        let faces: Vec<u32> = (0..mesh.triangles.len())
+            .filter(|&t| material_of(t) == m)
+            .map(|t| t as u32)
+            .collect();
+        writeln!(
+            w,
+            "\n{inner}def GeomSubset \"{name}\" (\n{inner}    prepend apiSchemas = [\"MaterialBindingAPI\"]\n{inner})\n{inner}{{\n{inner}    uniform token elementType = \"face\"\n{inner}    uniform token familyName = \"materialBind\"",
+            name = materials.get(m).map_or("default", |s| s),
+        )?;
+        array(
+            w,
+            &format!("{inner}    "),
+            "int[] indices",
+            faces.len(),
+            |b, i| push_uint(b, u64::from(faces[i])),
+        )?;
+        writeln!(
+            w,
+            "\n{inner}    rel material:binding = {}\n{inner}}}",
+            look(m)
+        )?;
+    }
+    Ok(())
+}
+
+/// The root layer: units, physics scene, materials, and the part layers as sublayers.
+fn root_layer(mesh: &WorldMesh, layers: &[String], materials: &[String]) -> String {
+    let mut s = String::from(
+        "#usda 1.0\n(\n    defaultPrim = \"World\"\n    doc = \"subtgraph world: metres, x east, y north, z up\"\n    metersPerUnit = 1\n    upAxis = \"Z\"\n    subLayers = [\n",
+    );
+    for (i, l) in layers.iter().enumerate() {
+        let comma = if i + 1 < layers.len() { "," } else { "" };
+        s.push_str(&format!("        @./{l}@{comma}\n"));
+    }
+    s.push_str("    ]\n)\n\ndef Xform \"World\"\n{\n");
+    s.push_str("    def PhysicsScene \"PhysicsScene\"\n    {\n        vector3f physics:gravityDirection = (0, 0, -1)\n        float physics:gravityMagnitude = 9.81\n    }\n\n");
+    s.push_str("    def Scope \"Looks\"\n    {\n");
+    let mut all: Vec<(String, [f32; 3])> = materials
+        .iter()
+        .zip(&mesh.materials)
+        .map(|(n, m)| (n.clone(), m.colour))
+        .collect();
+    if all.is_empty() {
+        all.push(("default".into(), [0.5, 0.5, 0.5]));
+    }
+    for (name, [r, g, b]) in all {
+        s.push_str(&format!(
+            "        def Material \"{name}\"\n        {{\n            token outputs:surface.connect = </World/Looks/{name}/Surface.outputs:surface>\n\n            def Shader \"Surface\"\n            {{\n                uniform token info:id = \"UsdPreviewSurface\"\n                color3f inputs:diffuseColor = ({r:.4}, {g:.4}, {b:.4})\n                float inputs:metallic = 0\n                float inputs:roughness = 0.9\n                token outputs:surface\n            }}\n        }}\n"
+        ));
+    }
+    s.push_str("    }\n}\n");
+    s
+}
+
+impl Exporter for Usd {
+    fn export(&self, world: &World, out: &mut dyn WorldWriter) -> Result<(), ExportError> {
+        let Some(mesh) = &world.mesh else {
+            return Err(ExportError::Unsupported(
+                "the USD exporter needs geometry: add a [tileset] to the pipeline (or drop --no-mesh)".into(),
+            ));
+        };
+        let materials: Vec<String> = mesh.materials.iter().map(|m| prim_name(&m.name)).collect();
+        let instances = if self.instancing {
+            find_instances(mesh)
+        } else {
+            Instances::none(mesh)
+        };
+        let mut layers = Vec::new();
+        if !instances.prototypes.is_empty() {
+            let path = "usd/parts/prototypes.usda";
+            stream_file(out, path, |w| {
+                w.write_all(HEADER.as_bytes())?;
+                writeln!(w, "class Scope \"Prototypes\"\n{{")?;
+                for (k, p) in instances.prototypes.iter().enumerate() {
+                    let m = mesh
+                        .visual
+                        .extract(std::slice::from_ref(&mesh.tiles[p.tile].visual_triangles));
+                    writeln!(w, "    def Xform \"tile_{k}\"\n    {{")?;
+                    write_mesh(
+                        w,
+                        "        ",
+                        "visual",
+                        &m,
+                        Role::Visual,
+                        &materials,
+                        p.origin,
+                    )?;
+                    writeln!(w, "    }}\n")?;
+                }
+                writeln!(w, "}}")
+            })?;
+            layers.push("parts/prototypes.usda".to_owned());
+        }
+        for part in parts(world, mesh, self.split) {
+            let name = prim_name(&part.name);
+            let file = format!("parts/{}.usda", part.name);
+            let path = format!("usd/{file}");
+            let own: Vec<std::ops::Range<usize>> = part
+                .tiles
+                .iter()
+                .filter(|&&t| instances.of_tile[t].is_none())
+                .map(|&t| mesh.tiles[t].visual_triangles.clone())
+                .collect();
+            let visual = mesh.visual.extract(&own);
+            let collision = part.collision(mesh);
+            stream_file(out, &path, |w| {
+                w.write_all(HEADER.as_bytes())?;
+                writeln!(w, "over \"World\"\n{{\n    def Xform \"{name}\"\n    {{")?;
+                if !visual.triangles.is_empty() {
+                    write_mesh(
+                        w,
+                        "        ",
+                        "visual",
+                        &visual,
+                        Role::Visual,
+                        &materials,
+                        [0.0; 3],
+                    )?;
+                }
+                if !collision.triangles.is_empty() {
+                    write_mesh(
+                        w,
+                        "        ",
+                        "collision",
+                        &collision,
+                        Role::Collision,
+                        &materials,
+                        [0.0; 3],
+                    )?;
+                }
+                for &t in &part.tiles {
+                    if let Some((k, at)) = instances.of_tile[t] {
+                        let c = mesh.tiles[t].cell;
+                        let mut b = Vec::new();
+                        tuple(&mut b, &at);
+                        writeln!(
+                            w,
+                            "\n        def Xform \"tile_{}_{}_{}\" (\n            instanceable = true\n            prepend references = </Prototypes/tile_{k}>\n        )\n        {{\n            double3 xformOp:translate = {}\n            uniform token[] xformOpOrder = [\"xformOp:translate\"]\n        }}",
+                            c.level,
+                            c.row,
+                            c.col,
+                            String::from_utf8_lossy(&b)
+                        )?;
+                    }
+                }
+                writeln!(w, "    }}\n}}")
+            })?;
+            drop(visual);
+            layers.push(file);
+        }
+        let root = root_layer(mesh, &layers, &materials);
+        write_file(out, "usd/world.usda", root.as_bytes())
+    }
+
+    fn needs_geometry(&self) -> bool {
+        true
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn prim_names_are_identifiers() {
+        assert_eq!(prim_name("level-0-r1-c2"), "level_0_r1_c2");
+        assert_eq!(prim_name("3d"), "_3d");
+        assert_eq!(prim_name("cave-wall"), "cave_wall");
+    }
+}

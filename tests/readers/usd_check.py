@@ -1,0 +1,133 @@
+"""Opens a world's usd/world.usda with usd-core (the USD library Isaac Sim is built on) and
+checks what a simulator relies on; prints a JSON summary.
+
+usage: usd_check.py WORLD_FOLDER [--parts DIR] [--min-instances N]
+  --parts DIR         compare each part's visual mesh with DIR/<part>.obj (points and faces)
+  --min-instances N   require at least N instanceable prims
+"""
+import json
+import sys
+from pathlib import Path
+
+from pxr import Usd, UsdGeom, UsdPhysics, UsdShade
+
+
+def obj_counts(path):
+    v = f = 0
+    with open(path) as fh:
+        for line in fh:
+            if line.startswith("v "):
+                v += 1
+            elif line.startswith("f "):
+                f += 1
+    return v, f
+
+
+def fail(msg):
+    print(f"FAIL: {msg}")
+    sys.exit(1)
+
+
+def main():
+    folder = Path(sys.argv[1])
+    args = sys.argv[2:]
+    parts_dir = Path(args[args.index("--parts") + 1]) if "--parts" in args else None
+    min_instances = int(args[args.index("--min-instances") + 1]) if "--min-instances" in args else 0
+
+    stage = Usd.Stage.Open(str(folder / "usd" / "world.usda"))
+    if stage is None:
+        fail("Usd.Stage.Open returned nothing")
+    if UsdGeom.GetStageUpAxis(stage) != UsdGeom.Tokens.z:
+        fail(f"upAxis {UsdGeom.GetStageUpAxis(stage)}")
+    if UsdGeom.GetStageMetersPerUnit(stage) != 1.0:
+        fail(f"metersPerUnit {UsdGeom.GetStageMetersPerUnit(stage)}")
+    if not stage.GetDefaultPrim() or stage.GetDefaultPrim().GetPath() != "/World":
+        fail("defaultPrim is not /World")
+    scenes = [p for p in stage.Traverse() if p.IsA(UsdPhysics.Scene)]
+    if len(scenes) != 1:
+        fail(f"{len(scenes)} physics scenes")
+
+    visual_faces = collision_faces = instances = colliders = 0
+    visual = {}
+    for prim in Usd.PrimRange(stage.GetPseudoRoot(), Usd.TraverseInstanceProxies()):
+        if prim.IsInstance():
+            instances += 1
+        if prim.HasAPI(UsdPhysics.RigidBodyAPI):
+            fail(f"{prim.GetPath()} is a rigid body; the cave is static")
+        if not prim.IsA(UsdGeom.Mesh):
+            continue
+        mesh = UsdGeom.Mesh(prim)
+        points = mesh.GetPointsAttr().Get()
+        counts = mesh.GetFaceVertexCountsAttr().Get()
+        indices = mesh.GetFaceVertexIndicesAttr().Get()
+        ok, why = UsdGeom.Mesh.ValidateTopology(indices, counts, len(points))
+        if not ok:
+            fail(f"{prim.GetPath()}: {why}")
+        if prim.HasAPI(UsdPhysics.CollisionAPI):
+            colliders += 1
+            collision_faces += len(counts)
+            if not prim.HasAPI(UsdPhysics.MeshCollisionAPI):
+                fail(f"{prim.GetPath()} lacks PhysicsMeshCollisionAPI")
+            approx = UsdPhysics.MeshCollisionAPI(prim).GetApproximationAttr().Get()
+            if approx != "none":
+                fail(f"{prim.GetPath()} approximation {approx}, not none")
+            if UsdGeom.Imageable(prim).ComputePurpose() != UsdGeom.Tokens.guide:
+                fail(f"{prim.GetPath()}: the collider would be rendered")
+            continue
+        visual_faces += len(counts)
+        if len(mesh.GetNormalsAttr().Get()) != len(points) or mesh.GetNormalsInterpolation() != "vertex":
+            fail(f"{prim.GetPath()}: normals are not per vertex")
+        st = UsdGeom.PrimvarsAPI(prim).GetPrimvar("st")
+        if len(st.Get()) != len(points) or st.GetInterpolation() != "vertex":
+            fail(f"{prim.GetPath()}: st is not per vertex")
+        lo, hi = mesh.GetExtentAttr().Get()
+        for p in points:
+            for k in range(3):
+                if not lo[k] - 1e-3 <= p[k] <= hi[k] + 1e-3:
+                    fail(f"{prim.GetPath()}: point {p} outside extent")
+        # Every face's material resolves to a UsdPreviewSurface.
+        subsets = UsdShade.MaterialBindingAPI(prim).GetMaterialBindSubsets()
+        targets = subsets if subsets else [prim]
+        if subsets:
+            ok, why = UsdGeom.Subset.ValidateFamily(mesh, UsdGeom.Tokens.face, "materialBind")
+            if not ok:
+                fail(f"{prim.GetPath()}: {why}")
+            if sum(len(s.GetIndicesAttr().Get()) for s in subsets) != len(counts):
+                fail(f"{prim.GetPath()}: subsets do not cover every face")
+        for t in targets:
+            target = t.GetPrim() if hasattr(t, "GetPrim") else t
+            material, _ = UsdShade.MaterialBindingAPI(target).ComputeBoundMaterial()
+            if not material:
+                fail(f"{target.GetPath()}: no bound material")
+            shader = material.ComputeSurfaceSource()[0]
+            if not shader or shader.GetIdAttr().Get() != "UsdPreviewSurface":
+                fail(f"{material.GetPath()}: no UsdPreviewSurface")
+        if not prim.IsInstanceProxy() and prim.GetName() == "visual":
+            visual[prim.GetParent().GetName()] = (len(points), len(counts))
+
+    _, world_faces = obj_counts(folder / "mesh" / "world.obj")
+    _, collision_obj_faces = obj_counts(folder / "mesh" / "collision.obj")
+    if visual_faces != world_faces:
+        fail(f"{visual_faces} visual faces in USD, {world_faces} in world.obj")
+    if collision_faces != collision_obj_faces:
+        fail(f"{collision_faces} collision faces in USD, {collision_obj_faces} in collision.obj")
+    if parts_dir is not None:
+        objs = sorted(p for p in parts_dir.glob("*.obj") if not p.stem.endswith("-collision"))
+        if len(objs) != len(visual):
+            fail(f"{len(objs)} part OBJs, {len(visual)} part meshes: {sorted(visual)}")
+        for o in objs:
+            name = o.stem.replace("-", "_")
+            if visual.get(name) != obj_counts(o):
+                fail(f"{name}: USD {visual.get(name)} (points, faces), OBJ {obj_counts(o)}")
+    if instances < min_instances:
+        fail(f"{instances} instances, expected at least {min_instances}")
+    print(json.dumps({
+        "visual_faces": visual_faces,
+        "collision_faces": collision_faces,
+        "colliders": colliders,
+        "instances": instances,
+        "parts": len(visual),
+    }))
+
+
+main()
