@@ -160,11 +160,13 @@ fn known_grids_give_the_values_computed_by_hand() {
 #[test]
 fn datasets_and_world_folders_report_constraints_and_graphs() {
     let tmp = tempfile::tempdir().unwrap();
-    let data = tmp.path().join("caves");
+    let data = tmp.path().join("data");
     ok(&[
         "dataset",
         "--preset",
         "cave",
+        "--preset",
+        "mine",
         "--count",
         "3",
         "--seed",
@@ -184,14 +186,17 @@ fn datasets_and_world_folders_report_constraints_and_graphs() {
         "--crop",
         "pad",
     ]);
+    // A dataset of two sources is a group per source.
     assert!(
-        text.contains("caves") && text.contains("cave-0001"),
+        text.contains("data:cave") && text.contains("data:mine"),
         "{text}"
     );
+    assert!(text.contains("cave-0001"), "{text}");
     let stats: serde_json::Value =
         serde_json::from_slice(&std::fs::read(report.join("stats.json")).unwrap()).unwrap();
     assert_eq!(stats["crop"], "pad");
-    let g = group(&stats, "caves");
+    assert_eq!(group(&stats, "data:mine")["levels"]["mean"], 3.0);
+    let g = group(&stats, "data:cave");
     assert_eq!(g["worlds"], 3);
     let index: serde_json::Value =
         serde_json::from_slice(&std::fs::read(data.join("index.json")).unwrap()).unwrap();
@@ -200,6 +205,7 @@ fn datasets_and_world_folders_report_constraints_and_graphs() {
             .as_array()
             .unwrap()
             .iter()
+            .filter(|r| r["source"] == "cave")
             .map(|r| r[key][shape].as_u64().unwrap())
             .sum()
     };
@@ -220,6 +226,7 @@ fn datasets_and_world_folders_report_constraints_and_graphs() {
         .as_array()
         .unwrap()
         .iter()
+        .filter(|r| r["source"] == "cave")
         .map(|r| r["occupied_cells"].as_f64().unwrap())
         .sum::<f64>()
         / 3.0;

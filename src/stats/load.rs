@@ -74,6 +74,31 @@ pub fn load(inputs: &[PathBuf]) -> Result<Vec<Group>> {
         let mut samples = Vec::new();
         collect(path, &name, &mut samples, true);
         samples.sort_by(|a, b| a.name.cmp(&b.name));
+        // A dataset of several sources (`cave-0000`, `mine-0000`, ...) is one group per source.
+        let sources: Vec<Option<&str>> = samples.iter().map(|s| source_of(&s.name)).collect();
+        let mut distinct: Vec<&str> = sources.iter().flatten().copied().collect();
+        distinct.dedup();
+        distinct.sort_unstable();
+        distinct.dedup();
+        if distinct.len() > 1 && sources.iter().all(Option::is_some) {
+            for source in distinct {
+                let label = format!("{name}:{source}");
+                let mut part: Vec<Sample> = samples
+                    .iter()
+                    .filter(|s| source_of(&s.name) == Some(source))
+                    .cloned()
+                    .collect();
+                for s in &mut part {
+                    s.group.clone_from(&label);
+                }
+                groups.push(Group {
+                    name: label,
+                    path: path.clone(),
+                    samples: part,
+                });
+            }
+            continue;
+        }
         groups.push(Group {
             name,
             path: path.clone(),
@@ -81,6 +106,13 @@ pub fn load(inputs: &[PathBuf]) -> Result<Vec<Group>> {
         });
     }
     Ok(groups)
+}
+
+/// The source of a dataset world's folder name: `cave` for `cave-0012`.
+fn source_of(name: &str) -> Option<&str> {
+    name.rsplit_once('-')
+        .filter(|(s, i)| !s.is_empty() && !i.is_empty() && i.bytes().all(|b| b.is_ascii_digit()))
+        .map(|(s, _)| s)
 }
 
 fn warn(path: &Path, why: &str) {
