@@ -63,12 +63,23 @@ fn known_grids_give_the_values_computed_by_hand() {
     // Foreign and broken files are skipped, naming them.
     std::fs::write(ell.join("notes.txt"), b"not a grid").unwrap();
     std::fs::write(ell.join("broken.npy"), b"\x93NUMPY garbage").unwrap();
+    // The original's topological encoding (10 node, 1 edge), a folder per world.
+    let original = tmp.path().join("original");
+    let mut codes = vec![0u8; 64];
+    codes[3 * 8 + 1..3 * 8 + 7].copy_from_slice(&[10, 1, 1, 1, 1, 10]);
+    std::fs::create_dir_all(original.join("world_1")).unwrap();
+    std::fs::write(
+        original.join("world_1/topological.npy"),
+        npy::encode_u8(&[8, 8], &codes),
+    )
+    .unwrap();
     let report = tmp.path().join("report");
     let out = subtgraph(&[
         "stats",
         arg(&same),
         arg(&apart),
         arg(&ell),
+        arg(&original),
         "--out",
         arg(&report),
     ]);
@@ -107,12 +118,16 @@ fn known_grids_give_the_values_computed_by_hand() {
     assert!(close(&l["mirror"]["horizontal"], 6.0 / 16.0));
     assert!(close(&l["mirror"]["vertical"], 6.0 / 16.0));
     assert!(close(&l["tile_mix_percent"]["corner"], 100.0 / 11.0));
-    assert_eq!(stats["all"]["worlds"], 5);
+    let o = group(&stats, "original");
+    assert_eq!(o["worlds"], 1);
+    assert!(close(&o["mirror"]["horizontal"], 1.0));
+    assert!(close(&o["tile_mix_percent"]["straight"], 200.0 / 3.0));
+    assert_eq!(stats["all"]["worlds"], 6);
 
     // CSVs: rectangular, with the same numbers.
     let groups = std::fs::read_to_string(report.join("groups.csv")).unwrap();
     let lines: Vec<&str> = groups.lines().collect();
-    assert_eq!(lines.len(), 5, "header, three groups, all");
+    assert_eq!(lines.len(), 6, "header, four groups, all");
     let width = lines[0].split(',').count();
     assert!(lines.iter().all(|l| l.split(',').count() == width));
     assert!(
@@ -121,7 +136,7 @@ fn known_grids_give_the_values_computed_by_hand() {
         lines[1]
     );
     let matrix = std::fs::read_to_string(report.join("pairwise-iou.csv")).unwrap();
-    assert_eq!(matrix.lines().count(), 6);
+    assert_eq!(matrix.lines().count(), 7);
     assert!(
         matrix
             .lines()
@@ -130,7 +145,11 @@ fn known_grids_give_the_values_computed_by_hand() {
             .starts_with("same/a,1.0000,1.0000,")
     );
     let worlds = std::fs::read_to_string(report.join("worlds.csv")).unwrap();
-    assert_eq!(worlds.lines().count(), 6);
+    assert_eq!(worlds.lines().count(), 7);
+    assert!(
+        worlds.contains("original,world_1/topological,1,8,8,6,5,"),
+        "{worlds}"
+    );
 
     // Plots: PNGs decode and are not blank; SVGs are XML (checked by Python below).
     for name in [

@@ -312,3 +312,34 @@ fn make_world(source: &Source, w: &Planned, opts: &Options) -> Result<()> {
     };
     index::write_facts(&opts.out, &w.name, &facts).map_err(|e| anyhow!(e))
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_world_seed_depends_on_its_source_base_and_index_only() {
+        let small = plan(&["cave", "mine"], 3, 7);
+        let large = plan(&["mine", "cave"], 50, 7);
+        for w in &small {
+            let same = large.iter().find(|l| l.name == w.name).unwrap();
+            assert_eq!(same.seed, w.seed, "{}", w.name);
+        }
+        assert_eq!(small[0].name, "cave-0000");
+        assert_eq!(plan(&["cave"], 12_000, 7)[11_999].name, "cave-11999");
+        assert_ne!(world_seed(7, "cave", 0), world_seed(8, "cave", 0));
+        assert_ne!(world_seed(7, "cave", 0), world_seed(7, "mine", 0));
+        assert!(small.iter().all(|w| w.seed <= i64::MAX as u64));
+    }
+
+    #[test]
+    fn shards_split_the_list_round_robin() {
+        let s: Shard = "2/3".parse().unwrap();
+        let owned: Vec<usize> = (0..7).filter(|&k| s.owns(k)).collect();
+        assert_eq!(owned, [1, 4]);
+        for bad in ["5/4", "0/2", "a/b", "2", "1/0", "-1/2"] {
+            let e = bad.parse::<Shard>().unwrap_err();
+            assert!(e.contains("write --shard I/N"), "{bad}: {e}");
+        }
+    }
+}

@@ -14,6 +14,7 @@ pub(super) struct Progress {
 }
 
 const PLAIN_EVERY: Duration = Duration::from_secs(5);
+const REDRAW_EVERY: Duration = Duration::from_millis(100);
 
 impl Progress {
     pub(super) fn new(total: usize, skipped: usize) -> Self {
@@ -21,14 +22,18 @@ impl Progress {
             eprintln!("{skipped} complete world(s) already there: kept");
         }
         let now = Instant::now();
-        Progress {
+        let p = Progress {
             total,
             done: 0,
             failed: 0,
             started: now,
             last: now,
             tty: std::io::stderr().is_terminal(),
+        };
+        if p.tty && total > 0 {
+            p.draw("starting");
         }
+        p
     }
 
     pub(super) fn finished(&mut self, name: &str, ok: bool) {
@@ -36,7 +41,10 @@ impl Progress {
         self.failed += usize::from(!ok);
         let now = Instant::now();
         if self.tty {
-            self.draw(name);
+            if now - self.last >= REDRAW_EVERY || self.done == self.total {
+                self.last = now;
+                self.draw(name);
+            }
         } else if now - self.last >= PLAIN_EVERY || self.done == self.total {
             self.last = now;
             eprintln!("{}", self.line(name));
@@ -57,7 +65,11 @@ impl Progress {
             self.done,
             self.total,
             clock(elapsed),
-            clock(left)
+            if self.done == 0 {
+                "-".into()
+            } else {
+                clock(left)
+            }
         )
     }
 

@@ -141,7 +141,33 @@ fn collect(path: &Path, group: &str, out: &mut Vec<Sample>, top: bool) {
         return;
     }
     if !top {
-        warn(path, "a folder without occupancy.npy is not a world folder");
+        // A folder per world of the original tool's grids: each .npy in it is a world.
+        let mut grids: Vec<PathBuf> = std::fs::read_dir(path)
+            .map(|d| {
+                d.filter_map(|e| e.ok().map(|e| e.path()))
+                    .filter(|p| p.is_file() && p.extension().is_some_and(|e| e == "npy"))
+                    .collect()
+            })
+            .unwrap_or_default();
+        grids.sort();
+        if grids.is_empty() {
+            warn(
+                path,
+                "a folder without occupancy.npy or .npy grids is not a world",
+            );
+        }
+        let folder = path
+            .file_name()
+            .map_or(String::new(), |n| n.to_string_lossy().into_owned());
+        for grid in grids {
+            match load_npy(&grid, group, None) {
+                Ok(mut s) => {
+                    s.name = format!("{folder}/{}", s.name);
+                    out.push(s);
+                }
+                Err(e) => warn(&grid, &format!("{e:#}")),
+            }
+        }
         return;
     }
     let Ok(entries) = std::fs::read_dir(path) else {
