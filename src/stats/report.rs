@@ -479,10 +479,17 @@ pub(super) fn write(stats: &Stats, groups: &[Group], out: &Path) -> Result<()> {
 }
 
 pub(super) fn summary(stats: &Stats, out: &Path) -> String {
+    let w = stats
+        .groups
+        .iter()
+        .map(|g| g.name.len())
+        .max()
+        .unwrap_or(0)
+        .max(5);
     let mut t = String::new();
     let _ = writeln!(
         t,
-        "{:<16} {:>6} {:>8} {:>8} {:>9} {:>9}  tile mix % (dead end / straight / corner / T / X)",
+        "{:<w$} {:>6} {:>8} {:>8} {:>9} {:>9}  tile mix % (dead end / straight / corner / T / X)",
         "group", "worlds", "mirror H", "mirror V", "rotations", "mean IoU"
     );
     for g in stats.groups.iter().chain([&stats.all]) {
@@ -492,7 +499,7 @@ pub(super) fn summary(stats: &Stats, out: &Path) -> String {
             .collect();
         let _ = writeln!(
             t,
-            "{:<16} {:>6} {:>8.3} {:>8.3} {:>9.3} {:>9.3}  {}",
+            "{:<w$} {:>6} {:>8.3} {:>8.3} {:>9.3} {:>9.3}  {}",
             g.name,
             g.worlds,
             g.mirror.horizontal,
