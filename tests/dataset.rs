@@ -254,3 +254,39 @@ fn a_meshed_dataset_records_triangles_and_exports() {
         assert!(r["generation_s"].as_f64().unwrap() > 0.0);
     }
 }
+
+#[test]
+fn the_paper_configurations_make_worlds_with_the_presets_parameters() {
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("paper");
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/datasets");
+    let files: Vec<String> = ["mine", "cave", "lava-tube"]
+        .iter()
+        .map(|p| root.join(format!("paper-{p}.toml")).display().to_string())
+        .collect();
+    let mut args = vec!["dataset"];
+    args.extend(files.iter().map(String::as_str));
+    args.extend(["--count", "2", "--no-mesh", "--out", arg(&out)]);
+    ok(&args);
+    for (source, levels, sides) in [
+        ("paper-mine", 3, 44..=63),
+        ("paper-cave", 1, 31..=44),
+        ("paper-lava-tube", 5, 54..=70),
+    ] {
+        let rows: Vec<serde_json::Value> = index(&out)
+            .into_iter()
+            .filter(|r| r["source"] == source)
+            .collect();
+        assert_eq!(rows.len(), 2, "{source}");
+        for r in rows {
+            assert_eq!(r["levels"], levels, "{source}");
+            assert!(
+                sides.contains(&r["rows"].as_u64().unwrap()),
+                "{source}: {r}"
+            );
+        }
+        // Each configuration asks for a mesh and an OBJ export.
+        let text = std::fs::read_to_string(root.join(format!("{source}.toml"))).unwrap();
+        assert!(text.contains("[tileset]") && text.contains("type = \"obj\""));
+    }
+}

@@ -251,6 +251,18 @@ fn datasets_and_world_folders_report_constraints_and_graphs() {
         / 3.0;
     assert!(close(&g["cells"]["mean"], cells));
     assert!(report.join("constraints.svg").is_file());
+    // The same inputs give the same report, byte for byte.
+    let again = tmp.path().join("again");
+    ok(&[
+        "stats",
+        arg(&data),
+        arg(&data.join("cave-0001")),
+        "--out",
+        arg(&again),
+        "--crop",
+        "pad",
+    ]);
+    assert!(common::folder_bytes(&report) == common::folder_bytes(&again));
     assert!(report.join("constraints.png").is_file());
 }
 

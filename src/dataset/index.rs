@@ -99,7 +99,7 @@ const STRUCTURES: [(&str, &str); 3] = [
     ("loop", "loops"),
 ];
 
-/// Reads a world folder's row. `None` when it is not a complete world folder.
+/// Reads a world folder's row; an error says what is missing or broken.
 pub fn row(out: &Path, name: &str) -> Result<Row> {
     let dir = out.join(name);
     let read = |file: &str| {
