@@ -17,10 +17,12 @@ pub use subtgraph_descriptors as descriptors;
 pub use subtgraph_exporters as exporters;
 pub use subtgraph_tilesets as tilesets;
 
+pub mod dataset;
 pub mod folder;
 pub mod make;
 pub mod presets;
 pub mod preview;
+pub mod stats;
 
 use subtgraph_core::Registry;
 

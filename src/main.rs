@@ -61,6 +61,64 @@ enum Command {
         #[arg(long, value_name = "FILE.npy")]
         occupancy: Option<PathBuf>,
     },
+    /// Make a dataset: COUNT worlds per source (pipeline files and presets), in parallel.
+    ///
+    /// World i of source NAME gets the seed derive_seed(--seed, NAME, i) and the folder
+    /// OUT/NAME-000i, written atomically. Complete worlds are kept, so an interrupted run
+    /// resumes where it stopped. OUT/index.json and OUT/index.csv list every world folder.
+    Dataset {
+        /// Pipeline TOML files (the folder names are their file stems).
+        pipelines: Vec<PathBuf>,
+        /// Built-in presets (repeatable): mine, cave, lava-tube.
+        #[arg(long = "preset", value_name = "P")]
+        presets: Vec<String>,
+        /// Worlds per source.
+        #[arg(long, value_name = "N")]
+        count: usize,
+        /// The base seed every world's seed derives from (0 to 2^63 - 1).
+        #[arg(long, value_name = "S", default_value_t = 1)]
+        seed: u64,
+        /// The dataset folder (created; may already hold this dataset's worlds).
+        #[arg(long)]
+        out: PathBuf,
+        /// Worker threads, each making one whole world at a time (default: the available
+        /// parallelism). Memory grows with J, not with N; the worlds do not depend on it.
+        #[arg(long, value_name = "J")]
+        jobs: Option<usize>,
+        /// Make only this machine's share, I/N (1-based): every N-th world of the global list
+        /// from the I-th. The worlds are exactly those of an unsharded run.
+        #[arg(long, value_name = "I/N")]
+        shard: Option<String>,
+        /// Grids, graph, maps and non-geometry exports only.
+        #[arg(long, conflicts_with = "tileset")]
+        no_mesh: bool,
+        /// The tile set giving every world its geometry, overriding the pipelines' `[tileset]`.
+        #[arg(long, value_name = "T")]
+        tileset: Option<String>,
+        /// Formats to export in every world besides the pipelines' `[[export]]`s (comma list).
+        #[arg(long, value_name = "LIST")]
+        format: Vec<String>,
+        /// A plugin library to load (repeatable), besides the pipelines' `[plugins] paths`.
+        #[arg(long = "plugin", value_name = "PATH")]
+        plugins: Vec<PathBuf>,
+    },
+    /// Variability statistics of worlds (the paper's "Topological Analysis"): IoU, mirror
+    /// asymmetry, tile mix, sizes, constraint satisfaction, graph statistics; JSON, CSV and
+    /// plots (SVG and PNG).
+    Stats {
+        /// World folders, dataset folders (holding world folders), or folders of the original
+        /// tool's .npy grids. Each argument is one group in the report.
+        #[arg(required = true)]
+        inputs: Vec<PathBuf>,
+        /// The report folder (created; files in it are replaced).
+        #[arg(long)]
+        out: PathBuf,
+        /// How pairwise IoU treats grids of different sizes: `common` crops both to the rows
+        /// and columns they share (the top-left corner), `pad` pads the smaller with empty
+        /// cells (the union counts everything).
+        #[arg(long, default_value = "common", value_name = "common|pad")]
+        crop: String,
+    },
     /// Check a pipeline file: syntax, keys, component names, and that its world can be made.
     Validate {
         /// The pipeline TOML file.
@@ -166,6 +224,99 @@ fn run(cli: Cli) -> Result<()> {
             make::write(&world, &exporters, &out, force)?;
             print_summary(&world, &out, generated_in);
             print_written(&out, writing.elapsed());
+            Ok(())
+        }
+        Command::Dataset {
+            pipelines,
+            presets: preset_names,
+            count,
+            seed,
+            out,
+            jobs,
+            shard,
+            no_mesh,
+            tileset,
+            format,
+            plugins,
+        } => {
+            use subtgraph::dataset;
+            let shard = match shard {
+                Some(s) => s.parse::<dataset::Shard>().map_err(|e| anyhow!(e))?,
+                None => dataset::Shard::ALL,
+            };
+            if seed > i64::MAX as u64 {
+                bail!("--seed must be at most 2^63 - 1 (9223372036854775807)");
+            }
+            if count == 0 {
+                bail!("--count must be at least 1 (worlds per source)");
+            }
+            if jobs == Some(0) {
+                bail!("--jobs must be at least 1");
+            }
+            if pipelines.is_empty() && preset_names.is_empty() {
+                bail!(
+                    "name at least one source: a pipeline file, or --preset NAME ({})",
+                    presets::names()
+                );
+            }
+            let chosen = pipelines
+                .iter()
+                .map(|p| (Some(p.as_path()), None))
+                .chain(preset_names.iter().map(|n| (None, Some(n.as_str()))));
+            let mut sources = Vec::new();
+            for (file, preset) in chosen {
+                let (mut p, description) = load_pipeline(file, preset)?;
+                let name = match (file, preset) {
+                    (Some(f), _) => f
+                        .file_stem()
+                        .map(|s| s.to_string_lossy().into_owned())
+                        .unwrap_or_else(|| "world".into()),
+                    (None, n) => n.unwrap_or("cave").to_owned(),
+                };
+                if let Some(t) = &tileset {
+                    p.tileset = Some(subtgraph::core::params::ComponentSpec::named(t));
+                }
+                if no_mesh {
+                    p.tileset = None;
+                }
+                make::add_formats(&mut p, &format)?;
+                let registry = registry_with(&p, &plugins)?;
+                let exporters = make::exporters(&p, &registry, no_mesh)?;
+                sources.push(dataset::Source {
+                    name,
+                    description,
+                    pipeline: p,
+                    registry,
+                    exporters,
+                });
+            }
+            let opts = dataset::Options {
+                count,
+                seed,
+                out: out.clone(),
+                jobs: jobs.unwrap_or_else(|| {
+                    std::thread::available_parallelism().map_or(1, std::num::NonZero::get)
+                }),
+                shard,
+            };
+            let started = Instant::now();
+            let summary = dataset::run(&sources, &opts)?;
+            println!(
+                "made {} world(s), kept {} complete one(s), in {:.1} s; {} lists {} world(s)",
+                summary.made,
+                summary.skipped,
+                started.elapsed().as_secs_f64(),
+                out.join("index.json").display(),
+                summary.indexed
+            );
+            Ok(())
+        }
+        Command::Stats { inputs, out, crop } => {
+            let crop = crop
+                .parse::<subtgraph::stats::Crop>()
+                .map_err(|e| anyhow!(e))?;
+            let report = subtgraph::stats::run(&inputs, &out, crop)?;
+            println!("{report}");
             Ok(())
         }
         Command::Validate { pipeline, plugins } => {

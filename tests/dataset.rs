@@ -1,0 +1,292 @@
+//! `subtgraph dataset`: worlds independent of jobs and shards, resumable, refusing bad
+//! shard specs and unwritable folders, every world reproducible from its own `world.toml`.
+
+mod common;
+
+use std::collections::BTreeSet;
+use std::path::Path;
+
+use common::{arg, fails, folder_bytes, ok};
+
+/// Every world folder of a dataset, bytes and all: the index (timings) and the run facts
+/// (`.index/`) left out.
+fn worlds(dir: &Path) -> Vec<(String, Vec<u8>)> {
+    folder_bytes(dir)
+        .into_iter()
+        .filter(|(p, _)| !p.starts_with("index.") && !p.starts_with(".index"))
+        .collect()
+}
+
+fn index(dir: &Path) -> Vec<serde_json::Value> {
+    let text = std::fs::read_to_string(dir.join("index.json")).unwrap();
+    serde_json::from_str::<serde_json::Value>(&text)
+        .unwrap()
+        .as_array()
+        .unwrap()
+        .clone()
+}
+
+fn dataset(out: &Path, extra: &[&str]) -> String {
+    let mut args = vec![
+        "dataset",
+        "--preset",
+        "cave",
+        "--preset",
+        "mine",
+        "--count",
+        "3",
+        "--seed",
+        "11",
+        "--no-mesh",
+        "--out",
+    ];
+    args.push(arg(out));
+    args.extend_from_slice(extra);
+    ok(&args)
+}
+
+#[test]
+fn jobs_and_shards_do_not_change_the_worlds() {
+    let tmp = tempfile::tempdir().unwrap();
+    let one = tmp.path().join("one");
+    let two = tmp.path().join("two");
+    let sharded = tmp.path().join("sharded");
+    dataset(&one, &["--jobs", "1"]);
+    dataset(&two, &["--jobs", "2"]);
+    dataset(&sharded, &["--jobs", "2", "--shard", "2/2"]);
+    // The second shard's index lists only its share so far...
+    assert_eq!(index(&sharded).len(), 3);
+    dataset(&sharded, &["--jobs", "1", "--shard", "1/2"]);
+    let a = worlds(&one);
+    // world.toml, occupancy.npy, topology.json and a map per level: 3 caves of 1 level, 3
+    // mines of 3.
+    assert_eq!(a.len(), 3 * (3 + 1) + 3 * (3 + 3));
+    assert!(a == worlds(&two), "--jobs 1 and --jobs 2 differ");
+    assert!(
+        a == worlds(&sharded),
+        "shards 1/2 + 2/2 differ from one run"
+    );
+    // ...and the last shard's index lists them all, like the unsharded run's.
+    let names = |d: &Path| -> Vec<String> {
+        index(d)
+            .iter()
+            .map(|r| r["name"].as_str().unwrap().to_owned())
+            .collect()
+    };
+    assert_eq!(names(&sharded), names(&one));
+    assert_eq!(
+        names(&one),
+        [
+            "cave-0000",
+            "cave-0001",
+            "cave-0002",
+            "mine-0000",
+            "mine-0001",
+            "mine-0002"
+        ]
+    );
+    let csv = std::fs::read_to_string(one.join("index.csv")).unwrap();
+    assert_eq!(csv.lines().count(), 7);
+    assert!(csv.starts_with("name,source,seed,levels,"));
+}
+
+#[test]
+fn resuming_redoes_exactly_the_missing_world() {
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("d");
+    dataset(&out, &[]);
+    let before = worlds(&out);
+    let kept = std::fs::metadata(out.join("mine-0002/occupancy.npy"))
+        .unwrap()
+        .modified()
+        .unwrap();
+    std::fs::remove_dir_all(out.join("cave-0001")).unwrap();
+    // An interrupted write (hidden temporary folder) and a folder without world.toml.
+    let partial = out.join(".mine-0000.partial-99-1");
+    std::fs::create_dir(&partial).unwrap();
+    std::fs::write(partial.join("occupancy.npy"), b"half").unwrap();
+    std::fs::remove_file(out.join("mine-0000/world.toml")).unwrap();
+    // An index cut short by a crash is rebuilt.
+    std::fs::write(out.join("index.json"), b"[{\"name\": ").unwrap();
+
+    let text = dataset(&out, &[]);
+    assert!(
+        text.contains("made 2 world(s), kept 4 complete one(s)"),
+        "{text}"
+    );
+    assert!(!partial.exists(), "the leftover is removed");
+    assert!(before == worlds(&out), "the redone worlds are the same");
+    let again = std::fs::metadata(out.join("mine-0002/occupancy.npy"))
+        .unwrap()
+        .modified()
+        .unwrap();
+    assert_eq!(kept, again, "complete worlds are not rewritten");
+    assert_eq!(index(&out).len(), 6);
+}
+
+#[test]
+fn seeds_are_distinct_and_each_world_regenerates_from_its_world_toml() {
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("d");
+    dataset(&out, &[]);
+    let rows = index(&out);
+    let seeds: BTreeSet<u64> = rows.iter().map(|r| r["seed"].as_u64().unwrap()).collect();
+    assert_eq!(seeds.len(), 6, "{seeds:?}");
+    for r in &rows {
+        let name = r["name"].as_str().unwrap();
+        let world = out.join(name);
+        let toml = std::fs::read_to_string(world.join("world.toml")).unwrap();
+        assert!(toml.contains(&format!("seed = {}", r["seed"])), "{toml}");
+        // The index agrees with the folder.
+        let topo: serde_json::Value =
+            serde_json::from_slice(&std::fs::read(world.join("topology.json")).unwrap()).unwrap();
+        assert_eq!(r["occupied_cells"], topo["occupied_cells"]);
+        assert_eq!(r["total_length_m"], topo["total_length_m"]);
+        let again = tmp.path().join(format!("again-{name}"));
+        ok(&[
+            "generate",
+            arg(&world.join("world.toml")),
+            "--no-mesh",
+            "--out",
+            arg(&again),
+        ]);
+        for file in ["occupancy.npy", "topology.json", "maps/level-0.png"] {
+            assert!(
+                std::fs::read(world.join(file)).unwrap()
+                    == std::fs::read(again.join(file)).unwrap(),
+                "{name}/{file} differs when regenerated from its world.toml"
+            );
+        }
+    }
+}
+
+#[test]
+fn bad_shards_and_unwritable_folders_are_refused_and_leave_the_index_alone() {
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("d");
+    dataset(&out, &["--shard", "1/3"]);
+    let index_before = std::fs::read(out.join("index.json")).unwrap();
+    for bad in ["5/4", "0/2", "a/b", "3", "1/0"] {
+        let e = fails(&[
+            "dataset",
+            "--preset",
+            "cave",
+            "--count",
+            "2",
+            "--no-mesh",
+            "--shard",
+            bad,
+            "--out",
+            arg(&out),
+        ]);
+        assert!(e.contains("--shard I/N"), "{bad}: {e}");
+    }
+    assert_eq!(std::fs::read(out.join("index.json")).unwrap(), index_before);
+
+    // --out under a file, and --out a file.
+    let file = tmp.path().join("a-file");
+    std::fs::write(&file, b"x").unwrap();
+    let e = fails(&[
+        "dataset",
+        "--preset",
+        "cave",
+        "--count",
+        "1",
+        "--no-mesh",
+        "--out",
+        arg(&file.join("d")),
+    ]);
+    assert!(e.contains("cannot create the dataset folder"), "{e}");
+    let e = fails(&[
+        "dataset",
+        "--preset",
+        "cave",
+        "--count",
+        "1",
+        "--out",
+        arg(&file),
+    ]);
+    assert!(e.contains("is a file"), "{e}");
+    assert_eq!(std::fs::read(&file).unwrap(), b"x");
+
+    // A folder of another dataset (another base seed) is not mixed in.
+    let e = fails(&[
+        "dataset",
+        "--preset",
+        "cave",
+        "--count",
+        "2",
+        "--seed",
+        "12",
+        "--no-mesh",
+        "--out",
+        arg(&out),
+    ]);
+    assert!(e.contains("belongs to another dataset"), "{e}");
+    assert_eq!(std::fs::read(out.join("index.json")).unwrap(), index_before);
+}
+
+#[test]
+fn a_meshed_dataset_records_triangles_and_exports() {
+    let tmp = tempfile::tempdir().unwrap();
+    let pipeline = common::small_cave_pipeline(tmp.path(), 1, "[[export]]\ntype = \"obj\"\n");
+    let out = tmp.path().join("d");
+    ok(&[
+        "dataset",
+        arg(&pipeline),
+        "--count",
+        "2",
+        "--seed",
+        "3",
+        "--jobs",
+        "2",
+        "--out",
+        arg(&out),
+    ]);
+    let rows = index(&out);
+    assert_eq!(rows.len(), 2);
+    for r in &rows {
+        assert_eq!(r["source"], "small-cave");
+        let name = r["name"].as_str().unwrap();
+        let obj = std::fs::read_to_string(out.join(name).join("mesh/world.obj")).unwrap();
+        let faces = obj.lines().filter(|l| l.starts_with("f ")).count();
+        assert_eq!(r["visual_triangles"].as_u64().unwrap() as usize, faces);
+        assert!(r["generation_s"].as_f64().unwrap() > 0.0);
+    }
+}
+
+#[test]
+fn the_paper_configurations_make_worlds_with_the_presets_parameters() {
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("paper");
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/datasets");
+    let files: Vec<String> = ["mine", "cave", "lava-tube"]
+        .iter()
+        .map(|p| root.join(format!("paper-{p}.toml")).display().to_string())
+        .collect();
+    let mut args = vec!["dataset"];
+    args.extend(files.iter().map(String::as_str));
+    args.extend(["--count", "2", "--no-mesh", "--out", arg(&out)]);
+    ok(&args);
+    for (source, levels, sides) in [
+        ("paper-mine", 3, 44..=63),
+        ("paper-cave", 1, 31..=44),
+        ("paper-lava-tube", 5, 54..=70),
+    ] {
+        let rows: Vec<serde_json::Value> = index(&out)
+            .into_iter()
+            .filter(|r| r["source"] == source)
+            .collect();
+        assert_eq!(rows.len(), 2, "{source}");
+        for r in rows {
+            assert_eq!(r["levels"], levels, "{source}");
+            assert!(
+                sides.contains(&r["rows"].as_u64().unwrap()),
+                "{source}: {r}"
+            );
+        }
+        // Each configuration asks for a mesh and an OBJ export.
+        let text = std::fs::read_to_string(root.join(format!("{source}.toml"))).unwrap();
+        assert!(text.contains("[tileset]") && text.contains("type = \"obj\""));
+    }
+}
