@@ -5,17 +5,20 @@
 //! Writes into the report folder: `stats.json` (everything), `groups.csv` (the headline
 //! numbers, one row per group and `all`), `worlds.csv` (one row per world),
 //! `pairwise-iou.csv` and `pairwise-iou-eq19-as-printed.csv` (matrices over all worlds, in
-//! group order), and each plot as SVG and PNG ([`plot`]).
+//! group order), and each plot as SVG and PNG (`charts.rs`, drawn by [`plot`]).
 //!
 //! Pairwise IoU compares level 0 of two worlds (as the original's numbers do); mirror
 //! asymmetry is per level, averaged over every level of every world of the group.
 
+mod charts;
+pub mod figure;
 mod font;
 mod load;
 pub mod metrics;
 pub mod plot;
 mod raster;
 mod report;
+mod tables;
 
 use std::path::{Path, PathBuf};
 
@@ -90,7 +93,7 @@ pub fn run(inputs: &[PathBuf], out: &Path, crop: Crop) -> Result<String> {
             out.display()
         )
     })?;
-    report::write(&stats, &groups, out)?;
-    plot::write_all(&stats, &groups, out)?;
-    Ok(report::summary(&stats, out))
+    tables::write(&stats, &groups, out)?;
+    charts::write_all(&stats, &groups, out)?;
+    Ok(tables::summary(&stats, out))
 }

@@ -1,8 +1,8 @@
 //! A small rasteriser for [`Figure`]s: rectangles, lines and labels in the built-in bitmap
 //! font (scaled by nearest neighbour), into an RGB image encoded as PNG.
 
+use super::figure::{Anchor, Figure, Rgb, Shape, text_width};
 use super::font;
-use super::plot::{Anchor, Figure, Rgb, Shape, text_width};
 
 struct Canvas {
     width: usize,
@@ -39,7 +39,7 @@ impl Canvas {
     }
 
     /// Draws a label whose glyph cell is `size` pixels high.
-    fn text(&mut self, s: &super::plot::Shape, scale: f64) {
+    fn text(&mut self, s: &Shape, scale: f64) {
         let Shape::Text {
             x,
             y,
