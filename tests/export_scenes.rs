@@ -215,7 +215,7 @@ fn scene_files_do_not_depend_on_the_thread_count() {
 fn check_usd(world: &Path, extra: &[&str]) -> Option<serde_json::Value> {
     let mut args = vec![arg(world)];
     args.extend_from_slice(extra);
-    let out = read_with_python(&["pxr"], "usd_check.py", &args)?;
+    let out = read_with_python(&["pxr", "numpy"], "usd_check.py", &args)?;
     Some(serde_json::from_str(out.trim()).unwrap())
 }
 

@@ -9,6 +9,7 @@ import json
 import sys
 from pathlib import Path
 
+import numpy as np
 from pxr import Usd, UsdGeom, UsdPhysics, UsdShade
 
 
@@ -80,11 +81,10 @@ def main():
         st = UsdGeom.PrimvarsAPI(prim).GetPrimvar("st")
         if len(st.Get()) != len(points) or st.GetInterpolation() != "vertex":
             fail(f"{prim.GetPath()}: st is not per vertex")
-        lo, hi = mesh.GetExtentAttr().Get()
-        for p in points:
-            for k in range(3):
-                if not lo[k] - 1e-3 <= p[k] <= hi[k] + 1e-3:
-                    fail(f"{prim.GetPath()}: point {p} outside extent")
+        lo, hi = (np.array(e) for e in mesh.GetExtentAttr().Get())
+        pts = np.asarray(points)
+        if (pts < lo - 1e-3).any() or (pts > hi + 1e-3).any():
+            fail(f"{prim.GetPath()}: points outside the extent {lo} {hi}")
         # Every face's material resolves to a UsdPreviewSurface.
         subsets = UsdShade.MaterialBindingAPI(prim).GetMaterialBindSubsets()
         targets = subsets if subsets else [prim]
