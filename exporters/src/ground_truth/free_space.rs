@@ -163,8 +163,19 @@ fn npy_header(shape: [usize; 3]) -> Vec<u8> {
 
 impl Exporter for FreeSpace {
     fn export(&self, world: &World, out: &mut dyn WorldWriter) -> Result<(), ExportError> {
+        self.write(world, &Passages::of(world), out)
+    }
+}
+
+impl FreeSpace {
+    /// Writes the files from passages already made (`ground-truth` makes them once).
+    pub(crate) fn write(
+        &self,
+        world: &World,
+        passages: &Passages,
+        out: &mut dyn WorldWriter,
+    ) -> Result<(), ExportError> {
         let g = self.voxels(world)?;
-        let passages = Passages::of(world);
         let cols = Columns {
             x0: g.origin[0],
             y0: g.origin[1],

@@ -94,8 +94,19 @@ const OCCUPIED: u8 = 0;
 
 impl Exporter for RosMap {
     fn export(&self, world: &World, out: &mut dyn WorldWriter) -> Result<(), ExportError> {
+        self.write(world, &Passages::of(world), out)
+    }
+}
+
+impl RosMap {
+    /// Writes the files from passages already made (`ground-truth` makes them once).
+    pub(crate) fn write(
+        &self,
+        world: &World,
+        passages: &Passages,
+        out: &mut dyn WorldWriter,
+    ) -> Result<(), ExportError> {
         let px = self.pixels(world)?;
-        let passages = Passages::of(world);
         let levels = world.occupancy.levels();
         let lh = world.resolved.level_height;
         let slice: Vec<f64> = (0..levels).map(|l| l as f64 * lh + self.height).collect();
