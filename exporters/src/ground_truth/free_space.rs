@@ -184,7 +184,7 @@ impl FreeSpace {
             ny: g.n[1],
         };
         // Per row, the free voxel layers `k0..k1` of each line `i`.
-        let raster = passages.raster(&cols, |_, spans| {
+        let raster = passages.raster(&cols, |_, spans, _| {
             spans
                 .iter()
                 .map(|s| (s.i, g.layer_above(s.z0, false), g.layer_above(s.z1, true)))

@@ -172,7 +172,14 @@ impl SpawnPoses {
             ny: ((b[3] - b[1]) / step).ceil() as usize,
         };
         let rows = passages
-            .raster_within(&cols, b, |_, spans| spans.to_vec())
+            .raster_within(&cols, b, |_, spans, open| {
+                // A line through an open surface is never free.
+                spans
+                    .iter()
+                    .filter(|s| open.binary_search(&s.i).is_err())
+                    .copied()
+                    .collect::<Vec<_>>()
+            })
             .rows;
         let line = |i: usize, j: usize| -> &[Span] {
             let row = &rows[j];
