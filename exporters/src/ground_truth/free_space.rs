@@ -163,8 +163,19 @@ fn npy_header(shape: [usize; 3]) -> Vec<u8> {
 
 impl Exporter for FreeSpace {
     fn export(&self, world: &World, out: &mut dyn WorldWriter) -> Result<(), ExportError> {
+        self.write(world, &Passages::of(world), out)
+    }
+}
+
+impl FreeSpace {
+    /// Writes the files from passages already made (`ground-truth` makes them once).
+    pub(crate) fn write(
+        &self,
+        world: &World,
+        passages: &Passages,
+        out: &mut dyn WorldWriter,
+    ) -> Result<(), ExportError> {
         let g = self.voxels(world)?;
-        let passages = Passages::of(world);
         let cols = Columns {
             x0: g.origin[0],
             y0: g.origin[1],
@@ -173,7 +184,7 @@ impl Exporter for FreeSpace {
             ny: g.n[1],
         };
         // Per row, the free voxel layers `k0..k1` of each line `i`.
-        let raster = passages.raster(&cols, |_, spans| {
+        let raster = passages.raster(&cols, |_, spans, _| {
             spans
                 .iter()
                 .map(|s| (s.i, g.layer_above(s.z0, false), g.layer_above(s.z1, true)))

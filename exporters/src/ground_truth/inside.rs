@@ -200,18 +200,19 @@ impl<'a> Passages<'a> {
             nx: 1,
             ny: 1,
         };
-        let r = self.raster_within(&cols, [x, y, x, y], |_, spans| {
+        let r = self.raster_within(&cols, [x, y, x, y], |_, spans, _| {
             spans.iter().map(|s| [s.z0, s.z1]).collect::<Vec<_>>()
         });
         r.rows.into_iter().next().unwrap_or_default()
     }
 
-    /// Every line of `cols`: `row(j, spans)` for each row `j`, south to north, spans sorted by
-    /// line then height.
+    /// Every line of `cols`: `row(j, spans, open)` for each row `j`, south to north, spans
+    /// sorted by line then height; `open` lists the lines of the row that crossed the surface an
+    /// odd number of times (an open surface: their spans are unreliable).
     pub fn raster<T: Send>(
         &self,
         cols: &Columns,
-        row: impl Fn(usize, &[Span]) -> T + Sync,
+        row: impl Fn(usize, &[Span], &[u32]) -> T + Sync,
     ) -> Raster<T> {
         let all = [f64::MIN, f64::MIN, f64::MAX, f64::MAX];
         self.raster_within(cols, all, row)
@@ -223,7 +224,7 @@ impl<'a> Passages<'a> {
         &self,
         cols: &Columns,
         bounds: [f64; 4],
-        row: impl Fn(usize, &[Span]) -> T + Sync,
+        row: impl Fn(usize, &[Span], &[u32]) -> T + Sync,
     ) -> Raster<T> {
         match self {
             Passages::Grid(world) => {
@@ -241,7 +242,7 @@ impl<'a> Passages<'a> {
                                 });
                             }
                         }
-                        row(j, &spans)
+                        row(j, &spans, &[])
                     })
                     .collect();
                 Raster {
@@ -324,7 +325,7 @@ fn mesh_raster<T: Send>(
     xy: &[[i64; 2]],
     ranges: &[Range<usize>],
     cols: &Columns,
-    row: impl Fn(usize, &[Span]) -> T + Sync,
+    row: impl Fn(usize, &[Span], &[u32]) -> T + Sync,
 ) -> Raster<T> {
     let bands = cols.ny.div_ceil(BAND);
     let lx: Vec<i64> = (0..cols.nx).map(|i| snap(cols.x(i))).collect();
@@ -395,13 +396,18 @@ fn mesh_raster<T: Send>(
             let mut out = Vec::with_capacity(last - first);
             let mut k = 0;
             let mut spans = Vec::new();
+            let mut open_here = Vec::new();
             for j in first..last {
                 spans.clear();
+                open_here.clear();
                 while k < hits.len() && hits[k].0 as usize == j {
                     let i = hits[k].1;
                     let n = hits[k..].partition_point(|h| h.0 as usize == j && h.1 == i);
                     let line = &hits[k..k + n];
-                    open += n % 2;
+                    if n % 2 == 1 {
+                        open += 1;
+                        open_here.push(i);
+                    }
                     for pair in line.chunks_exact(2) {
                         spans.push(Span {
                             i,
@@ -411,7 +417,7 @@ fn mesh_raster<T: Send>(
                     }
                     k += n;
                 }
-                out.push(row(j, &spans));
+                out.push(row(j, &spans, &open_here));
             }
             (out, open)
         })
@@ -480,7 +486,7 @@ pub(crate) mod tests {
             nx: 20,
             ny: 12,
         };
-        let r = p.raster(&cols, |_, s| s.to_vec());
+        let r = p.raster(&cols, |_, s, _| s.to_vec());
         assert_eq!(
             r.open_lines, 0,
             "a closed box is crossed an even number of times"
@@ -506,6 +512,35 @@ pub(crate) mod tests {
         assert_eq!(p.column(2.0, 1.5), vec![[0.5, 2.5]]);
         assert!(p.column(0.5, 1.5).is_empty());
         assert_eq!(p.floor(2.0, 1.5, 0.5, 1.0), Some(0.5));
+    }
+
+    #[test]
+    fn lines_through_a_hole_in_the_surface_are_reported_open() {
+        let mut mesh = box_mesh([0.0, 0.0, 0.0], [2.0, 2.0, 1.0]);
+        mesh.triangles.remove(2); // half of the top
+        let p = passages(&mesh);
+        let cols = Columns {
+            x0: 0.0,
+            y0: 0.0,
+            step: 0.5,
+            nx: 4,
+            ny: 4,
+        };
+        let r = p.raster(&cols, |_, _, open| open.to_vec());
+        let open: usize = r.rows.iter().map(Vec::len).sum();
+        assert_eq!(r.open_lines, open);
+        // The missing triangle covers the lines south-east of the top's diagonal; those on the
+        // diagonal go to one side or the other.
+        for (j, row) in r.rows.iter().enumerate() {
+            for i in 0..4u32 {
+                match (i as usize).cmp(&j) {
+                    std::cmp::Ordering::Greater => assert!(row.contains(&i), "{:?}", r.rows),
+                    std::cmp::Ordering::Less => assert!(!row.contains(&i), "{:?}", r.rows),
+                    std::cmp::Ordering::Equal => {}
+                }
+            }
+        }
+        assert!((6..=10).contains(&open));
     }
 
     #[test]

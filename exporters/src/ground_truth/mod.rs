@@ -12,7 +12,7 @@
 //! | `ground-truth` | all of the above | |
 //!
 //! None needs geometry: with the world's collision mesh they use its exact surface (see
-//! [`inside`]), without one (`--no-mesh`, no `[tileset]`) the grid's cells, and every file's
+//! `ground_truth/inside.rs`), without one (`--no-mesh`, no `[tileset]`) the grid's cells, and every file's
 //! metadata says which (`source`). Every file records the seed and the frame where its format
 //! allows: metres, x east (+column), y north (−row), z up (+level), origin at the centre of
 //! cell (row `rows − 1`, column 0) of level 0, on its floor.
@@ -138,9 +138,10 @@ impl Exporter for GroundTruth {
         let s = &self.settings;
         GraphFiles.export(world, out)?;
         SemanticLabels.export(world, out)?;
-        RosMap::from_settings(s).export(world, out)?;
-        FreeSpace::from_settings(s).export(world, out)?;
-        SpawnPoses::from_settings(s).export(world, out)
+        let passages = inside::Passages::of(world);
+        RosMap::from_settings(s).write(world, &passages, out)?;
+        FreeSpace::from_settings(s).write(world, &passages, out)?;
+        SpawnPoses::from_settings(s).write(world, &passages, out)
     }
 }
 

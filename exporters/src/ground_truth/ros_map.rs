@@ -3,7 +3,9 @@
 //!
 //! Each map is a horizontal slice of the passages `height` metres (default 1.0: a ground
 //! robot's lidar) above the level's nominal floor: 254 where the slice is inside a passage
-//! (free), 0 in rock (occupied). Every pixel is known, so 205 (unknown) never appears. With
+//! (free), 0 in rock (occupied). A closed collision surface (the procedural tile sets') leaves
+//! no pixel unknown; where a vertical line crosses an open one an odd number of times (mesh
+//! tiles whose collision meshes do not close) the pixel is 205, unknown, on every level. With
 //! `negate: 0` map_server reads a pixel as occupancy `(255 − v) / 255`: 0 → 1.0 > 0.65
 //! (occupied), 254 → 0.004 < 0.196 (free), the thresholds `map_saver` writes. Pixels are
 //! sampled at their centres; row 0 of the image is the north edge, and `origin` is the world
@@ -91,22 +93,41 @@ impl RosMap {
 /// Free and occupied pixel values (map_server's trinary convention with `negate: 0`).
 const FREE: u8 = 254;
 const OCCUPIED: u8 = 0;
+/// Where the vertical line crossed an open surface (a tile set whose collision meshes do not
+/// close), so inside and outside cannot be told.
+const UNKNOWN: u8 = 205;
 
 impl Exporter for RosMap {
     fn export(&self, world: &World, out: &mut dyn WorldWriter) -> Result<(), ExportError> {
+        self.write(world, &Passages::of(world), out)
+    }
+}
+
+impl RosMap {
+    /// Writes the files from passages already made (`ground-truth` makes them once).
+    pub(crate) fn write(
+        &self,
+        world: &World,
+        passages: &Passages,
+        out: &mut dyn WorldWriter,
+    ) -> Result<(), ExportError> {
         let px = self.pixels(world)?;
-        let passages = Passages::of(world);
         let levels = world.occupancy.levels();
         let lh = world.resolved.level_height;
         let slice: Vec<f64> = (0..levels).map(|l| l as f64 * lh + self.height).collect();
         // One raster gives every level's row: the lines are the same, only the height differs.
-        let raster = passages.raster(&px, |_, spans| {
+        let raster = passages.raster(&px, |_, spans, open| {
             let mut rows = vec![vec![OCCUPIED; px.nx]; levels];
             for s in spans {
                 for (l, &z) in slice.iter().enumerate() {
                     if s.z0 < z && z < s.z1 {
                         rows[l][s.i as usize] = FREE;
                     }
+                }
+            }
+            for &i in open {
+                for row in rows.iter_mut() {
+                    row[i as usize] = UNKNOWN;
                 }
             }
             rows

@@ -172,7 +172,14 @@ impl SpawnPoses {
             ny: ((b[3] - b[1]) / step).ceil() as usize,
         };
         let rows = passages
-            .raster_within(&cols, b, |_, spans| spans.to_vec())
+            .raster_within(&cols, b, |_, spans, open| {
+                // A line through an open surface is never free.
+                spans
+                    .iter()
+                    .filter(|s| open.binary_search(&s.i).is_err())
+                    .copied()
+                    .collect::<Vec<_>>()
+            })
             .rows;
         let line = |i: usize, j: usize| -> &[Span] {
             let row = &rows[j];
@@ -321,17 +328,28 @@ impl SpawnPoses {
 
 impl Exporter for SpawnPoses {
     fn export(&self, world: &World, out: &mut dyn WorldWriter) -> Result<(), ExportError> {
+        self.write(world, &Passages::of(world), out)
+    }
+}
+
+impl SpawnPoses {
+    /// Writes the files from passages already made (`ground-truth` makes them once).
+    pub(crate) fn write(
+        &self,
+        world: &World,
+        passages: &Passages,
+        out: &mut dyn WorldWriter,
+    ) -> Result<(), ExportError> {
         let start = world.start.ok_or_else(|| {
             ExportError::Unsupported("spawn-poses: the world has no start tile".into())
         })?;
-        let passages = Passages::of(world);
         let openings = world.tiles.get(start).map_or(0, |t| t.openings);
         let facing = Direction::ALL
             .into_iter()
             .find(|d| openings & d.bit() != 0)
             .unwrap_or(Direction::East);
-        let spawns = self.spawns(world, &passages, start)?;
-        let goals = self.goals(world, &passages, start);
+        let spawns = self.spawns(world, passages, start)?;
+        let goals = self.goals(world, passages, start);
         if goals.is_empty() {
             return Err(ExportError::Unsupported(
                 "spawn-poses: the graph has no node to go to besides the start".into(),
