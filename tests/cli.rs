@@ -1,34 +1,14 @@
 //! The command line as a user runs it: every example pipeline, the world folder it writes,
 //! reproducibility across runs, imports, and the errors bad input gets.
 
+mod common;
+
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::process::Command;
+
+use common::{fails, folder_bytes, ok, subtgraph};
 
 use subtgraph::core::npy;
-
-fn subtgraph(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_subtgraph"))
-        .args(args)
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
-        .output()
-        .expect("the binary runs")
-}
-
-fn ok(args: &[&str]) -> String {
-    let out = subtgraph(args);
-    assert!(
-        out.status.success(),
-        "subtgraph {args:?} failed:\n{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    String::from_utf8(out.stdout).unwrap()
-}
-
-fn fails(args: &[&str]) -> String {
-    let out = subtgraph(args);
-    assert!(!out.status.success(), "subtgraph {args:?} should fail");
-    String::from_utf8(out.stderr).unwrap()
-}
 
 fn examples() -> Vec<PathBuf> {
     let mut v: Vec<PathBuf> =
@@ -40,25 +20,6 @@ fn examples() -> Vec<PathBuf> {
     v.sort();
     assert!(v.len() >= 4, "the presets and at least one more example");
     v
-}
-
-/// Every file of a folder, relative path and bytes, sorted.
-fn folder_bytes(dir: &Path) -> Vec<(String, Vec<u8>)> {
-    let mut out = Vec::new();
-    let mut stack = vec![dir.to_owned()];
-    while let Some(d) = stack.pop() {
-        for e in std::fs::read_dir(&d).unwrap() {
-            let p = e.unwrap().path();
-            if p.is_dir() {
-                stack.push(p);
-            } else {
-                let rel = p.strip_prefix(dir).unwrap().to_string_lossy().into_owned();
-                out.push((rel, std::fs::read(&p).unwrap()));
-            }
-        }
-    }
-    out.sort();
-    out
 }
 
 /// Checks a world folder's files against each other; returns the topology document.
