@@ -23,7 +23,8 @@
 //! cave preset's walls, most candidate triangles are refused for leaving the band, not for
 //! the other limits, so a coarser `tolerance` is the one knob that makes fewer pieces.
 //!
-//! Every triangle belongs to exactly one patch, so the slabs cover the whole surface. The
+//! Every triangle belongs to exactly one patch, so the slabs cover the whole surface (but for
+//! slivers narrower than [`MIN_WIDTH`], which have no volume to collide with). The
 //! result depends only on the mesh (triangles are visited in order), not on thread count.
 
 use std::collections::VecDeque;
@@ -41,6 +42,9 @@ pub const MIN_FILL: f64 = 0.85;
 /// The most area (m²) of its in-plane hull a patch may leave uncovered: far smaller than any
 /// opening a robot could pass, a jagged outline of marching-cubes triangles well within it.
 pub const MAX_GAP: f64 = 0.25;
+
+/// Patches narrower than this (m, area over length) get no slab.
+pub const MIN_WIDTH: f64 = 0.01;
 
 /// At most this many triangles per patch.
 const MAX_TRIANGLES: usize = 96;
@@ -79,7 +83,8 @@ pub struct Piece {
     /// The plane's unit normal, pointing into the passage.
     pub normal: [f64; 3],
     /// How many of `points` are on the surface (the patch's outline); as many follow,
-    /// `thickness` below the plane.
+    /// `thickness` below the plane. 0 for a sliver narrower than [`MIN_WIDTH`], which gets
+    /// no slab.
     pub surface: usize,
     /// The slab's corners: the patch's outline on the surface, then the same outline pushed
     /// into the rock. A simulator takes their convex hull.
@@ -377,7 +382,19 @@ pub fn convex_pieces(mesh: &Mesh, settings: &PieceSettings) -> Vec<Piece> {
         // (interior vertices lie under the hull of these, within the band), and the same
         // outline `thickness` below the plane, in the rock.
         let flat: Vec<[f64; 2]> = vertices.iter().map(|&v| plane.flat(s.pos(v))).collect();
-        let (outline, _) = hull(&flat);
+        let (mut outline, area2) = hull(&flat);
+        let [lo, hi] = outline
+            .iter()
+            .fold([[f64::MAX; 2], [f64::MIN; 2]], |[lo, hi], &i| {
+                let [x, y] = flat[i];
+                [[lo[0].min(x), lo[1].min(y)], [hi[0].max(x), hi[1].max(y)]]
+            });
+        let length = (hi[0] - lo[0]).hypot(hi[1] - lo[1]);
+        if outline.len() < 3 || area2 / 2.0 < MIN_WIDTH * length {
+            // A sliver (degenerate triangles of a user's mesh): a hull of it would have no
+            // volume, which simulators refuse, and it holds nothing up.
+            outline.clear();
+        }
         let mut points: Vec<[f32; 3]> = outline
             .iter()
             .map(|&i| mesh.positions[vertices[i] as usize])

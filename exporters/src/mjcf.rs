@@ -136,6 +136,9 @@ pub(crate) fn xml_escape(s: &str) -> String {
 }
 
 fn piece_asset(buf: &mut Vec<u8>, part: &str, i: usize, p: &Piece) {
+    if p.points.is_empty() {
+        return;
+    }
     buf.extend_from_slice(b"    <mesh name=\"");
     buf.extend_from_slice(part.as_bytes());
     buf.extend_from_slice(b"-rock-");
@@ -155,7 +158,10 @@ fn piece_asset(buf: &mut Vec<u8>, part: &str, i: usize, p: &Piece) {
     buf.extend_from_slice(b"\"/>\n");
 }
 
-fn piece_geom(buf: &mut Vec<u8>, part: &str, i: usize) {
+fn piece_geom(buf: &mut Vec<u8>, part: &str, i: usize, p: &Piece) {
+    if p.points.is_empty() {
+        return;
+    }
     buf.extend_from_slice(b"    <geom type=\"mesh\" mesh=\"");
     buf.extend_from_slice(part.as_bytes());
     buf.extend_from_slice(b"-rock-");
@@ -215,7 +221,7 @@ impl Exporter for Mjcf {
                 push_colour(&mut mid, colour, 1.0);
                 mid.extend_from_slice(b"\"/>\n");
                 w.write_all(&mid)?;
-                write_lines(w, pieces.len(), |b, i| piece_geom(b, &name, i))?;
+                write_lines(w, pieces.len(), |b, i| piece_geom(b, &name, i, &pieces[i]))?;
                 w.write_all(b"  </worldbody>\n</mujoco>\n")
             })?;
         }

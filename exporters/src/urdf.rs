@@ -80,3 +80,32 @@ impl Exporter for Urdf {
         true
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use subtgraph_core::export::MemoryWriter;
+
+    #[test]
+    fn every_mesh_path_resolves_from_the_urdf_folder_to_a_written_file() {
+        let world = crate::test_world_with_mesh();
+        let mut out = MemoryWriter::default();
+        Urdf::default().export(&world, &mut out).unwrap();
+        let text = String::from_utf8(out.get("urdf/world.urdf").unwrap().to_vec()).unwrap();
+        let meshes: Vec<&str> = text
+            .split("filename=\"")
+            .skip(1)
+            .map(|s| &s[..s.find('"').unwrap()])
+            .collect();
+        // A visual and a collision per level.
+        assert_eq!(meshes.len(), 2 * world.occupancy.levels());
+        for m in meshes {
+            let from_root = m.strip_prefix("../").expect("relative to urdf/");
+            assert!(out.contains(from_root), "{m} written");
+        }
+        assert_eq!(
+            text.matches("concave=\"yes\"").count(),
+            1 + world.occupancy.levels()
+        );
+    }
+}

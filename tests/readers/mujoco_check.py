@@ -1,6 +1,8 @@
 """Loads a subtgraph world's mujoco/world.xml in MuJoCo and drops a ball in a corridor.
 
-Usage: mujoco_check.py WORLD_FOLDER [--one-mesh]
+Usage: mujoco_check.py WORLD_FOLDER [--one-mesh] [--lift METRES]
+
+--lift raises the drop point for tile sets whose floor is not at the cell's nominal height.
 
 Checks, printing one line per check and exiting non-zero on the first failure:
 - the model loads from a working directory other than the world folder (meshdir is relative);
@@ -46,11 +48,17 @@ def floor_height(model, data, at, ball):
     return at[2] - d if d >= 0 else None
 
 
+def lift(argv):
+    """The --lift METRES argument, 0 without it."""
+    return float(argv[argv.index("--lift") + 1]) if "--lift" in argv else 0.0
+
+
 def main():
     folder = os.path.abspath(sys.argv[1])
     one_mesh = "--one-mesh" in sys.argv
     topology = json.load(open(os.path.join(folder, "topology.json")))
     cell, pos = corridor_cell(topology)
+    pos[2] += lift(sys.argv)
     pitch = topology["tile_pitch_m"]
     os.chdir(tempfile.gettempdir())  # not the world folder: paths must resolve by themselves
     path = os.path.join(folder, "mujoco", "world.xml")
