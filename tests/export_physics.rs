@@ -12,18 +12,10 @@ use common::{arg, fails, folder_bytes, ok, read_with_python, small_cave_pipeline
 
 const BOTH: &str = "[[export]]\ntype = \"mjcf\"\n\n[[export]]\ntype = \"urdf\"\n";
 
-/// The small two-level cave with a collision lattice fine enough to hold its 5 m tunnels:
-/// the helper's `collision_resolution = 4` samples a 16 m tile every 4 m, which closes the
-/// passage in places (rock 1.5 m above the floor mid-corridor) whatever the exporter does.
+/// The small two-level cave (its collision lattice holds the 5 m tunnels open: see
+/// `small_cave_pipeline`), made through the command line.
 fn physics_world(dir: &Path) -> std::path::PathBuf {
     let path = small_cave_pipeline(dir, 2, BOTH);
-    let text = std::fs::read_to_string(&path).unwrap();
-    assert!(text.contains("collision_resolution = 4"));
-    std::fs::write(
-        &path,
-        text.replace("collision_resolution = 4", "collision_resolution = 8"),
-    )
-    .unwrap();
     let out = dir.join("world");
     ok(&["generate", arg(&path), "--out", arg(&out)]);
     out

@@ -11,18 +11,9 @@ use common::{arg, fails, folder_bytes, ok, read_with_python, small_cave_pipeline
 
 const READERS: &[&str] = &["numpy", "PIL", "yaml", "networkx", "trimesh"];
 
-/// The small cave with a collision lattice as fine as its visual one (2 m): at the helper's
-/// 4 m the 5 m wide passages pinch shut in places, and no robot would fit.
+/// The small two-level cave.
 fn pipeline(dir: &Path, extra: &str) -> PathBuf {
-    let path = small_cave_pipeline(dir, 2, extra);
-    let text = std::fs::read_to_string(&path).unwrap();
-    assert!(text.contains("collision_resolution = 4"));
-    std::fs::write(
-        &path,
-        text.replace("collision_resolution = 4", "collision_resolution = 8"),
-    )
-    .unwrap();
-    path
+    small_cave_pipeline(dir, 2, extra)
 }
 
 fn temp(name: &str) -> PathBuf {
