@@ -124,17 +124,18 @@ pub(crate) fn push_uint(buf: &mut Vec<u8>, mut v: u64) {
 const CHUNK: usize = 1 << 16;
 
 /// Formats `count` lines in parallel, `CHUNK` at a time, and writes them in order: the output
-/// does not depend on the thread count. Other text formats use it too.
+/// does not depend on the thread count. The next batch is formatted while the current one is
+/// written, so the cores keep formatting while the kernel copies bytes. Other text formats use
+/// it too.
 pub(crate) fn write_lines(
     w: &mut dyn std::io::Write,
     count: usize,
     line: impl Fn(&mut Vec<u8>, usize) + Sync,
 ) -> std::io::Result<()> {
     let batch = CHUNK * rayon::current_num_threads().max(1) * 2;
-    let mut start = 0;
-    while start < count {
+    let format = |start: usize| -> Vec<Vec<u8>> {
         let end = (start + batch).min(count);
-        let chunks: Vec<Vec<u8>> = (start..end)
+        (start..end)
             .step_by(CHUNK)
             .collect::<Vec<_>>()
             .into_par_iter()
@@ -146,13 +147,25 @@ pub(crate) fn write_lines(
                 }
                 buf
             })
-            .collect();
-        for c in chunks {
-            w.write_all(&c)?;
-        }
-        start = end;
+            .collect()
+    };
+    if count == 0 {
+        return Ok(());
     }
-    Ok(())
+    std::thread::scope(|scope| {
+        let mut start = 0;
+        let mut ready = Some(format(0));
+        while let Some(chunks) = ready.take() {
+            let next = start + batch;
+            let pending = (next < count).then(|| scope.spawn(move || format(next)));
+            for c in &chunks {
+                w.write_all(c)?;
+            }
+            ready = pending.map(|h| h.join().expect("formatting a batch of lines panicked"));
+            start = next;
+        }
+        Ok(())
+    })
 }
 
 /// Writes one mesh as one OBJ object, with `(materials, mtllib file name)` when its triangles
