@@ -9,6 +9,8 @@ use std::path::Path;
 
 use anyhow::{Context, Result, bail};
 
+use subtgraph_core::vec3::{V3, cross, dot, sub};
+
 /// A parsed `mesh/world.obj`: positions, triangles and their colours.
 struct Scene {
     positions: Vec<[f32; 3]>,
@@ -82,21 +84,7 @@ fn read_scene(world: &Path) -> Result<Scene> {
     Ok(scene)
 }
 
-type V3 = [f64; 3];
-
-fn sub(a: V3, b: V3) -> V3 {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
-fn dot(a: V3, b: V3) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-fn cross(a: V3, b: V3) -> V3 {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
-}
+/// `a` scaled to length 1 (a zero vector stays zero: degenerate triangles shade black).
 fn norm(a: V3) -> V3 {
     let l = dot(a, a).sqrt().max(1e-12);
     [a[0] / l, a[1] / l, a[2] / l]

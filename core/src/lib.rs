@@ -36,6 +36,7 @@ pub mod shape;
 pub mod shapes;
 pub mod tile;
 pub mod tileset;
+pub mod vec3;
 pub mod world;
 
 pub use config::Pipeline;

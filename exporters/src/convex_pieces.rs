@@ -30,6 +30,7 @@
 use std::collections::VecDeque;
 
 use subtgraph_core::mesh::Mesh;
+use subtgraph_core::vec3::{V3, cross, dot, sub, unit};
 
 /// How far a patch may spread from its seed triangle, in metres: keeps slabs small enough that
 /// a simulator's broad phase culls them well, and bounds the hull checks.
@@ -89,26 +90,6 @@ pub struct Piece {
     /// The slab's corners: the patch's outline on the surface, then the same outline pushed
     /// into the rock. A simulator takes their convex hull.
     pub points: Vec<[f32; 3]>,
-}
-
-type V3 = [f64; 3];
-
-fn sub(a: V3, b: V3) -> V3 {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
-fn dot(a: V3, b: V3) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-fn cross(a: V3, b: V3) -> V3 {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
-}
-fn unit(a: V3) -> Option<V3> {
-    let l = dot(a, a).sqrt();
-    (l > 1e-12).then(|| [a[0] / l, a[1] / l, a[2] / l])
 }
 
 /// Triangles sharing an edge with each triangle (compressed rows).
