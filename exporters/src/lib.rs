@@ -143,6 +143,17 @@ pub fn register(registry: &mut Registry) -> Result<(), DuplicateName> {
     Ok(())
 }
 
+/// Writes `doc` as pretty-printed JSON ending in a newline: every JSON file of a world folder.
+pub(crate) fn write_json<T: serde::Serialize + ?Sized>(
+    out: &mut dyn WorldWriter,
+    path: &str,
+    doc: &T,
+) -> Result<(), ExportError> {
+    let mut text = serde_json::to_string_pretty(doc).expect("plain data serializes");
+    text.push('\n');
+    subtgraph_core::export::write_file(out, path, text.as_bytes())
+}
+
 /// Writes the files every world folder has.
 pub fn write_world_folder(world: &World, out: &mut dyn WorldWriter) -> Result<(), ExportError> {
     let always: [&dyn Exporter; 4] = [&WorldToml, &OccupancyNpy, &TopologyJson, &LevelMaps];

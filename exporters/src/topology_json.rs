@@ -3,7 +3,7 @@
 
 use serde::Serialize;
 use subtgraph_core::World;
-use subtgraph_core::export::{ExportError, Exporter, WorldWriter, write_file};
+use subtgraph_core::export::{ExportError, Exporter, WorldWriter};
 use subtgraph_core::graph::{Edge, Node};
 use subtgraph_core::world::{LevelReport, Shaft};
 
@@ -58,9 +58,7 @@ impl Exporter for TopologyJson {
             nodes: &world.graph.nodes,
             edges: &world.graph.edges,
         };
-        let mut text = serde_json::to_string_pretty(&doc).expect("plain data serializes");
-        text.push('\n');
-        write_file(out, "topology.json", text.as_bytes())
+        crate::write_json(out, "topology.json", &doc)
     }
 }
 

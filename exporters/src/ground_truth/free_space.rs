@@ -18,7 +18,7 @@
 use rayon::prelude::*;
 use serde::Serialize;
 use subtgraph_core::World;
-use subtgraph_core::export::{ExportError, Exporter, WorldWriter, stream_file, write_file};
+use subtgraph_core::export::{ExportError, Exporter, WorldWriter, stream_file};
 
 use super::inside::{Columns, Passages, grid_clear_height};
 use super::{FRAME, Settings, extent};
@@ -255,9 +255,7 @@ impl FreeSpace {
             free_voxels,
             open_lines: raster.open_lines,
         };
-        let mut json = serde_json::to_string_pretty(&doc).expect("plain data serializes");
-        json.push('\n');
-        write_file(out, "ground_truth/free_space.json", json.as_bytes())
+        crate::write_json(out, "ground_truth/free_space.json", &doc)
     }
 }
 

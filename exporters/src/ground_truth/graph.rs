@@ -203,9 +203,7 @@ xsi:schemaLocation=\"http://graphml.graphdrawing.org/xmlns http://graphml.graphd
 impl Exporter for GraphFiles {
     fn export(&self, world: &World, out: &mut dyn WorldWriter) -> Result<(), ExportError> {
         let doc = document(world);
-        let mut json = serde_json::to_string_pretty(&doc).expect("plain data serializes");
-        json.push('\n');
-        write_file(out, "ground_truth/graph.json", json.as_bytes())?;
+        crate::write_json(out, "ground_truth/graph.json", &doc)?;
         write_file(out, "ground_truth/graph.graphml", &graphml(&doc))
     }
 }

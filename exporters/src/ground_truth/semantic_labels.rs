@@ -116,9 +116,7 @@ impl Exporter for SemanticLabels {
             tiles: labels(world),
         };
         write_file(out, "ground_truth/semantic_labels.csv", &csv(&doc.tiles))?;
-        let mut json = serde_json::to_string_pretty(&doc).expect("plain data serializes");
-        json.push('\n');
-        write_file(out, "ground_truth/semantic_labels.json", json.as_bytes())
+        crate::write_json(out, "ground_truth/semantic_labels.json", &doc)
     }
 }
 

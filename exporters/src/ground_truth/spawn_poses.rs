@@ -20,7 +20,7 @@ use std::collections::BinaryHeap;
 
 use serde::Serialize;
 use subtgraph_core::World;
-use subtgraph_core::export::{ExportError, Exporter, WorldWriter, write_file};
+use subtgraph_core::export::{ExportError, Exporter, WorldWriter};
 use subtgraph_core::grid::{Cell, Direction};
 use subtgraph_core::tile::TileKind;
 
@@ -388,9 +388,7 @@ impl SpawnPoses {
             goals_distinct,
             robots,
         };
-        let mut json = serde_json::to_string_pretty(&doc).expect("plain data serializes");
-        json.push('\n');
-        write_file(out, "ground_truth/spawn_poses.json", json.as_bytes())
+        crate::write_json(out, "ground_truth/spawn_poses.json", &doc)
     }
 }
 
