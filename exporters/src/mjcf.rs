@@ -135,14 +135,19 @@ pub(crate) fn xml_escape(s: &str) -> String {
         .replace('"', "&quot;")
 }
 
+/// The name of slab `i` of a part: the asset and the geom that uses it must agree.
+fn push_piece_name(buf: &mut Vec<u8>, part: &str, i: usize) {
+    buf.extend_from_slice(part.as_bytes());
+    buf.extend_from_slice(b"-rock-");
+    push_uint(buf, i as u64);
+}
+
 fn piece_asset(buf: &mut Vec<u8>, part: &str, i: usize, p: &Piece) {
     if p.points.is_empty() {
         return;
     }
     buf.extend_from_slice(b"    <mesh name=\"");
-    buf.extend_from_slice(part.as_bytes());
-    buf.extend_from_slice(b"-rock-");
-    push_uint(buf, i as u64);
+    push_piece_name(buf, part, i);
     buf.extend_from_slice(b"\" vertex=\"");
     for (k, q) in p.points.iter().enumerate() {
         if k > 0 {
@@ -163,9 +168,7 @@ fn piece_geom(buf: &mut Vec<u8>, part: &str, i: usize, p: &Piece) {
         return;
     }
     buf.extend_from_slice(b"    <geom type=\"mesh\" mesh=\"");
-    buf.extend_from_slice(part.as_bytes());
-    buf.extend_from_slice(b"-rock-");
-    push_uint(buf, i as u64);
+    push_piece_name(buf, part, i);
     buf.extend_from_slice(b"\" group=\"3\" rgba=\"0.5 0.5 0.5 0.4\"/>\n");
 }
 
