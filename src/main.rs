@@ -85,10 +85,30 @@ enum Command {
         /// parallelism). Memory grows with J, not with N; the worlds do not depend on it.
         #[arg(long, value_name = "J")]
         jobs: Option<usize>,
-        /// Make only this machine's share, I/N (1-based): every N-th world of the global list
-        /// from the I-th. The worlds are exactly those of an unsharded run.
+        /// Make only this machine's share, I/N (1-based, like a Slurm array's task id): every
+        /// N-th world of the global list from the I-th. The worlds are exactly those of an
+        /// unsharded run.
         #[arg(long, value_name = "I/N")]
         shard: Option<String>,
+        /// The same share counted from 0, like a Kubernetes indexed Job's
+        /// JOB_COMPLETION_INDEX: shard K (0 <= K < N) of --shard-count N.
+        #[arg(
+            long,
+            value_name = "K",
+            requires = "shard_count",
+            conflicts_with = "shard",
+            allow_hyphen_values = true
+        )]
+        shard_index: Option<String>,
+        /// The number of shards, with --shard-index.
+        #[arg(
+            long,
+            value_name = "N",
+            requires = "shard_index",
+            conflicts_with = "shard",
+            allow_hyphen_values = true
+        )]
+        shard_count: Option<String>,
         /// Grids, graph, maps and non-geometry exports only.
         #[arg(long, conflicts_with = "tileset")]
         no_mesh: bool,
@@ -234,15 +254,20 @@ fn run(cli: Cli) -> Result<()> {
             out,
             jobs,
             shard,
+            shard_index,
+            shard_count,
             no_mesh,
             tileset,
             format,
             plugins,
         } => {
             use subtgraph::dataset;
-            let shard = match shard {
-                Some(s) => s.parse::<dataset::Shard>().map_err(|e| anyhow!(e))?,
-                None => dataset::Shard::ALL,
+            let shard = match (shard, shard_index, shard_count) {
+                (Some(s), _, _) => s.parse::<dataset::Shard>().map_err(|e| anyhow!(e))?,
+                (None, Some(k), Some(n)) => {
+                    dataset::Shard::zero_based(&k, &n).map_err(|e| anyhow!(e))?
+                }
+                _ => dataset::Shard::ALL,
             };
             if seed > i64::MAX as u64 {
                 bail!("--seed must be at most 2^63 - 1 (9223372036854775807)");
@@ -264,6 +289,7 @@ fn run(cli: Cli) -> Result<()> {
                 .map(|p| (Some(p.as_path()), None))
                 .chain(preset_names.iter().map(|n| (None, Some(n.as_str()))));
             let mut sources = Vec::new();
+            let mut skipped_exporters: Vec<String> = Vec::new();
             for (file, preset) in chosen {
                 let (mut p, description) = load_pipeline(file, preset)?;
                 let name = match (file, preset) {
@@ -281,7 +307,12 @@ fn run(cli: Cli) -> Result<()> {
                 }
                 make::add_formats(&mut p, &format)?;
                 let registry = registry_with(&p, &plugins)?;
-                let exporters = make::exporters(&p, &registry, no_mesh)?;
+                let (exporters, skipped) = make::exporters_and_skipped(&p, &registry, no_mesh)?;
+                for name in skipped {
+                    if !skipped_exporters.contains(&name) {
+                        skipped_exporters.push(name);
+                    }
+                }
                 sources.push(dataset::Source {
                     name,
                     description,
@@ -290,6 +321,7 @@ fn run(cli: Cli) -> Result<()> {
                     exporters,
                 });
             }
+            make::note_skipped(&skipped_exporters);
             let opts = dataset::Options {
                 count,
                 seed,

@@ -53,7 +53,20 @@ pub struct NamedExporter {
 /// `[tileset]` is an error saying to add one, or, with `no_mesh` (the user asked for no
 /// geometry), left out with a note on standard error.
 pub fn exporters(p: &Pipeline, registry: &Registry, no_mesh: bool) -> Result<Vec<NamedExporter>> {
+    let (out, skipped) = exporters_and_skipped(p, registry, no_mesh)?;
+    note_skipped(&skipped);
+    Ok(out)
+}
+
+/// [`exporters`], returning the names of those left out under `no_mesh` instead of noting
+/// them: `dataset` builds the exporters of every source and says each once.
+pub fn exporters_and_skipped(
+    p: &Pipeline,
+    registry: &Registry,
+    no_mesh: bool,
+) -> Result<(Vec<NamedExporter>, Vec<String>)> {
     let mut out = Vec::new();
+    let mut skipped = Vec::new();
     for spec in &p.export {
         let exporter = registry.exporters.build(spec).map_err(|e| {
             let known = registry.exporters.names().join(", ");
@@ -65,10 +78,7 @@ pub fn exporters(p: &Pipeline, registry: &Registry, no_mesh: bool) -> Result<Vec
         })?;
         if exporter.needs_geometry() && p.tileset.is_none() {
             if no_mesh {
-                eprintln!(
-                    "note: skipping exporter '{}': it writes geometry, and --no-mesh asked for none",
-                    spec.type_name
-                );
+                skipped.push(spec.type_name.clone());
                 continue;
             }
             bail!(
@@ -81,7 +91,16 @@ pub fn exporters(p: &Pipeline, registry: &Registry, no_mesh: bool) -> Result<Vec
             exporter,
         });
     }
-    Ok(out)
+    Ok((out, skipped))
+}
+
+/// Notes on standard error the exporters left out under `--no-mesh`, one line each.
+pub fn note_skipped(names: &[String]) {
+    for name in names {
+        eprintln!(
+            "note: skipping exporter '{name}': it writes geometry, and --no-mesh asked for none"
+        );
+    }
 }
 
 /// Generates a world and records where its pipeline came from.

@@ -102,7 +102,7 @@ fn resuming_redoes_exactly_the_missing_world() {
         .unwrap();
     std::fs::remove_dir_all(out.join("cave-0001")).unwrap();
     // An interrupted write (hidden temporary folder) and a folder without world.toml.
-    let partial = out.join(".mine-0000.partial-99-1");
+    let partial = out.join(format!(".mine-0000.partial-{}-1", dead_pid()));
     std::fs::create_dir(&partial).unwrap();
     std::fs::write(partial.join("occupancy.npy"), b"half").unwrap();
     std::fs::remove_file(out.join("mine-0000/world.toml")).unwrap();
@@ -289,4 +289,217 @@ fn the_paper_configurations_make_worlds_with_the_presets_parameters() {
         let text = std::fs::read_to_string(root.join(format!("{source}.toml"))).unwrap();
         assert!(text.contains("[tileset]") && text.contains("type = \"obj\""));
     }
+}
+
+/// The id of a process that has ended: a child that has run and been waited for.
+fn dead_pid() -> u32 {
+    let mut child = std::process::Command::new("true").spawn().unwrap();
+    let pid = child.id();
+    child.wait().unwrap();
+    pid
+}
+
+#[test]
+fn a_world_another_process_is_writing_is_left_to_it_and_stale_leftovers_are_redone() {
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("d");
+    std::fs::create_dir(&out).unwrap();
+    // Another process (this test's, which is alive) is writing cave-0001 now...
+    let live = out.join(format!(".cave-0001.partial-{}-1", std::process::id()));
+    std::fs::create_dir(&live).unwrap();
+    std::fs::write(live.join("occupancy.npy"), b"being written").unwrap();
+    // ...and a process that is gone left mine-0002 half written.
+    let stale = out.join(format!(".mine-0002.partial-{}-1", dead_pid()));
+    std::fs::create_dir(&stale).unwrap();
+    std::fs::write(stale.join("occupancy.npy"), b"half").unwrap();
+
+    let run = common::subtgraph(&[
+        "dataset",
+        "--preset",
+        "cave",
+        "--preset",
+        "mine",
+        "--count",
+        "3",
+        "--seed",
+        "11",
+        "--no-mesh",
+        "--out",
+        arg(&out),
+    ]);
+    let stderr = String::from_utf8_lossy(&run.stderr);
+    let stdout = String::from_utf8_lossy(&run.stdout);
+    assert!(run.status.success(), "{stderr}");
+    assert_eq!(
+        std::fs::read(live.join("occupancy.npy")).unwrap(),
+        b"being written",
+        "another process's partial folder is not touched"
+    );
+    assert!(
+        !out.join("cave-0001").exists(),
+        "a world being made elsewhere is left to it"
+    );
+    assert!(
+        stderr.contains("cave-0001") && stderr.contains(&std::process::id().to_string()),
+        "the run says which world another process is making: {stderr}"
+    );
+    assert!(
+        !stale.exists(),
+        "the leftover of a process that is gone is removed"
+    );
+    assert!(
+        out.join("mine-0002/world.toml").is_file(),
+        "and its world made"
+    );
+    assert!(stdout.contains("made 5 world(s)"), "{stdout}");
+    assert!(
+        !stderr.contains("--force"),
+        "dataset has no --force: {stderr}"
+    );
+}
+
+#[test]
+fn shards_and_an_unsharded_run_filling_one_folder_together_all_succeed() {
+    let tmp = tempfile::tempdir().unwrap();
+    let one = tmp.path().join("one");
+    let shared = tmp.path().join("shared");
+    let base = |out: &Path| -> Vec<String> {
+        [
+            "dataset",
+            "--preset",
+            "cave",
+            "--preset",
+            "mine",
+            "--count",
+            "40",
+            "--seed",
+            "5",
+            "--no-mesh",
+            "--jobs",
+            "1",
+            "--out",
+        ]
+        .iter()
+        .map(|s| (*s).to_owned())
+        .chain([arg(out).to_owned()])
+        .collect()
+    };
+    ok(&base(&one).iter().map(String::as_str).collect::<Vec<_>>());
+    // Three shards and two unsharded runs at once, into one folder.
+    let mut runs = Vec::new();
+    for extra in [
+        &["--shard", "1/3"][..],
+        &["--shard", "2/3"],
+        &["--shard-index", "2", "--shard-count", "3"],
+        &[],
+        &[],
+    ] {
+        let mut args = base(&shared);
+        args.extend(extra.iter().map(|s| (*s).to_owned()));
+        runs.push(
+            std::process::Command::new(env!("CARGO_BIN_EXE_subtgraph"))
+                .args(&args)
+                .stdout(std::process::Stdio::piped())
+                .stderr(std::process::Stdio::piped())
+                .spawn()
+                .unwrap(),
+        );
+    }
+    for run in runs {
+        let out = run.wait_with_output().unwrap();
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert!(out.status.success(), "{stderr}");
+        assert!(!stderr.contains("--force"), "{stderr}");
+    }
+    // Whatever the interleaving, the folder holds exactly the one-process run's worlds.
+    assert!(
+        worlds(&one) == worlds(&shared),
+        "the worlds differ from one run"
+    );
+    let leftovers: Vec<String> = std::fs::read_dir(&shared)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|n| n.contains(".partial-") || n.contains(".tmp-"))
+        .collect();
+    assert!(leftovers.is_empty(), "{leftovers:?}");
+}
+
+#[test]
+fn shard_index_and_count_are_zero_based_like_kubernetes() {
+    let tmp = tempfile::tempdir().unwrap();
+    let a = tmp.path().join("a");
+    let b = tmp.path().join("b");
+    // JOB_COMPLETION_INDEX 0 of 2 is --shard 1/2.
+    dataset(&a, &["--shard-index", "0", "--shard-count", "2"]);
+    dataset(&b, &["--shard", "1/2"]);
+    assert!(worlds(&a) == worlds(&b));
+    assert_eq!(index(&a).len(), 3);
+    let bad = |extra: &[&str]| {
+        let mut args = vec![
+            "dataset",
+            "--preset",
+            "cave",
+            "--count",
+            "2",
+            "--no-mesh",
+            "--out",
+            arg(&a),
+        ];
+        args.extend_from_slice(extra);
+        fails(&args)
+    };
+    let e = bad(&["--shard-index", "2", "--shard-count", "2"]);
+    assert!(
+        e.contains("--shard-index 2 is out of range for --shard-count 2") && e.contains("0-based"),
+        "{e}"
+    );
+    for (extra, says) in [
+        (
+            &["--shard-index", "-1", "--shard-count", "2"][..],
+            "--shard-index '-1'",
+        ),
+        (
+            &["--shard-index", "0", "--shard-count", "0"],
+            "--shard-count '0'",
+        ),
+        (
+            &["--shard-index", "x", "--shard-count", "2"],
+            "--shard-index 'x'",
+        ),
+    ] {
+        let e = bad(extra);
+        assert!(
+            e.contains(says) && e.contains("JOB_COMPLETION_INDEX"),
+            "{extra:?}: {e}"
+        );
+    }
+    // One spelling at a time, and both halves of the 0-based one.
+    let e = bad(&["--shard", "1/2", "--shard-index", "0", "--shard-count", "2"]);
+    assert!(e.contains("cannot be used with"), "{e}");
+    let e = bad(&["--shard-index", "0"]);
+    assert!(e.contains("--shard-count"), "{e}");
+    let e = bad(&["--shard-count", "2"]);
+    assert!(e.contains("--shard-index"), "{e}");
+}
+
+#[test]
+fn the_note_about_a_skipped_exporter_is_printed_once() {
+    let tmp = tempfile::tempdir().unwrap();
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/datasets");
+    let files: Vec<String> = ["mine", "cave", "lava-tube"]
+        .iter()
+        .map(|p| root.join(format!("paper-{p}.toml")).display().to_string())
+        .collect();
+    let out = tmp.path().join("d");
+    let mut args = vec!["dataset"];
+    args.extend(files.iter().map(String::as_str));
+    args.extend(["--count", "1", "--no-mesh", "--out", arg(&out)]);
+    let run = common::subtgraph(&args);
+    let stderr = String::from_utf8_lossy(&run.stderr);
+    assert!(run.status.success(), "{stderr}");
+    assert_eq!(
+        stderr.matches("skipping exporter 'obj'").count(),
+        1,
+        "three sources export obj: one note\n{stderr}"
+    );
 }

@@ -146,10 +146,7 @@ fn known_grids_give_the_values_computed_by_hand() {
     );
     let worlds = std::fs::read_to_string(report.join("worlds.csv")).unwrap();
     assert_eq!(worlds.lines().count(), 7);
-    assert!(
-        worlds.contains("original,world_1/topological,1,8,8,6,5,"),
-        "{worlds}"
-    );
+    assert!(worlds.contains("original,world_1,1,8,8,6,5,"), "{worlds}");
 
     // Plots: PNGs decode and are not blank; SVGs are XML (checked by Python below).
     for name in [
@@ -293,4 +290,96 @@ fn nothing_usable_is_an_error() {
         "middle",
     ]);
     assert!(e.contains("--crop common"), "{e}");
+}
+
+/// A bar along row `row` from column `from` to column 6 in one of the original's encodings:
+/// spatial (1 dead end, 2 straight), topological (10 node, 1 edge) or structural (0/1).
+fn bar_in(dir: &Path, file: &str, row: usize, from: usize, encoding: &str) {
+    let mut codes = vec![0u8; 64];
+    for c in from..=6 {
+        let end = c == from || c == 6;
+        codes[row * 8 + c] = match (encoding, end) {
+            ("spatial", true) => 1,
+            ("spatial", false) => 2,
+            ("topological", true) => 10,
+            _ => 1,
+        };
+    }
+    std::fs::create_dir_all(dir).unwrap();
+    std::fs::write(dir.join(file), npy::encode_u8(&[8, 8], &codes)).unwrap();
+}
+
+#[test]
+fn a_world_saved_in_three_encodings_is_one_world() {
+    const ENCODINGS: [&str; 3] = ["spatial", "topological", "structural"];
+    let tmp = tempfile::tempdir().unwrap();
+    // Flat: world_1 (a bar of 6 cells) and world_2 (5 of those cells), each in three files.
+    let flat = tmp.path().join("flat");
+    for e in ENCODINGS {
+        bar_in(&flat, &format!("world_1_{e}.npy"), 3, 1, e);
+        bar_in(&flat, &format!("world_2_{e}.npy"), 3, 2, e);
+    }
+    // The original's own layout: a folder per world, `pkl/subtgraph.ENCODING` (as .npy).
+    let nested = tmp.path().join("nested");
+    for e in ENCODINGS {
+        bar_in(
+            &nested.join("2024-01-01-a/pkl"),
+            &format!("subtgraph.{e}.npy"),
+            3,
+            1,
+            e,
+        );
+        bar_in(&nested.join("2024-01-01-b"), &format!("{e}.npy"), 3, 2, e);
+    }
+    let report = tmp.path().join("report");
+    let out = subtgraph(&["stats", arg(&flat), arg(&nested), "--out", arg(&report)]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success(), "{stderr}");
+    let stats: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(report.join("stats.json")).unwrap()).unwrap();
+    for name in ["flat", "nested"] {
+        let g = group(&stats, name);
+        assert_eq!(g["worlds"], 2, "{name}: two worlds, not six files");
+        // One pair: 5 shared cells of 6; copies of one world would add pairs of IoU 1.
+        assert_eq!(g["pairwise_iou"]["pairs"], 1, "{name}");
+        assert!(close(&g["pairwise_iou"]["mean"], 5.0 / 6.0), "{name}: {g}");
+    }
+    // The report says which file each world was measured from: the spatial encoding.
+    let merged = stats["merged_encodings"].as_array().unwrap();
+    assert_eq!(merged.len(), 4, "{merged:?}");
+    for m in merged {
+        assert!(m["used"].as_str().unwrap().contains("spatial"), "{m}");
+        assert_eq!(m["left_out"].as_array().unwrap().len(), 2, "{m}");
+    }
+    let worlds = std::fs::read_to_string(report.join("worlds.csv")).unwrap();
+    for w in [
+        "flat,world_1,",
+        "flat,world_2,",
+        "nested,2024-01-01-a,",
+        "nested,2024-01-01-b,",
+    ] {
+        assert!(worlds.contains(w), "{w}: {worlds}");
+    }
+    assert!(
+        stdout.contains("4 world(s) were found in several encodings") && stdout.contains("spatial"),
+        "the summary says so: {stdout}"
+    );
+
+    // A broken spatial file falls back to the next encoding, with a warning naming it.
+    std::fs::write(flat.join("world_1_spatial.npy"), b"\x93NUMPY garbage").unwrap();
+    let out = subtgraph(&["stats", arg(&flat), "--out", arg(&report)]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{stderr}");
+    assert!(stderr.contains("world_1_spatial.npy"), "{stderr}");
+    let stats: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(report.join("stats.json")).unwrap()).unwrap();
+    assert_eq!(group(&stats, "flat")["worlds"], 2);
+    let used: Vec<&str> = stats["merged_encodings"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|m| m["used"].as_str().unwrap())
+        .collect();
+    assert!(used.contains(&"world_1_topological.npy"), "{used:?}");
 }

@@ -45,7 +45,9 @@ pub struct Source {
 }
 
 /// This machine's share of a dataset: `I/N` makes every N-th world of the global list,
-/// starting with the I-th (1-based).
+/// starting with the I-th (1-based). Written `--shard I/N` (1-based, as Slurm numbers array
+/// tasks) or `--shard-index K --shard-count N` (0-based, as Kubernetes numbers the pods of an
+/// indexed Job): two spellings, so neither needs arithmetic in a job script.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Shard {
     /// 1-based index of this shard.
@@ -61,6 +63,39 @@ impl Shard {
     /// Whether this shard makes the world at `position` of the global list.
     pub fn owns(&self, position: usize) -> bool {
         position % self.count == self.index - 1
+    }
+}
+
+impl Shard {
+    /// `--shard-index K --shard-count N`: the K-th of N shards counted from 0
+    /// (`JOB_COMPLETION_INDEX` of a Kubernetes indexed Job). Takes the flags' text, so a
+    /// negative or missing number gets the same message as one out of range.
+    pub fn zero_based(index: &str, count: &str) -> Result<Shard, String> {
+        let help = "write --shard-index K --shard-count N with whole numbers 0 <= K < N \
+                    (in a Kubernetes indexed Job: --shard-index $JOB_COMPLETION_INDEX --shard-count \
+                    and its completions), or --shard I/N counted from 1";
+        let n = count
+            .trim()
+            .parse::<usize>()
+            .ok()
+            .filter(|&n| n >= 1)
+            .ok_or_else(|| {
+                format!("--shard-count '{count}' is not a whole number of at least 1; {help}")
+            })?;
+        let k = index
+            .trim()
+            .parse::<usize>()
+            .map_err(|_| format!("--shard-index '{index}' is not a whole number; {help}"))?;
+        if k >= n {
+            return Err(format!(
+                "--shard-index {k} is out of range for --shard-count {n}: the index is 0-based, from 0 to {}; {help}",
+                n - 1
+            ));
+        }
+        Ok(Shard {
+            index: k + 1,
+            count: n,
+        })
     }
 }
 
@@ -141,8 +176,12 @@ pub fn plan(names: &[&str], count: usize, base: u64) -> Vec<Planned> {
 pub struct Summary {
     /// Worlds made by this run.
     pub made: usize,
-    /// Complete worlds found and kept.
+    /// Complete worlds found and kept, also those another process (a shard writing into the
+    /// same folder) finished while this run ran.
     pub skipped: usize,
+    /// Worlds another process was still making when this run ended, with its process id:
+    /// left to it (its own run indexes them when it ends).
+    pub elsewhere: Vec<(String, u32)>,
     /// Worlds in the rebuilt index (all shards' so far).
     pub indexed: usize,
 }
@@ -169,16 +208,19 @@ pub fn run(sources: &[Source], opts: &Options) -> Result<Summary> {
     // Decide what to make before making anything: a folder of another dataset is an error.
     let mut todo = Vec::new();
     let mut skipped = 0;
+    let mut busy = Vec::new();
     for w in &mine {
         match existing(&opts.out, w)? {
             Existing::Complete => skipped += 1,
             Existing::Absent => todo.push(*w),
+            Existing::InProgress(pid) => busy.push((*w, pid)),
         }
     }
 
     let progress = Mutex::new(progress::Progress::new(todo.len(), skipped));
     let next = AtomicUsize::new(0);
     let failures = Mutex::new(Vec::new());
+    let meanwhile = AtomicUsize::new(0);
     let jobs = opts.jobs.clamp(1, todo.len().max(1));
     std::thread::scope(|scope| {
         for _ in 0..jobs {
@@ -187,11 +229,15 @@ pub fn run(sources: &[Source], opts: &Options) -> Result<Summary> {
                     let k = next.fetch_add(1, Ordering::Relaxed);
                     let Some(w) = todo.get(k) else { break };
                     let result = make_world(&sources[w.source], w, opts);
-                    if let Err(e) = &result {
-                        failures
+                    match &result {
+                        Ok(Made::Here) => {}
+                        Ok(Made::Elsewhere) => {
+                            meanwhile.fetch_add(1, Ordering::Relaxed);
+                        }
+                        Err(e) => failures
                             .lock()
                             .expect("no worker panics holding it")
-                            .push(format!("{}: {e:#}", w.name));
+                            .push(format!("{}: {e:#}", w.name)),
                     }
                     progress
                         .lock()
@@ -202,6 +248,31 @@ pub fn run(sources: &[Source], opts: &Options) -> Result<Summary> {
         }
     });
     progress.into_inner().expect("workers are done").close();
+    let meanwhile = meanwhile.into_inner();
+    // The worlds other processes were making: finished by now, or still theirs.
+    let mut elsewhere = Vec::new();
+    for (w, pid) in busy {
+        match existing_folder(&opts.out, w)? {
+            Existing::Complete => skipped += 1,
+            _ => elsewhere.push((w.name.clone(), pid)),
+        }
+    }
+    if meanwhile > 0 {
+        eprintln!(
+            "note: {meanwhile} world(s) were made by another process writing into the same folder (a shard) while this run made them: kept"
+        );
+    }
+    if !elsewhere.is_empty() {
+        let list: Vec<String> = elsewhere
+            .iter()
+            .map(|(name, pid)| format!("{name} (process {pid})"))
+            .collect();
+        eprintln!(
+            "note: {} world(s) are being made by another process writing into the same folder, left to it: {}; that run indexes them when it ends (or run this command again then)",
+            elsewhere.len(),
+            list.join(", ")
+        );
+    }
     let indexed = index::rebuild(&opts.out)?;
     let failures = failures.into_inner().expect("workers are done");
     if !failures.is_empty() {
@@ -213,8 +284,9 @@ pub fn run(sources: &[Source], opts: &Options) -> Result<Summary> {
         );
     }
     Ok(Summary {
-        made: todo.len(),
-        skipped,
+        made: todo.len() - meanwhile,
+        skipped: skipped + meanwhile,
+        elsewhere,
         indexed,
     })
 }
@@ -248,19 +320,56 @@ fn prepare_out(out: &Path) -> Result<()> {
 enum Existing {
     Complete,
     Absent,
+    /// Another live process (this id) is writing it: its hidden partial folder is there.
+    InProgress(u32),
 }
 
-/// Whether a planned world is already complete. Leftovers of an interrupted run (hidden
-/// `.NAME.partial-*` folders, a folder without `world.toml`) are removed so it is made again.
+/// Whether a planned world is already complete, or being made by another process (a shard or
+/// another run into the same folder). Leftovers of an interrupted run (hidden
+/// `.NAME.partial-*` folders of processes that are gone, a folder without `world.toml`) are
+/// removed so it is made again.
 fn existing(out: &Path, w: &Planned) -> Result<Existing> {
+    if let Some(pid) = partial_folders(out, w)? {
+        return Ok(Existing::InProgress(pid));
+    }
+    existing_folder(out, w)
+}
+
+/// Removes the hidden `.NAME.partial-PID-*` folders of a world whose process is gone; returns
+/// the id of a live process still writing one (left alone: it is that process's work).
+///
+/// A process id says something only on the machine that wrote it: on a folder shared by
+/// several machines, another machine's live shard may look gone here (its folder is then
+/// removed and that shard reports the world failed; running it again makes it), and rarely
+/// a gone one may look alive (the world is left out and made by the next run).
+fn partial_folders(out: &Path, w: &Planned) -> Result<Option<u32>> {
     let prefix = format!(".{}.partial-", w.name);
+    let mut live = None;
     for entry in std::fs::read_dir(out).with_context(|| format!("reading {}", out.display()))? {
         let entry = entry?;
-        if entry.file_name().to_string_lossy().starts_with(&prefix) {
-            std::fs::remove_dir_all(entry.path())
-                .with_context(|| format!("removing the leftover {}", entry.path().display()))?;
+        let file = entry.file_name().to_string_lossy().into_owned();
+        let Some(rest) = file.strip_prefix(&prefix) else {
+            continue;
+        };
+        let pid = rest.split('-').next().and_then(|p| p.parse::<u32>().ok());
+        match pid {
+            Some(pid) if pid != std::process::id() && process_alive(pid) => live = Some(pid),
+            _ => std::fs::remove_dir_all(entry.path())
+                .with_context(|| format!("removing the leftover {}", entry.path().display()))?,
         }
     }
+    Ok(live)
+}
+
+/// Whether a process with this id runs on this machine (`/proc/PID`; where there is no
+/// `/proc`, every process counts as gone, as before this check).
+fn process_alive(pid: u32) -> bool {
+    Path::new("/proc").join(pid.to_string()).is_dir()
+}
+
+/// Whether the world's folder holds this dataset's world (complete), nothing (absent), or
+/// another dataset's world (an error). A folder without `world.toml` is a leftover: removed.
+fn existing_folder(out: &Path, w: &Planned) -> Result<Existing> {
     let dir = out.join(&w.name);
     if !dir.exists() {
         return Ok(Existing::Absent);
@@ -292,8 +401,24 @@ pub fn recorded_seed(world_toml: &str) -> Option<u64> {
     u64::try_from(seed).ok()
 }
 
+/// Who made a world this run set out to make.
+#[derive(Debug, PartialEq, Eq)]
+enum Made {
+    /// This run.
+    Here,
+    /// Another process writing into the same folder (a shard), since this run planned it:
+    /// the same world (same seed), kept.
+    Elsewhere,
+}
+
 /// Generates one world and writes its folder, then its run facts beside it.
-fn make_world(source: &Source, w: &Planned, opts: &Options) -> Result<()> {
+fn make_world(source: &Source, w: &Planned, opts: &Options) -> Result<Made> {
+    // Another process may have made it since the plan: then there is nothing to do.
+    if opts.out.join(&w.name).exists()
+        && matches!(existing_folder(&opts.out, w)?, Existing::Complete)
+    {
+        return Ok(Made::Elsewhere);
+    }
     let mut p = source.pipeline.clone();
     p.world.seed = w.seed;
     let started = Instant::now();
@@ -303,14 +428,46 @@ fn make_world(source: &Source, w: &Planned, opts: &Options) -> Result<()> {
     );
     let world = make::generate(&p, &source.registry, &description)?;
     let generation_s = started.elapsed().as_secs_f64();
-    make::write(&world, &source.exporters, &opts.out.join(&w.name), false)?;
+    if write_world(&world, source, w, opts)? == Made::Elsewhere {
+        return Ok(Made::Elsewhere);
+    }
     let facts = RunFacts {
         generation_s,
         total_s: started.elapsed().as_secs_f64(),
         visual_triangles: world.mesh.as_ref().map(|m| m.visual.triangle_count()),
         collision_triangles: world.mesh.as_ref().map(|m| m.collision.triangle_count()),
     };
-    index::write_facts(&opts.out, &w.name, &facts).map_err(|e| anyhow!(e))
+    index::write_facts(&opts.out, &w.name, &facts).map_err(|e| anyhow!(e))?;
+    Ok(Made::Here)
+}
+
+/// Writes a generated world's folder. When the folder appeared while this run made it
+/// (another process writing into the same folder got there first), the same world is there
+/// already: that is no failure, and [`Made::Elsewhere`] is returned (the caller then writes
+/// no run facts: the process that made it writes its own).
+fn write_world(
+    world: &subtgraph_core::World,
+    source: &Source,
+    w: &Planned,
+    opts: &Options,
+) -> Result<Made> {
+    let dir = opts.out.join(&w.name);
+    match make::write(world, &source.exporters, &dir, false) {
+        Ok(()) => Ok(Made::Here),
+        Err(e) if dir.exists() => match existing_folder(&opts.out, w)? {
+            Existing::Complete => Ok(Made::Elsewhere),
+            // Not a world (a folder without world.toml, now removed): say so without the
+            // folder writer's words about --force, which dataset does not have.
+            _ => {
+                drop(e);
+                bail!(
+                    "{} appeared while this run was making it, and held no world; run the same command again to make it",
+                    dir.display()
+                )
+            }
+        },
+        Err(e) => Err(e),
+    }
 }
 
 #[cfg(test)]
@@ -341,5 +498,68 @@ mod tests {
             let e = bad.parse::<Shard>().unwrap_err();
             assert!(e.contains("write --shard I/N"), "{bad}: {e}");
         }
+    }
+
+    #[test]
+    fn a_world_another_process_wrote_since_the_plan_is_kept_not_a_failure() {
+        let dir = tempfile::tempdir().unwrap();
+        let mut pipeline = crate::presets::load("cave").unwrap();
+        pipeline.tileset = None;
+        let source = Source {
+            name: "cave".into(),
+            description: "preset cave".into(),
+            pipeline,
+            registry: crate::registry(),
+            exporters: Vec::new(),
+        };
+        let opts = Options {
+            count: 1,
+            seed: 5,
+            out: dir.path().join("d"),
+            jobs: 1,
+            shard: Shard::ALL,
+        };
+        let sources = std::slice::from_ref(&source);
+        // This run planned cave-0000; another process then made it.
+        run(sources, &opts).unwrap();
+        let w = &plan(&["cave"], 1, 5)[0];
+        let before = std::fs::read(opts.out.join("cave-0000/topology.json")).unwrap();
+        let made = make_world(&source, w, &opts);
+        assert_eq!(
+            made.expect("the same world, made meanwhile, is no failure"),
+            Made::Elsewhere
+        );
+        // The same, when it appears while this run generates it (after the check above).
+        let mut p = source.pipeline.clone();
+        p.world.seed = w.seed;
+        let world = make::generate(&p, &source.registry, "preset cave").unwrap();
+        assert_eq!(
+            write_world(&world, &source, w, &opts).unwrap(),
+            Made::Elsewhere
+        );
+        assert_eq!(
+            std::fs::read(opts.out.join("cave-0000/topology.json")).unwrap(),
+            before
+        );
+        // A folder of another dataset that appears meanwhile is an error naming real flags.
+        let other = Planned {
+            seed: w.seed + 1,
+            ..w.clone()
+        };
+        let e = write_world(&world, &source, &other, &opts).unwrap_err();
+        let text = format!("{e:#}");
+        assert!(text.contains("belongs to another dataset"), "{text}");
+        assert!(!text.contains("--force"), "{text}");
+        let leftovers = std::fs::read_dir(&opts.out)
+            .unwrap()
+            .filter(|e| {
+                e.as_ref()
+                    .unwrap()
+                    .file_name()
+                    .to_string_lossy()
+                    .contains("partial")
+            })
+            .count();
+        assert_eq!(leftovers, 0);
     }
 }
