@@ -2,6 +2,14 @@
 //! original tool's `.npy` grids in any of its encodings. Every grid goes through the same
 //! import (classification, shafts, graph), so ours and the original's are measured alike.
 //! Files that are not worlds are skipped with a warning naming them.
+//!
+//! The original tool saves every world three times, in its spatial, topological and
+//! structural encodings (`<world>/pkl/subtgraph.spatial.pkl`, `.topological`, `.structural`;
+//! `.npy` once converted, often renamed `world_12_spatial.npy`, ...). Counting each file as a
+//! world would put three copies of every world in the statistics (pairwise IoU 1 between
+//! them), so files whose stems differ only by the encoding's name, or that are the only grids
+//! of one folder, are one world, measured from its spatial encoding (it alone marks shafts);
+//! the report lists each such world and the files left out.
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -41,6 +49,9 @@ pub struct Sample {
     /// Per level and structure (`t-junction`, `intersection`, `loop`): `(requested, expected,
     /// achieved)`; empty for the original's grids, which record no request.
     pub constraints: Vec<BTreeMap<String, (u64, u64, u64)>>,
+    /// For a world of the original's found in several files (encodings): the file measured
+    /// and the others, left out. Empty otherwise.
+    pub encodings: Option<(String, Vec<String>)>,
 }
 
 /// One input argument's worlds.
@@ -140,42 +151,47 @@ fn collect(path: &Path, group: &str, out: &mut Vec<Sample>, top: bool) {
         }
         return;
     }
-    if !top {
-        // A folder per world of the original tool's grids: each .npy in it is a world.
-        let mut grids: Vec<PathBuf> = std::fs::read_dir(path)
-            .map(|d| {
-                d.filter_map(|e| e.ok().map(|e| e.path()))
-                    .filter(|p| p.is_file() && p.extension().is_some_and(|e| e == "npy"))
-                    .collect()
-            })
-            .unwrap_or_default();
-        grids.sort();
-        if grids.is_empty() {
-            warn(
-                path,
-                "a folder without occupancy.npy or .npy grids is not a world",
-            );
-        }
-        let folder = path
-            .file_name()
-            .map_or(String::new(), |n| n.to_string_lossy().into_owned());
-        for grid in grids {
-            match load_npy(&grid, group, None) {
-                Ok(mut s) => {
-                    s.name = format!("{folder}/{}", s.name);
-                    out.push(s);
-                }
-                Err(e) => warn(&grid, &format!("{e:#}")),
-            }
-        }
-        return;
-    }
     let Ok(entries) = std::fs::read_dir(path) else {
         warn(path, "cannot be read");
         return;
     };
     let mut paths: Vec<PathBuf> = entries.filter_map(|e| e.ok().map(|e| e.path())).collect();
     paths.sort();
+    let folder = path
+        .file_name()
+        .map_or(String::new(), |n| n.to_string_lossy().into_owned());
+    let is_npy = |p: &Path| p.is_file() && p.extension().is_some_and(|e| e == "npy");
+    if !top {
+        // A folder per world of the original tool's grids: its .npy files, or those of its
+        // subfolders (the original's `<world>/pkl/`), are that world's encodings; a folder
+        // of several worlds' grids names each by its stem.
+        let mut grids: Vec<PathBuf> = paths.iter().filter(|p| is_npy(p)).cloned().collect();
+        if grids.is_empty() {
+            for dir in paths.iter().filter(|p| p.is_dir()) {
+                let mut inner: Vec<PathBuf> = std::fs::read_dir(dir)
+                    .map(|d| d.filter_map(|e| e.ok().map(|e| e.path())).collect())
+                    .unwrap_or_default();
+                inner.retain(|p| is_npy(p));
+                inner.sort();
+                grids.extend(inner);
+            }
+        }
+        if grids.is_empty() {
+            warn(
+                path,
+                "a folder without occupancy.npy or .npy grids is not a world",
+            );
+        }
+        add_grids(path, &grids, group, out, |key, only| {
+            if only || key.is_empty() {
+                folder.clone()
+            } else {
+                format!("{folder}/{key}")
+            }
+        });
+        return;
+    }
+    let mut grids = Vec::new();
     for p in paths {
         let file = p
             .file_name()
@@ -184,10 +200,106 @@ fn collect(path: &Path, group: &str, out: &mut Vec<Sample>, top: bool) {
         if file.starts_with('.') || file == "index.json" || file == "index.csv" {
             continue;
         }
-        if p.is_dir() || p.extension().is_some_and(|e| e == "npy") {
+        if p.is_dir() {
             collect(&p, group, out, false);
+        } else if is_npy(&p) {
+            grids.push(p);
         } else {
             warn(&p, "not a world folder or a .npy grid");
+        }
+    }
+    add_grids(path, &grids, group, out, |key, _| {
+        if key.is_empty() {
+            folder.clone()
+        } else {
+            key.to_owned()
+        }
+    });
+}
+
+/// The original's encodings, in the order one is preferred to measure a world from: spatial
+/// marks shafts and tile kinds; topological marks nodes; structural is plain 0/1 (and wrong
+/// for the original's multi-level worlds).
+const ENCODINGS: [&str; 3] = ["spatial", "topological", "structural"];
+
+/// A grid file's world and encoding, from its stem: `world_12_spatial` is world `world_12`
+/// in encoding 0, `subtgraph.topological` world `subtgraph` in encoding 1, `spatial` the
+/// folder's world; any other stem is a world of its own, in an encoding the values tell.
+fn world_and_encoding(stem: &str) -> (String, Option<usize>) {
+    let lower = stem.to_ascii_lowercase();
+    for (rank, name) in ENCODINGS.iter().enumerate() {
+        if lower == *name {
+            return (String::new(), Some(rank));
+        }
+        if let Some(base) = lower
+            .strip_suffix(name)
+            .and_then(|b| b.strip_suffix(['.', '_', '-']))
+        {
+            return (stem[..base.len()].to_owned(), Some(rank));
+        }
+    }
+    (stem.to_owned(), None)
+}
+
+/// Adds the worlds of `grids` (files in `dir` or its subfolders): files of one world (same
+/// subfolder and stem but for the encoding) are one world, measured from the first of its
+/// files that loads in [`ENCODINGS`] order. `name(world, only)` names it from its stem
+/// without the encoding (`only`: it is the only world among `grids`).
+fn add_grids(
+    dir: &Path,
+    grids: &[PathBuf],
+    group: &str,
+    out: &mut Vec<Sample>,
+    name: impl Fn(&str, bool) -> String,
+) {
+    let mut worlds: BTreeMap<String, Vec<(usize, &PathBuf)>> = BTreeMap::new();
+    for grid in grids {
+        let stem = grid
+            .file_stem()
+            .map_or(String::new(), |n| n.to_string_lossy().into_owned());
+        let (world, rank) = world_and_encoding(&stem);
+        let sub = grid
+            .parent()
+            .and_then(|p| p.strip_prefix(dir).ok())
+            .map(|p| p.to_string_lossy().into_owned())
+            .unwrap_or_default();
+        let key = match (sub.is_empty(), world.is_empty()) {
+            (true, _) => world,
+            (false, true) => sub,
+            (false, false) => format!("{sub}/{world}"),
+        };
+        worlds
+            .entry(key)
+            .or_default()
+            .push((rank.unwrap_or(ENCODINGS.len()), grid));
+    }
+    let only = worlds.len() == 1;
+    for (key, mut files) in worlds {
+        files.sort();
+        let label = |p: &Path| {
+            p.strip_prefix(dir)
+                .unwrap_or(p)
+                .to_string_lossy()
+                .into_owned()
+        };
+        for (k, (_, file)) in files.iter().enumerate() {
+            match load_npy(file, group, None) {
+                Ok(mut s) => {
+                    s.name = name(&key, only);
+                    if files.len() > 1 {
+                        let others = files
+                            .iter()
+                            .enumerate()
+                            .filter(|&(j, _)| j != k)
+                            .map(|(_, (_, f))| label(f))
+                            .collect();
+                        s.encodings = Some((label(file), others));
+                    }
+                    out.push(s);
+                    break;
+                }
+                Err(e) => warn(file, &format!("{e:#}")),
+            }
         }
     }
 }
@@ -290,5 +402,6 @@ pub fn sample_of(world: &World, group: &str, name: String) -> Sample {
         degrees,
         corridors,
         constraints: Vec::new(),
+        encodings: None,
     }
 }

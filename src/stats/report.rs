@@ -137,6 +137,19 @@ pub struct GroupStats {
     pub graph: GraphStats,
 }
 
+/// A world of the original tool's found in several files (its encodings), counted once.
+#[derive(Clone, Debug, Serialize)]
+pub struct Merged {
+    /// Its group.
+    pub group: String,
+    /// Its name.
+    pub world: String,
+    /// The file it was measured from (the spatial encoding when there is one that loads).
+    pub used: String,
+    /// Its other files, left out.
+    pub left_out: Vec<String>,
+}
+
 /// Everything the report holds.
 #[derive(Clone, Debug, Serialize)]
 pub struct Stats {
@@ -146,6 +159,10 @@ pub struct Stats {
     pub crop: &'static str,
     /// What the IoU numbers are.
     pub note: &'static str,
+    /// How the original's grids in several encodings are counted.
+    pub encodings_note: &'static str,
+    /// The worlds found in several encodings, each counted once.
+    pub merged_encodings: Vec<Merged>,
     /// Per group, in input order.
     pub groups: Vec<GroupStats>,
     /// Every world together.
@@ -230,6 +247,19 @@ pub(super) fn compute(groups: &[Group], crop: Crop) -> Stats {
         format: "subtgraph-stats/1",
         crop: crop.name(),
         note: "IoU is the true |A and B| / |A or B|; eq19_as_printed is the paper's formula as printed (divides by |A| + |B|, at most 0.5). Pairwise IoU compares level 0; mirror asymmetry averages every level.",
+        encodings_note: "The original tool saves each world in three encodings (spatial, topological, structural). Grid files whose names differ only by the encoding (world_12_spatial.npy, world_12_topological.npy; subtgraph.spatial.npy, ...), or that are the only grids of one folder, are one world, counted once and measured from its spatial encoding (else topological, else structural); merged_encodings lists each such world and the files left out.",
+        merged_encodings: samples
+            .iter()
+            .filter_map(|s| {
+                let (used, left_out) = s.encodings.clone()?;
+                Some(Merged {
+                    group: s.group.clone(),
+                    world: s.name.clone(),
+                    used,
+                    left_out,
+                })
+            })
+            .collect(),
         groups: group_stats,
         all: stats_of("all", &samples, &matrix, 0..n),
         between_groups_iou: between,

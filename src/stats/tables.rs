@@ -158,6 +158,23 @@ pub(super) fn summary(stats: &Stats, out: &Path) -> String {
             mix.join(" / ")
         );
     }
+    if !stats.merged_encodings.is_empty() {
+        let files: usize = stats
+            .merged_encodings
+            .iter()
+            .map(|m| 1 + m.left_out.len())
+            .sum();
+        let spatial = stats
+            .merged_encodings
+            .iter()
+            .filter(|m| m.used.contains("spatial"))
+            .count();
+        let _ = writeln!(
+            t,
+            "note: {} world(s) were found in several encodings ({files} files of the original's spatial, topological, structural grids): each is counted once, {spatial} of them from the spatial encoding (the rest from the next that loads); stats.json lists them (merged_encodings)",
+            stats.merged_encodings.len()
+        );
+    }
     let _ = write!(
         t,
         "wrote {}: stats.json, groups.csv, worlds.csv, pairwise-iou*.csv, plots (SVG and PNG)",
