@@ -113,7 +113,9 @@ impl std::str::FromStr for Shard {
                 Ok(Shard { index: i, count: n })
             }
             (Some(i), Some(n)) => Err(format!(
-                "--shard {i}/{n} is out of range: I must be between 1 and N (N >= 1); {help}"
+                "--shard {i}/{n} is out of range: I must be between 1 and N (N >= 1); {help}; \
+                 for a 0-based index (Kubernetes' JOB_COMPLETION_INDEX) write \
+                 --shard-index K --shard-count N"
             )),
             _ => Err(format!("--shard '{s}' is not two whole numbers; {help}")),
         }
@@ -497,6 +499,21 @@ mod tests {
         for bad in ["5/4", "0/2", "a/b", "2", "1/0", "-1/2"] {
             let e = bad.parse::<Shard>().unwrap_err();
             assert!(e.contains("write --shard I/N"), "{bad}: {e}");
+        }
+        assert!(
+            "0/2"
+                .parse::<Shard>()
+                .unwrap_err()
+                .contains("--shard-index K --shard-count N")
+        );
+        // K of N counted from 0 is the same shard as K+1 of N counted from 1.
+        for n in 1..5 {
+            for k in 0..n {
+                let one: Shard = format!("{}/{n}", k + 1).parse().unwrap();
+                assert_eq!(Shard::zero_based(&k.to_string(), &n.to_string()), Ok(one));
+            }
+            let e = Shard::zero_based(&n.to_string(), &n.to_string()).unwrap_err();
+            assert!(e.contains("out of range"), "{e}");
         }
     }
 
