@@ -98,6 +98,17 @@ pub fn generate(p: &Pipeline, registry: &Registry, source: &str) -> Result<World
 
 /// Writes the world folder (its own files, then every exporter's) at `out`, atomically.
 pub fn write(world: &World, exporters: &[NamedExporter], out: &Path, force: bool) -> Result<()> {
+    let parent = match out.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p,
+        _ => Path::new("."),
+    };
+    match crate::folder::sweep_stale(parent) {
+        Ok(0) | Err(_) => {}
+        Ok(n) => eprintln!(
+            "note: removed {n} unfinished folder(s) in {} left by runs that were killed",
+            parent.display()
+        ),
+    }
     crate::folder::write_atomically(out, force, |w| {
         subtgraph_exporters::write_world_folder(world, w)?;
         for e in exporters {
