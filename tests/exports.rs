@@ -180,25 +180,62 @@ fn force_never_deletes_a_users_files() {
     std::fs::write(f.join("world.toml"), "mine\n").unwrap();
     std::fs::write(f.join("data.bin"), "v\n").unwrap();
     let e = fails(&[
-        "generate", "--preset", "cave", "--no-mesh", "--force", "--out", arg(&f),
+        "generate",
+        "--preset",
+        "cave",
+        "--no-mesh",
+        "--force",
+        "--out",
+        arg(&f),
     ]);
-    assert!(e.contains("not a world folder written by subtgraph"), "{e}");
+    assert!(e.contains("not a folder written by subtgraph"), "{e}");
     assert_eq!(std::fs::read_to_string(f.join("data.bin")).unwrap(), "v\n");
-    assert_eq!(std::fs::read_to_string(f.join("world.toml")).unwrap(), "mine\n");
+    assert_eq!(
+        std::fs::read_to_string(f.join("world.toml")).unwrap(),
+        "mine\n"
+    );
 
     let w = dir.path().join("w");
-    ok(&["generate", "--preset", "cave", "--no-mesh", "--out", arg(&w)]);
+    ok(&[
+        "generate",
+        "--preset",
+        "cave",
+        "--no-mesh",
+        "--out",
+        arg(&w),
+    ]);
     std::fs::write(w.join("notes.md"), "my results\n").unwrap();
     let e = fails(&[
-        "generate", "--preset", "cave", "--no-mesh", "--force", "--out", arg(&w),
+        "generate",
+        "--preset",
+        "cave",
+        "--no-mesh",
+        "--force",
+        "--out",
+        arg(&w),
     ]);
     assert!(e.contains("notes.md") && e.contains("did not write"), "{e}");
-    assert_eq!(std::fs::read_to_string(w.join("notes.md")).unwrap(), "my results\n");
+    assert_eq!(
+        std::fs::read_to_string(w.join("notes.md")).unwrap(),
+        "my results\n"
+    );
     std::fs::remove_file(w.join("notes.md")).unwrap();
     ok(&[
-        "generate", "--preset", "cave", "--no-mesh", "--force", "--seed", "3", "--out", arg(&w),
+        "generate",
+        "--preset",
+        "cave",
+        "--no-mesh",
+        "--force",
+        "--seed",
+        "3",
+        "--out",
+        arg(&w),
     ]);
-    assert!(std::fs::read_to_string(w.join("world.toml")).unwrap().contains("seed = 3"));
+    assert!(
+        std::fs::read_to_string(w.join("world.toml"))
+            .unwrap()
+            .contains("seed = 3")
+    );
     assert_eq!(names(dir.path()), ["f", "w"], "no leftovers");
 }
 
@@ -207,12 +244,32 @@ fn force_never_deletes_a_users_files() {
 fn odd_but_valid_out_paths_work() {
     let dir = tempfile::tempdir().unwrap();
     let w = dir.path().join("w");
-    ok(&["generate", "--preset", "cave", "--no-mesh", "--out", arg(&w)]);
     ok(&[
-        "generate", "--preset", "cave", "--no-mesh", "--force", "--out", arg(&w.join(".")),
+        "generate",
+        "--preset",
+        "cave",
+        "--no-mesh",
+        "--out",
+        arg(&w),
+    ]);
+    ok(&[
+        "generate",
+        "--preset",
+        "cave",
+        "--no-mesh",
+        "--force",
+        "--out",
+        arg(&w.join(".")),
     ]);
     let long = dir.path().join("x".repeat(240));
-    ok(&["generate", "--preset", "cave", "--no-mesh", "--out", arg(&long)]);
+    ok(&[
+        "generate",
+        "--preset",
+        "cave",
+        "--no-mesh",
+        "--out",
+        arg(&long),
+    ]);
     assert!(long.join("world.toml").is_file());
     let e = fails(&["plugins", "list", arg(dir.path())]);
     assert!(e.contains("is a folder, not a library"), "{e}");
@@ -224,7 +281,13 @@ fn interrupt_while_writing(out: &Path, signal: &str) -> (std::process::ExitStatu
     let parent = out.parent().unwrap();
     std::fs::create_dir_all(parent).unwrap();
     let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_subtgraph"))
-        .args(["generate", "--preset", "lava-tube", "--format", "obj,gltf,usd,sdf"])
+        .args([
+            "generate",
+            "--preset",
+            "lava-tube",
+            "--format",
+            "obj,gltf,usd,sdf",
+        ])
         .args(["--out", arg(out)])
         .stdout(std::process::Stdio::null())
         .stderr(std::process::Stdio::piped())
@@ -240,7 +303,10 @@ fn interrupt_while_writing(out: &Path, signal: &str) -> (std::process::ExitStatu
             child.try_wait().unwrap().is_none(),
             "the run ended before its folder was seen"
         );
-        assert!(started.elapsed().as_secs() < 120, "no temporary folder appeared");
+        assert!(
+            started.elapsed().as_secs() < 120,
+            "no temporary folder appeared"
+        );
         std::thread::sleep(std::time::Duration::from_millis(5));
     }
     std::thread::sleep(std::time::Duration::from_millis(50));
@@ -279,9 +345,47 @@ fn interrupted_and_killed_runs_leave_nothing_for_long() {
     // A user's look-alike folder (no manifest of ours) is never removed.
     let lookalike = parent.join(".x.partial-1-1");
     std::fs::create_dir(&lookalike).unwrap();
-    let out = subtgraph(&["generate", "--preset", "cave", "--no-mesh", "--out", arg(&parent.join("next"))]);
+    let out = subtgraph(&[
+        "generate",
+        "--preset",
+        "cave",
+        "--no-mesh",
+        "--out",
+        arg(&parent.join("next")),
+    ]);
     assert!(out.status.success());
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(err.contains("removed 1 unfinished folder"), "{err}");
     assert_eq!(names(&parent), [".x.partial-1-1", "next"]);
+}
+
+/// `preview` and `stats` write where they are told, but never over a user's file: a picture
+/// replaces only a picture `preview` drew, a report folder only a report.
+#[test]
+fn preview_and_stats_never_overwrite_a_users_files() {
+    let dir = tempfile::tempdir().unwrap();
+    let p = small_cave_pipeline(dir.path(), 1, "");
+    let w = dir.path().join("w");
+    ok(&["generate", arg(&p), "--out", arg(&w)]);
+    let photo = dir.path().join("photo.png");
+    std::fs::write(&photo, b"my holiday").unwrap();
+    let e = fails(&["preview", arg(&w), "--size", "64x48", "--out", arg(&photo)]);
+    assert!(e.contains("not a picture subtgraph preview drew"), "{e}");
+    assert_eq!(std::fs::read(&photo).unwrap(), b"my holiday");
+    let pic = dir.path().join("pic.png");
+    ok(&["preview", arg(&w), "--size", "64x48", "--out", arg(&pic)]);
+    ok(&["preview", arg(&w), "--size", "64x40", "--out", arg(&pic)]);
+
+    let report = dir.path().join("report");
+    ok(&["stats", arg(&w), "--out", arg(&report)]);
+    ok(&["stats", arg(&w), "--out", arg(&report)]);
+    std::fs::write(report.join("thesis.tex"), b"...").unwrap();
+    let e = fails(&["stats", arg(&w), "--out", arg(&report)]);
+    assert!(e.contains("thesis.tex"), "{e}");
+    assert!(report.join("thesis.tex").is_file());
+    let left: Vec<String> = names(dir.path());
+    assert_eq!(
+        left,
+        ["photo.png", "pic.png", "report", "small-cave.toml", "w"]
+    );
 }

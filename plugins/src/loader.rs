@@ -149,7 +149,9 @@ pub fn load(path: &Path, registry: &mut Registry) -> Result<LoadedPlugin, Plugin
                 path.join(first).display(),
                 libs.join(", ")
             ),
-            None => format!(" (the folder holds no {suffix} file; `cargo build --release` in the plugin's crate puts it under target/release/)"),
+            None => format!(
+                " (the folder holds no {suffix} file; `cargo build --release` in the plugin's crate puts it under target/release/)"
+            ),
         };
         return Err(PluginError::Folder {
             path: path.to_owned(),

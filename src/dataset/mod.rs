@@ -26,6 +26,7 @@ use anyhow::{Context, Result, anyhow, bail};
 use subtgraph_core::rng::derive_seed;
 use subtgraph_core::{Pipeline, Registry};
 
+use crate::folder::{FolderError, manifest};
 use crate::make::{self, NamedExporter};
 use index::RunFacts;
 
@@ -157,8 +158,8 @@ pub fn run(sources: &[Source], opts: &Options) -> Result<Summary> {
             );
         }
     }
-    prepare_out(&opts.out)?;
     let all = plan(&names, opts.count, opts.seed);
+    prepare_out(&opts.out, &all)?;
     let mine: Vec<&Planned> = all
         .iter()
         .enumerate()
@@ -166,13 +167,21 @@ pub fn run(sources: &[Source], opts: &Options) -> Result<Summary> {
         .map(|(_, w)| w)
         .collect();
 
-    // Decide what to make before making anything: a folder of another dataset is an error.
+    // Decide what to make before making anything: a folder of another dataset, or made with
+    // other options, is an error; a damaged world of this one is made again.
     let mut todo = Vec::new();
+    let mut damaged = Vec::new();
     let mut skipped = 0;
     for w in &mine {
-        match existing(&opts.out, w)? {
+        let expected = expected_world_toml(&sources[w.source], w, opts)?;
+        match existing(&opts.out, w, &expected)? {
             Existing::Complete => skipped += 1,
             Existing::Absent => todo.push(*w),
+            Existing::Damaged(why) => {
+                eprintln!("note: {} is incomplete ({why}); making it again", w.name);
+                todo.push(*w);
+                damaged.push(w.name.clone());
+            }
         }
     }
 
@@ -186,7 +195,8 @@ pub fn run(sources: &[Source], opts: &Options) -> Result<Summary> {
                 loop {
                     let k = next.fetch_add(1, Ordering::Relaxed);
                     let Some(w) = todo.get(k) else { break };
-                    let result = make_world(&sources[w.source], w, opts);
+                    let replace = damaged.contains(&w.name);
+                    let result = make_world(&sources[w.source], w, opts, replace);
                     if let Err(e) = &result {
                         failures
                             .lock()
@@ -219,13 +229,34 @@ pub fn run(sources: &[Source], opts: &Options) -> Result<Summary> {
     })
 }
 
-/// Creates the dataset folder and checks it can be written to, before any world is made.
-fn prepare_out(out: &Path) -> Result<()> {
+/// Creates the dataset folder and checks it can be written to, before any world is made. A
+/// folder that is not a dataset's yet must hold nothing but this dataset's worlds: the index
+/// files written there would replace a user's files of the same names.
+fn prepare_out(out: &Path, all: &[Planned]) -> Result<()> {
     if out.exists() && !out.is_dir() {
         bail!(
             "--out {} is a file; give a folder for the dataset",
             out.display()
         );
+    }
+    if out.is_dir() && !out.join(index::FACTS_DIR).is_dir() {
+        let mut foreign: Vec<String> = std::fs::read_dir(out)
+            .with_context(|| format!("reading --out {}", out.display()))?
+            .flatten()
+            .map(|e| e.file_name().to_string_lossy().into_owned())
+            .filter(|n| {
+                let temporary = n.starts_with('.') && n.contains(".partial-");
+                !temporary && !all.iter().any(|w| &w.name == n)
+            })
+            .collect();
+        foreign.sort();
+        if !foreign.is_empty() {
+            bail!(
+                "--out {} already holds files that are not this dataset's ({}); give a new or empty folder",
+                out.display(),
+                crate::clip(&foreign.join(", "), 200)
+            );
+        }
     }
     std::fs::create_dir_all(out).with_context(|| {
         format!(
@@ -233,6 +264,12 @@ fn prepare_out(out: &Path) -> Result<()> {
             out.display()
         )
     })?;
+    match crate::folder::sweep_stale(out) {
+        Ok(0) | Err(_) => {}
+        Ok(n) => {
+            eprintln!("note: removed {n} unfinished world folder(s) left by runs that were killed")
+        }
+    }
     let probe = out.join(format!(".write-test-{}", std::process::id()));
     std::fs::write(&probe, b"")
         .and_then(|()| std::fs::remove_file(&probe))
@@ -245,43 +282,105 @@ fn prepare_out(out: &Path) -> Result<()> {
     Ok(())
 }
 
+/// What the dataset folder holds for a planned world.
+#[derive(Debug, PartialEq)]
 enum Existing {
+    /// The complete world this run would make.
     Complete,
+    /// Nothing.
     Absent,
+    /// This world, but with files missing or cut short: made again, replacing only the files
+    /// subtgraph wrote.
+    Damaged(String),
 }
 
-/// Whether a planned world is already complete. Leftovers of an interrupted run (hidden
-/// `.NAME.partial-*` folders, a folder without `world.toml`) are removed so it is made again.
-fn existing(out: &Path, w: &Planned) -> Result<Existing> {
-    let prefix = format!(".{}.partial-", w.name);
-    for entry in std::fs::read_dir(out).with_context(|| format!("reading {}", out.display()))? {
-        let entry = entry?;
-        if entry.file_name().to_string_lossy().starts_with(&prefix) {
-            std::fs::remove_dir_all(entry.path())
-                .with_context(|| format!("removing the leftover {}", entry.path().display()))?;
-        }
-    }
+/// The `world.toml` this run writes for world `w`.
+fn expected_world_toml(source: &Source, w: &Planned, opts: &Options) -> Result<String> {
+    let mut p = source.pipeline.clone();
+    p.world.seed = w.seed;
+    make::expected_world_toml(&p, &description(source, w, opts))
+}
+
+fn description(source: &Source, w: &Planned, opts: &Options) -> String {
+    format!(
+        "{} (dataset world {} of base seed {})",
+        source.description, w.index, opts.seed
+    )
+}
+
+/// Whether a planned world is already there, complete and made with this run's options
+/// (its `world.toml` is byte for byte the one this run would write). A world made with other
+/// options (another `--tileset`, `--format`, pipeline or version) or of another dataset is an
+/// error naming the difference; nothing is deleted to make room for this run.
+fn existing(out: &Path, w: &Planned, expected_toml: &str) -> Result<Existing> {
     let dir = out.join(&w.name);
-    if !dir.exists() {
+    if std::fs::symlink_metadata(&dir).is_err() {
         return Ok(Existing::Absent);
     }
-    let toml_path = dir.join("world.toml");
-    if !toml_path.is_file() {
-        std::fs::remove_dir_all(&dir)
-            .with_context(|| format!("removing the incomplete world {}", dir.display()))?;
-        return Ok(Existing::Absent);
+    let listed = match manifest::read(&dir) {
+        Some(manifest::Manifest::Complete(listed)) => listed,
+        _ => {
+            let seed = std::fs::read_to_string(dir.join("world.toml"))
+                .ok()
+                .and_then(|t| recorded_seed(&t));
+            match seed {
+                Some(seed) if seed != w.seed => bail!(
+                    "{} holds a world of seed {seed}, but this dataset's world of that name has seed {}: it belongs to another dataset (other --seed or pipeline); give another --out, or move it away",
+                    dir.display(),
+                    w.seed
+                ),
+                _ => bail!(
+                    "{} is not a complete world written by subtgraph (no {} list of the files it wrote: made by an older version, or by something else); nothing was changed: move it away to have it made again",
+                    dir.display(),
+                    manifest::FILE
+                ),
+            }
+        }
+    };
+    let damage = manifest::damage(&dir, &listed);
+    if !damage.is_empty() {
+        return Ok(Existing::Damaged(damage.join(", ")));
     }
-    let text = std::fs::read_to_string(&toml_path)
-        .with_context(|| format!("reading {}", toml_path.display()))?;
-    let seed = recorded_seed(&text);
-    if seed == Some(w.seed) {
+    let toml = std::fs::read_to_string(dir.join("world.toml"))
+        .with_context(|| format!("reading {}/world.toml", dir.display()))?;
+    if toml == expected_toml {
         return Ok(Existing::Complete);
     }
+    if let Some(seed) = recorded_seed(&toml).filter(|&s| s != w.seed) {
+        bail!(
+            "{} holds a world of seed {seed}, but this dataset's world of that name has seed {}: it belongs to another dataset (other --seed or pipeline); give another --out, or move it away",
+            dir.display(),
+            w.seed
+        );
+    }
     bail!(
-        "{} holds a world of seed {}, but this dataset's world of that name has seed {}: it belongs to another dataset (other --seed or pipeline); give another --out, or remove it",
+        "{} was made with other options than this run's ({}); nothing was changed: run with the options it was made with, give another --out, or move it away to have it made again",
         dir.display(),
-        seed.map_or("unknown".into(), |s| s.to_string()),
-        w.seed
+        first_difference(&toml, expected_toml)
+    )
+}
+
+/// The first line where a world's `world.toml` and this run's differ (with the line after
+/// it, so a new table shows its first key), for messages.
+fn first_difference(on_disk: &str, expected: &str) -> String {
+    let a: Vec<&str> = on_disk.lines().collect();
+    let b: Vec<&str> = expected.lines().collect();
+    let n = (0..a.len().max(b.len()))
+        .find(|&i| a.get(i) != b.get(i))
+        .unwrap_or(0);
+    let show = |v: &[&str]| {
+        let shown: Vec<&str> = v.iter().skip(n).take(2).copied().collect();
+        if shown.is_empty() {
+            "nothing".to_owned()
+        } else {
+            format!("`{}`", crate::clip(&shown.join(" / "), 100))
+        }
+    };
+    format!(
+        "world.toml line {} is {} there and {} in this run",
+        n + 1,
+        show(&a),
+        show(&b)
     )
 }
 
@@ -292,18 +391,27 @@ pub fn recorded_seed(world_toml: &str) -> Option<u64> {
     u64::try_from(seed).ok()
 }
 
-/// Generates one world and writes its folder, then its run facts beside it.
-fn make_world(source: &Source, w: &Planned, opts: &Options) -> Result<()> {
+/// Generates one world and writes its folder, then its run facts beside it. A world another
+/// process (a shard) wrote meanwhile is kept if it is the same world, and ours discarded.
+fn make_world(source: &Source, w: &Planned, opts: &Options, replace: bool) -> Result<()> {
     let mut p = source.pipeline.clone();
     p.world.seed = w.seed;
     let started = Instant::now();
-    let description = format!(
-        "{} (dataset world {} of base seed {})",
-        source.description, w.index, opts.seed
-    );
+    let description = description(source, w, opts);
     let world = make::generate(&p, &source.registry, &description)?;
     let generation_s = started.elapsed().as_secs_f64();
-    make::write(&world, &source.exporters, &opts.out.join(&w.name), false)?;
+    let dest = opts.out.join(&w.name);
+    if let Err(e) = make::write_folder(&world, &source.exporters, &dest, replace) {
+        if let FolderError::AppearedMeanwhile { kept, .. } = &e {
+            let expected = make::expected_world_toml(&p, &description)?;
+            if existing(&opts.out, w, &expected).ok() == Some(Existing::Complete) {
+                crate::folder::remove_listed(kept)
+                    .with_context(|| format!("removing the duplicate {}", kept.display()))?;
+                return Ok(());
+            }
+        }
+        return Err(e.into());
+    }
     let facts = RunFacts {
         generation_s,
         total_s: started.elapsed().as_secs_f64(),

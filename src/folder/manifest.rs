@@ -259,15 +259,26 @@ mod tests {
 
     #[test]
     fn manifests_read_back() {
-        let files = vec![("maps/level-0.png".to_owned(), 12), ("world.toml".into(), 3)];
+        let files = vec![
+            ("maps/level-0.png".to_owned(), 12),
+            ("world.toml".into(), 3),
+        ];
         assert_eq!(
             parse(&complete_text(&files)),
             Some(Manifest::Complete(files))
         );
         let me = Owner::this_process();
-        assert_eq!(parse(&partial_text(&me)), Some(Manifest::Partial(me.clone())));
+        assert_eq!(
+            parse(&partial_text(&me)),
+            Some(Manifest::Partial(me.clone()))
+        );
         assert!(!me.is_dead(), "this process is alive");
-        for bad in ["", "complete\nx y\n", "complete\n3 ../escape\n", "partial pid=x\n"] {
+        for bad in [
+            "",
+            "complete\nx y\n",
+            "complete\n3 ../escape\n",
+            "partial pid=x\n",
+        ] {
             assert_eq!(parse(bad), None, "{bad:?}");
         }
     }
@@ -282,7 +293,10 @@ mod tests {
             pid,
             start: 1,
         };
-        assert!(gone.is_dead() || process_exists(pid), "pid {pid} was reused at once");
+        assert!(
+            gone.is_dead() || process_exists(pid),
+            "pid {pid} was reused at once"
+        );
         let elsewhere = Owner {
             host: "another-machine".into(),
             ..gone
@@ -306,6 +320,9 @@ mod tests {
         assert_eq!(list_files(dir.path()).unwrap().len(), 3);
         assert!(damage(dir.path(), &listed).is_empty());
         fs::write(dir.path().join("world.toml"), b"xy").unwrap();
-        assert_eq!(damage(dir.path(), &listed), ["world.toml has 2 bytes, not 1"]);
+        assert_eq!(
+            damage(dir.path(), &listed),
+            ["world.toml has 2 bytes, not 1"]
+        );
     }
 }

@@ -104,7 +104,7 @@ pub enum FolderError {
     },
     /// `--force` was given but the destination is not a folder written by this tool.
     #[error(
-        "{0} exists and is not a world folder written by subtgraph ({1}); refusing to replace it even with --force: remove it yourself if nothing in it is yours, or choose another --out"
+        "{0} exists and is not a folder written by subtgraph ({1}); refusing to replace it even with --force: remove it yourself if nothing in it is yours, or choose another --out"
     )]
     NotAWorld(PathBuf, &'static str),
     /// Something appeared at the destination while the world was being made.
@@ -208,7 +208,10 @@ fn before(dest: &Path, force: bool) -> Result<Before, FolderError> {
         return Err(FolderError::Exists(dest.to_owned()));
     }
     if !meta.is_dir() {
-        return Err(FolderError::NotAWorld(dest.to_owned(), "it is not a folder"));
+        return Err(FolderError::NotAWorld(
+            dest.to_owned(),
+            "it is not a folder",
+        ));
     }
     ours(dest).map(|_| Before::Ours)
 }
@@ -237,9 +240,16 @@ fn ours(dir: &Path) -> Result<Vec<(String, u64)>, FolderError> {
                 "it has a world.toml but no .subtgraph-files list of what subtgraph wrote: made by an older version, or not by subtgraph",
             ));
         }
-        None => return Err(FolderError::NotAWorld(dir.to_owned(), "no world.toml in it")),
+        None => {
+            return Err(FolderError::NotAWorld(
+                dir.to_owned(),
+                "no world.toml in it",
+            ));
+        }
     };
-    if !generated_by_us(&dir.join("world.toml")) {
+    let is_world = listed.iter().any(|(p, _)| p == "world.toml");
+    let toml = dir.join("world.toml");
+    if is_world && toml.exists() && !generated_by_us(&toml) {
         return Err(FolderError::NotAWorld(
             dir.to_owned(),
             "its world.toml has no [generated] table written by subtgraph",

@@ -65,7 +65,9 @@ pub fn install_signal_handlers() {
         use signal_hook::consts::{SIGHUP, SIGINT, SIGTERM, SIGXFSZ};
         let flag = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(false));
         if let Err(e) = signal_hook::flag::register(SIGXFSZ, flag) {
-            eprintln!("warning: cannot catch SIGXFSZ ({e}); a file-size limit will stop the process without a message");
+            eprintln!(
+                "warning: cannot catch SIGXFSZ ({e}); a file-size limit will stop the process without a message"
+            );
         }
         match signal_hook::iterator::Signals::new([SIGINT, SIGTERM, SIGHUP]) {
             Ok(mut signals) => {
