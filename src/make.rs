@@ -103,20 +103,55 @@ pub fn note_skipped(names: &[String]) {
     }
 }
 
-/// Generates a world and records where its pipeline came from.
-pub fn generate(p: &Pipeline, registry: &Registry, source: &str) -> Result<World> {
-    let mut world = subtgraph_core::generate(p, registry)?;
-    world.pipeline.generated = Some(Provenance {
+fn provenance(source: &str) -> Provenance {
+    Provenance {
         tool: "subtgraph".into(),
         version: env!("CARGO_PKG_VERSION").into(),
         source: Some(source.to_owned()),
-    });
+    }
+}
+
+/// The `world.toml` that [`generate`] with these arguments writes, computed without generating
+/// (resolving a pipeline only draws its ranges).
+pub fn expected_world_toml(p: &Pipeline, source: &str) -> Result<String> {
+    let (mut resolved, _) = p.resolve()?;
+    resolved.generated = Some(provenance(source));
+    Ok(subtgraph_exporters::world_toml_text(&resolved))
+}
+
+/// Generates a world and records where its pipeline came from.
+pub fn generate(p: &Pipeline, registry: &Registry, source: &str) -> Result<World> {
+    let mut world = subtgraph_core::generate(p, registry)?;
+    world.pipeline.generated = Some(provenance(source));
     subtgraph_plugins::check_failures().map_err(|e| anyhow!(e))?;
     Ok(world)
 }
 
-/// Writes the world folder (its own files, then every exporter's) at `out`, atomically.
+/// Writes the world folder (its own files, then every exporter's) at `out`, atomically, after
+/// removing what killed runs left beside it.
 pub fn write(world: &World, exporters: &[NamedExporter], out: &Path, force: bool) -> Result<()> {
+    let parent = match out.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p,
+        _ => Path::new("."),
+    };
+    match crate::folder::sweep_stale(parent) {
+        Ok(0) | Err(_) => {}
+        Ok(n) => eprintln!(
+            "note: removed {n} unfinished folder(s) in {} left by runs that were killed",
+            parent.display()
+        ),
+    }
+    write_folder(world, exporters, out, force)?;
+    Ok(())
+}
+
+/// Writes the world folder at `out`, atomically (see [`crate::folder`]).
+pub fn write_folder(
+    world: &World,
+    exporters: &[NamedExporter],
+    out: &Path,
+    force: bool,
+) -> Result<(), crate::folder::FolderError> {
     crate::folder::write_atomically(out, force, |w| {
         subtgraph_exporters::write_world_folder(world, w)?;
         for e in exporters {
@@ -126,6 +161,5 @@ pub fn write(world: &World, exporters: &[NamedExporter], out: &Path, force: bool
         }
         subtgraph_plugins::check_failures().map_err(|e| anyhow!(e))?;
         Ok(())
-    })?;
-    Ok(())
+    })
 }

@@ -271,9 +271,54 @@ pub fn render(
         let mut enc = png::Encoder::new(&mut bytes, width as u32, height as u32);
         enc.set_color(png::ColorType::Rgb);
         enc.set_depth(png::BitDepth::Eight);
+        enc.add_text_chunk("Software".into(), SOFTWARE.into())?;
         let mut w = enc.write_header()?;
         w.write_image_data(image.as_flattened())?;
     }
-    std::fs::write(out, bytes).with_context(|| format!("writing {}", out.display()))?;
+    write_picture(out, &bytes)?;
     Ok(drawn)
+}
+
+/// The PNG `Software` text our pictures carry: how `preview` knows a file is one it drew.
+const SOFTWARE: &str = "subtgraph preview";
+
+/// Writes the picture through a temporary file and a rename, replacing only a picture
+/// `preview` drew before: any other file at `out` is the user's and is refused.
+fn write_picture(out: &Path, bytes: &[u8]) -> Result<()> {
+    if out.exists() {
+        let ours = std::fs::File::open(out)
+            .ok()
+            .and_then(|f| {
+                png::Decoder::new(std::io::BufReader::new(f))
+                    .read_info()
+                    .ok()
+            })
+            .is_some_and(|r| {
+                r.info()
+                    .uncompressed_latin1_text
+                    .iter()
+                    .any(|t| t.keyword == "Software" && t.text == SOFTWARE)
+            });
+        if !ours {
+            bail!(
+                "{} exists and is not a picture subtgraph preview drew; choose another --out (it is never overwritten)",
+                out.display()
+            );
+        }
+    }
+    let name = out
+        .file_name()
+        .ok_or_else(|| anyhow::anyhow!("--out must name a file, like cave.png"))?
+        .to_string_lossy();
+    let tmp = out.with_file_name(format!(".{name}.partial-{}", std::process::id()));
+    std::fs::write(&tmp, bytes)
+        .and_then(|()| std::fs::rename(&tmp, out))
+        .map_err(|e| {
+            let _ = std::fs::remove_file(&tmp);
+            anyhow::anyhow!(
+                "writing {}: {e}{}",
+                out.display(),
+                subtgraph_core::export::io_hint(&e)
+            )
+        })
 }

@@ -58,9 +58,9 @@ fn jobs_and_shards_do_not_change_the_worlds() {
     assert_eq!(index(&sharded).len(), 3);
     dataset(&sharded, &["--jobs", "1", "--shard", "1/2"]);
     let a = worlds(&one);
-    // world.toml, occupancy.npy, topology.json and a map per level: 3 caves of 1 level, 3
-    // mines of 3.
-    assert_eq!(a.len(), 3 * (3 + 1) + 3 * (3 + 3));
+    // world.toml, occupancy.npy, topology.json, the list of written files and a map per
+    // level: 3 caves of 1 level, 3 mines of 3.
+    assert_eq!(a.len(), 3 * (4 + 1) + 3 * (4 + 3));
     assert!(a == worlds(&two), "--jobs 1 and --jobs 2 differ");
     assert!(
         a == worlds(&sharded),
@@ -101,10 +101,23 @@ fn resuming_redoes_exactly_the_missing_world() {
         .modified()
         .unwrap();
     std::fs::remove_dir_all(out.join("cave-0001")).unwrap();
-    // An interrupted write (hidden temporary folder) and a folder without world.toml.
-    let partial = out.join(format!(".mine-0000.partial-{}-1", dead_pid()));
+    // An interrupted write (hidden temporary folder of a process that is gone) and a world
+    // missing a file.
+    let mut gone = std::process::Command::new("true").spawn().unwrap();
+    let dead_pid = gone.id();
+    gone.wait().unwrap();
+    let host = std::fs::read_to_string("/proc/sys/kernel/hostname").unwrap();
+    let partial = out.join(format!(".mine-0000.partial-{dead_pid}-1"));
     std::fs::create_dir(&partial).unwrap();
     std::fs::write(partial.join("occupancy.npy"), b"half").unwrap();
+    std::fs::write(
+        partial.join(".subtgraph-files"),
+        format!("partial host={} pid={dead_pid} start=1\n", host.trim()),
+    )
+    .unwrap();
+    // A look-alike without our marker is someone else's: left alone.
+    let lookalike = out.join(".notes.partial-1-1");
+    std::fs::create_dir(&lookalike).unwrap();
     std::fs::remove_file(out.join("mine-0000/world.toml")).unwrap();
     // An index cut short by a crash is rebuilt.
     std::fs::write(out.join("index.json"), b"[{\"name\": ").unwrap();
@@ -115,6 +128,7 @@ fn resuming_redoes_exactly_the_missing_world() {
         "{text}"
     );
     assert!(!partial.exists(), "the leftover is removed");
+    assert!(lookalike.exists(), "what is not ours stays");
     assert!(before == worlds(&out), "the redone worlds are the same");
     let again = std::fs::metadata(out.join("mine-0002/occupancy.npy"))
         .unwrap()
@@ -291,6 +305,78 @@ fn the_paper_configurations_make_worlds_with_the_presets_parameters() {
     }
 }
 
+/// Resuming compares every kept world with what this run would make: other options are
+/// refused naming the difference (nothing deleted), a damaged world is made again, and a
+/// folder that holds a user's files is never used as a dataset folder.
+#[test]
+fn resuming_keeps_only_worlds_this_run_would_make() {
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("d");
+    let base = [
+        "dataset", "--preset", "cave", "--count", "2", "--seed", "5", "--out",
+    ];
+    let run = |extra: &[&'static str]| -> Vec<String> {
+        let mut a: Vec<String> = base.iter().map(|s| s.to_string()).collect();
+        a.push(arg(&out).to_owned());
+        a.extend(extra.iter().map(|s| s.to_string()));
+        a
+    };
+    let ok = |a: Vec<String>| ok(&a.iter().map(String::as_str).collect::<Vec<_>>());
+    let fails = |a: Vec<String>| fails(&a.iter().map(String::as_str).collect::<Vec<_>>());
+    ok(run(&["--no-mesh"]));
+    let before = worlds(&out);
+
+    // Another tile set or another format: refused, saying what differs; nothing changed.
+    let e = fails(run(&["--tileset", "mine"]));
+    assert!(
+        e.contains("made with other options") && e.contains("mine"),
+        "{e}"
+    );
+    let e = fails(run(&["--no-mesh", "--format", "graph"]));
+    assert!(
+        e.contains("made with other options") && e.contains("export"),
+        "{e}"
+    );
+    assert!(before == worlds(&out), "a refused run changes nothing");
+
+    // A world missing a file, and one with a file cut short: made again, and the same.
+    std::fs::remove_file(out.join("cave-0000/topology.json")).unwrap();
+    let npy = out.join("cave-0001/occupancy.npy");
+    let bytes = std::fs::read(&npy).unwrap();
+    std::fs::write(&npy, &bytes[..bytes.len() / 2]).unwrap();
+    let text = ok(run(&["--no-mesh"]));
+    assert!(text.contains("made 2 world(s), kept 0"), "{text}");
+    assert!(before == worlds(&out), "the redone worlds are the same");
+    assert_eq!(index(&out).len(), 2);
+
+    // A damaged world holding a file of the user's is not replaced.
+    std::fs::remove_file(out.join("cave-0000/topology.json")).unwrap();
+    std::fs::write(out.join("cave-0000/my-notes.txt"), "mine").unwrap();
+    let e = fails(run(&["--no-mesh"]));
+    assert!(e.contains("my-notes.txt"), "{e}");
+    assert!(out.join("cave-0000/my-notes.txt").is_file());
+
+    // A folder of the user's is not a dataset folder.
+    let mine = tmp.path().join("mine");
+    std::fs::create_dir(&mine).unwrap();
+    std::fs::write(mine.join("index.json"), "my index").unwrap();
+    let e = common::fails(&[
+        "dataset",
+        "--preset",
+        "cave",
+        "--count",
+        "1",
+        "--no-mesh",
+        "--out",
+        arg(&mine),
+    ]);
+    assert!(e.contains("not this dataset's (index.json)"), "{e}");
+    assert_eq!(
+        std::fs::read_to_string(mine.join("index.json")).unwrap(),
+        "my index"
+    );
+}
+
 /// The id of a process that has ended: a child that has run and been waited for.
 fn dead_pid() -> u32 {
     let mut child = std::process::Command::new("true").spawn().unwrap();
@@ -304,14 +390,24 @@ fn a_world_another_process_is_writing_is_left_to_it_and_stale_leftovers_are_redo
     let tmp = tempfile::tempdir().unwrap();
     let out = tmp.path().join("d");
     std::fs::create_dir(&out).unwrap();
-    // Another process (this test's, which is alive) is writing cave-0001 now...
-    let live = out.join(format!(".cave-0001.partial-{}-1", std::process::id()));
-    std::fs::create_dir(&live).unwrap();
-    std::fs::write(live.join("occupancy.npy"), b"being written").unwrap();
+    let host = std::fs::read_to_string("/proc/sys/kernel/hostname").unwrap();
+    let partial = |name: &str, pid: u32| {
+        let dir = out.join(format!(".{name}.partial-{pid}-1"));
+        std::fs::create_dir(&dir).unwrap();
+        std::fs::write(dir.join("occupancy.npy"), b"being written").unwrap();
+        std::fs::write(
+            dir.join(".subtgraph-files"),
+            format!("partial host={} pid={pid} start=0\n", host.trim()),
+        )
+        .unwrap();
+        dir
+    };
+    // Another process on this machine (this test's, which is alive) is writing cave-0001...
+    let live = partial("cave-0001", std::process::id());
     // ...and a process that is gone left mine-0002 half written.
-    let stale = out.join(format!(".mine-0002.partial-{}-1", dead_pid()));
-    std::fs::create_dir(&stale).unwrap();
-    std::fs::write(stale.join("occupancy.npy"), b"half").unwrap();
+    let stale = partial("mine-0002", dead_pid());
+    // A shard starting at the same moment has its write probe there.
+    std::fs::write(out.join(".write-test-1"), b"").unwrap();
 
     let run = common::subtgraph(&[
         "dataset",

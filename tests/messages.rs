@@ -184,11 +184,16 @@ fn reached_by(file: &str, src: &str, pos: usize) -> Vec<&'static str> {
         f if f.starts_with("src/stats/") => vec!["stats"],
         "src/preview.rs" => vec!["preview"],
         // dataset writes world folders without --force and words its own message when one
-        // is in the way (src/dataset/mod.rs, tested in tests/dataset.rs), so folder.rs's
-        // messages about --force only reach generate.
-        "src/folder.rs" => vec!["generate"],
+        // is in the way (src/dataset/mod.rs, tested in tests/dataset.rs), so the folder
+        // writer's messages about --force only reach generate.
+        f if f.starts_with("src/folder") => vec!["generate"],
         f if f.starts_with("src/") => vec!["generate", "dataset"],
-        f if f.starts_with("exporters/") || f.starts_with("tilesets/") => {
+        // Writing files (the exporters' and the core's export errors) happens only in
+        // generate and dataset.
+        f if f.starts_with("exporters/")
+            || f.starts_with("tilesets/")
+            || f == "core/src/export.rs" =>
+        {
             vec!["generate", "dataset"]
         }
         _ => vec!["generate", "dataset", "validate"],

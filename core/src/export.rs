@@ -63,7 +63,7 @@ impl MemoryWriter {
 #[non_exhaustive]
 pub enum ExportError {
     /// Writing a file failed (disk full, permissions). Free space or choose another `--out`.
-    #[error("writing {path}: {source}")]
+    #[error("writing {path}: {source}{}", io_hint(source))]
     Io {
         /// The file.
         path: String,
@@ -73,6 +73,22 @@ pub enum ExportError {
     /// The exporter cannot represent this world; the message says what it needs.
     #[error("{0}")]
     Unsupported(String),
+}
+
+/// What to do about an I/O error a user can fix (a full disk, a file-size limit), as a
+/// clause to append to the message; empty for other errors.
+pub fn io_hint(e: &std::io::Error) -> &'static str {
+    match e.kind() {
+        std::io::ErrorKind::StorageFull => "; the disk is full: free space or choose another --out",
+        std::io::ErrorKind::FileTooLarge => {
+            "; the file-size limit (ulimit -f) was reached: raise it, or export fewer or smaller formats"
+        }
+        std::io::ErrorKind::QuotaExceeded => {
+            "; the disk quota is exhausted: free space or choose another --out"
+        }
+        std::io::ErrorKind::PermissionDenied => "; choose an --out you can write to",
+        _ => "",
+    }
 }
 
 /// Writes some of a world's files.

@@ -48,7 +48,7 @@ pub use sdf::{Lights, Sdf};
 pub use topology_json::TopologyJson;
 pub use urdf::Urdf;
 pub use usd::Usd;
-pub use world_toml::WorldToml;
+pub use world_toml::{WorldToml, world_toml_text};
 
 /// Adds the built-in `[[export]]` exporters to a registry.
 pub fn register(registry: &mut Registry) -> Result<(), DuplicateName> {

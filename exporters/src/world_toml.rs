@@ -11,21 +11,30 @@ pub struct WorldToml;
 
 impl Exporter for WorldToml {
     fn export(&self, world: &World, out: &mut dyn WorldWriter) -> Result<(), ExportError> {
-        let mut p = world.pipeline.clone();
-        if p.generated.is_none() {
-            p.generated = Some(Provenance {
-                tool: "subtgraph".into(),
-                version: env!("CARGO_PKG_VERSION").into(),
-                source: None,
-            });
-        }
-        let text = format!(
-            "# The resolved pipeline of this world: every range drawn, every level's structure\n\
-             # counts written out. `subtgraph generate world.toml --out DIR` makes it again.\n{}",
-            p.to_toml()
-        );
-        write_file(out, "world.toml", text.as_bytes())
+        write_file(
+            out,
+            "world.toml",
+            world_toml_text(&world.pipeline).as_bytes(),
+        )
     }
+}
+
+/// The text of `world.toml` for a resolved pipeline: what a world made from it holds, so a
+/// dataset run can tell whether a world on disk is the one it would make without making it.
+pub fn world_toml_text(resolved: &subtgraph_core::Pipeline) -> String {
+    let mut p = resolved.clone();
+    if p.generated.is_none() {
+        p.generated = Some(Provenance {
+            tool: "subtgraph".into(),
+            version: env!("CARGO_PKG_VERSION").into(),
+            source: None,
+        });
+    }
+    format!(
+        "# The resolved pipeline of this world: every range drawn, every level's structure\n\
+         # counts written out. `subtgraph generate world.toml --out DIR` makes it again.\n{}",
+        p.to_toml()
+    )
 }
 
 #[cfg(test)]

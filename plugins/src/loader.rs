@@ -18,6 +18,14 @@ pub enum PluginError {
     /// No file at the path.
     #[error("plugin {0}: no such file; build the plugin (cargo build --release) or fix the path")]
     Missing(PathBuf),
+    /// A folder was named instead of a library file.
+    #[error("plugin {path}: is a folder, not a library; name the library file itself{hint}")]
+    Folder {
+        /// The folder.
+        path: PathBuf,
+        /// The libraries found in it, as a hint.
+        hint: String,
+    },
     /// The file is not a loadable library.
     #[error("plugin {path}: cannot be loaded as a shared library: {reason}")]
     Open {
@@ -125,6 +133,31 @@ pub fn check_failures() -> Result<(), String> {
 /// Loads a plugin library and adds its components to `registry`. Either all its components
 /// are added or none.
 pub fn load(path: &Path, registry: &mut Registry) -> Result<LoadedPlugin, PluginError> {
+    if path.is_dir() {
+        let suffix = std::env::consts::DLL_SUFFIX;
+        let mut libs: Vec<String> = std::fs::read_dir(path)
+            .into_iter()
+            .flatten()
+            .flatten()
+            .map(|e| e.file_name().to_string_lossy().into_owned())
+            .filter(|n| n.ends_with(suffix))
+            .collect();
+        libs.sort();
+        let hint = match libs.first() {
+            Some(first) => format!(
+                ", e.g. {} (the folder holds {})",
+                path.join(first).display(),
+                libs.join(", ")
+            ),
+            None => format!(
+                " (the folder holds no {suffix} file; `cargo build --release` in the plugin's crate puts it under target/release/)"
+            ),
+        };
+        return Err(PluginError::Folder {
+            path: path.to_owned(),
+            hint,
+        });
+    }
     if !path.is_file() {
         return Err(PluginError::Missing(path.to_owned()));
     }

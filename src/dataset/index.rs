@@ -206,6 +206,9 @@ pub fn world_names(out: &Path) -> Result<Vec<String>> {
 
 /// Rebuilds `index.json` and `index.csv` from the world folders; returns the number of rows.
 pub fn rebuild(out: &Path) -> Result<usize> {
+    // The facts folder marks the folder as a dataset's, even when no world was made yet.
+    std::fs::create_dir_all(out.join(FACTS_DIR))
+        .with_context(|| format!("creating {}/{FACTS_DIR}", out.display()))?;
     let mut rows = Vec::new();
     for name in world_names(out)? {
         match row(out, &name) {

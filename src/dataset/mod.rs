@@ -26,6 +26,7 @@ use anyhow::{Context, Result, anyhow, bail};
 use subtgraph_core::rng::derive_seed;
 use subtgraph_core::{Pipeline, Registry};
 
+use crate::folder::{FolderError, manifest};
 use crate::make::{self, NamedExporter};
 use index::RunFacts;
 
@@ -181,8 +182,8 @@ pub struct Summary {
     /// Complete worlds found and kept, also those another process (a shard writing into the
     /// same folder) finished while this run ran.
     pub skipped: usize,
-    /// Worlds another process was still making when this run ended, with its process id:
-    /// left to it (its own run indexes them when it ends).
+    /// Worlds another process on this machine was still making when this run ended, with its
+    /// process id: left to it (its own run indexes them when it ends).
     pub elsewhere: Vec<(String, u32)>,
     /// Worlds in the rebuilt index (all shards' so far).
     pub indexed: usize,
@@ -198,8 +199,8 @@ pub fn run(sources: &[Source], opts: &Options) -> Result<Summary> {
             );
         }
     }
-    prepare_out(&opts.out)?;
     let all = plan(&names, opts.count, opts.seed);
+    prepare_out(&opts.out, &all)?;
     let mine: Vec<&Planned> = all
         .iter()
         .enumerate()
@@ -207,15 +208,28 @@ pub fn run(sources: &[Source], opts: &Options) -> Result<Summary> {
         .map(|(_, w)| w)
         .collect();
 
-    // Decide what to make before making anything: a folder of another dataset is an error.
+    // Decide what to make before making anything: a folder of another dataset, or made with
+    // other options, is an error; a damaged world of this one is made again.
     let mut todo = Vec::new();
+    let mut damaged = Vec::new();
     let mut skipped = 0;
+    // Worlds another live process on this machine is writing now are left to it.
+    let writing = being_written(&opts.out);
     let mut busy = Vec::new();
     for w in &mine {
-        match existing(&opts.out, w)? {
+        if let Some(&pid) = writing.get(&w.name) {
+            busy.push((*w, pid));
+            continue;
+        }
+        let expected = expected_world_toml(&sources[w.source], w, opts)?;
+        match existing(&opts.out, w, &expected)? {
             Existing::Complete => skipped += 1,
             Existing::Absent => todo.push(*w),
-            Existing::InProgress(pid) => busy.push((*w, pid)),
+            Existing::Damaged(why) => {
+                eprintln!("note: {} is incomplete ({why}); making it again", w.name);
+                todo.push(*w);
+                damaged.push(w.name.clone());
+            }
         }
     }
 
@@ -230,7 +244,8 @@ pub fn run(sources: &[Source], opts: &Options) -> Result<Summary> {
                 loop {
                     let k = next.fetch_add(1, Ordering::Relaxed);
                     let Some(w) = todo.get(k) else { break };
-                    let result = make_world(&sources[w.source], w, opts);
+                    let replace = damaged.contains(&w.name);
+                    let result = make_world(&sources[w.source], w, opts, replace);
                     match &result {
                         Ok(Made::Here) => {}
                         Ok(Made::Elsewhere) => {
@@ -254,8 +269,9 @@ pub fn run(sources: &[Source], opts: &Options) -> Result<Summary> {
     // The worlds other processes were making: finished by now, or still theirs.
     let mut elsewhere = Vec::new();
     for (w, pid) in busy {
-        match existing_folder(&opts.out, w)? {
-            Existing::Complete => skipped += 1,
+        let expected = expected_world_toml(&sources[w.source], w, opts)?;
+        match existing(&opts.out, w, &expected) {
+            Ok(Existing::Complete) => skipped += 1,
             _ => elsewhere.push((w.name.clone(), pid)),
         }
     }
@@ -272,7 +288,7 @@ pub fn run(sources: &[Source], opts: &Options) -> Result<Summary> {
         eprintln!(
             "note: {} world(s) are being made by another process writing into the same folder, left to it: {}; that run indexes them when it ends (or run this command again then)",
             elsewhere.len(),
-            list.join(", ")
+            crate::clip(&list.join(", "), 400)
         );
     }
     let indexed = index::rebuild(&opts.out)?;
@@ -293,20 +309,52 @@ pub fn run(sources: &[Source], opts: &Options) -> Result<Summary> {
     })
 }
 
-/// Creates the dataset folder and checks it can be written to, before any world is made.
-fn prepare_out(out: &Path) -> Result<()> {
+/// Creates the dataset folder and checks it can be written to, before any world is made. A
+/// folder that is not a dataset's yet must hold nothing but this dataset's worlds: the index
+/// files written there would replace a user's files of the same names.
+fn prepare_out(out: &Path, all: &[Planned]) -> Result<()> {
     if out.exists() && !out.is_dir() {
         bail!(
             "--out {} is a file; give a folder for the dataset",
             out.display()
         );
     }
-    std::fs::create_dir_all(out).with_context(|| {
+    if out.is_dir() && !out.join(index::FACTS_DIR).is_dir() {
+        let mut foreign: Vec<String> = std::fs::read_dir(out)
+            .with_context(|| format!("reading --out {}", out.display()))?
+            .flatten()
+            .map(|e| e.file_name().to_string_lossy().into_owned())
+            .filter(|n| {
+                // Another run starting into the same folder at the same time (a shard) may
+                // have its write probe there before it marks the folder.
+                let temporary = n.starts_with('.')
+                    && (n.contains(".partial-") || n.starts_with(".write-test-"));
+                !temporary && !all.iter().any(|w| &w.name == n)
+            })
+            .collect();
+        foreign.sort();
+        if !foreign.is_empty() {
+            bail!(
+                "--out {} already holds files that are not this dataset's ({}); give a new or empty folder",
+                out.display(),
+                crate::clip(&foreign.join(", "), 200)
+            );
+        }
+    }
+    // The facts folder marks it as a dataset's before anything else is written into it, so
+    // shards starting at the same time see each other's files as this dataset's.
+    std::fs::create_dir_all(out.join(index::FACTS_DIR)).with_context(|| {
         format!(
             "cannot create the dataset folder --out {}; choose a folder you can write to",
             out.display()
         )
     })?;
+    match crate::folder::sweep_stale(out) {
+        Ok(0) | Err(_) => {}
+        Ok(n) => {
+            eprintln!("note: removed {n} unfinished world folder(s) left by runs that were killed")
+        }
+    }
     let probe = out.join(format!(".write-test-{}", std::process::id()));
     std::fs::write(&probe, b"")
         .and_then(|()| std::fs::remove_file(&probe))
@@ -319,80 +367,131 @@ fn prepare_out(out: &Path) -> Result<()> {
     Ok(())
 }
 
+/// The worlds another live process on this machine is writing into `out` now (its hidden
+/// `.NAME.partial-*` folder, whose manifest names the process), by name, with the process id.
+/// A process on another machine cannot be asked whether it is alive: its worlds are made here
+/// too, and whichever process finishes a world second keeps the first one's.
+fn being_written(out: &Path) -> std::collections::BTreeMap<String, u32> {
+    let here = manifest::Owner::this_process();
+    let Ok(entries) = std::fs::read_dir(out) else {
+        return Default::default();
+    };
+    entries
+        .flatten()
+        .filter_map(|e| {
+            let file = e.file_name().to_string_lossy().into_owned();
+            let (name, _) = file.strip_prefix('.')?.split_once(".partial-")?;
+            match manifest::read(&e.path())? {
+                manifest::Manifest::Partial(owner)
+                    if owner.host == here.host && owner.pid != here.pid && !owner.is_dead() =>
+                {
+                    Some((name.to_owned(), owner.pid))
+                }
+                _ => None,
+            }
+        })
+        .collect()
+}
+
+/// What the dataset folder holds for a planned world.
+#[derive(Debug, PartialEq)]
 enum Existing {
+    /// The complete world this run would make.
     Complete,
+    /// Nothing.
     Absent,
-    /// Another live process (this id) is writing it: its hidden partial folder is there.
-    InProgress(u32),
+    /// This world, but with files missing or cut short: made again, replacing only the files
+    /// subtgraph wrote.
+    Damaged(String),
 }
 
-/// Whether a planned world is already complete, or being made by another process (a shard or
-/// another run into the same folder). Leftovers of an interrupted run (hidden
-/// `.NAME.partial-*` folders of processes that are gone, a folder without `world.toml`) are
-/// removed so it is made again.
-fn existing(out: &Path, w: &Planned) -> Result<Existing> {
-    if let Some(pid) = partial_folders(out, w)? {
-        return Ok(Existing::InProgress(pid));
-    }
-    existing_folder(out, w)
+/// The `world.toml` this run writes for world `w`.
+fn expected_world_toml(source: &Source, w: &Planned, opts: &Options) -> Result<String> {
+    let mut p = source.pipeline.clone();
+    p.world.seed = w.seed;
+    make::expected_world_toml(&p, &description(source, w, opts))
 }
 
-/// Removes the hidden `.NAME.partial-PID-*` folders of a world whose process is gone; returns
-/// the id of a live process still writing one (left alone: it is that process's work).
-///
-/// A process id says something only on the machine that wrote it: on a folder shared by
-/// several machines, another machine's live shard may look gone here (its folder is then
-/// removed and that shard reports the world failed; running it again makes it), and rarely
-/// a gone one may look alive (the world is left out and made by the next run).
-fn partial_folders(out: &Path, w: &Planned) -> Result<Option<u32>> {
-    let prefix = format!(".{}.partial-", w.name);
-    let mut live = None;
-    for entry in std::fs::read_dir(out).with_context(|| format!("reading {}", out.display()))? {
-        let entry = entry?;
-        let file = entry.file_name().to_string_lossy().into_owned();
-        let Some(rest) = file.strip_prefix(&prefix) else {
-            continue;
-        };
-        let pid = rest.split('-').next().and_then(|p| p.parse::<u32>().ok());
-        match pid {
-            Some(pid) if pid != std::process::id() && process_alive(pid) => live = Some(pid),
-            _ => std::fs::remove_dir_all(entry.path())
-                .with_context(|| format!("removing the leftover {}", entry.path().display()))?,
-        }
-    }
-    Ok(live)
+fn description(source: &Source, w: &Planned, opts: &Options) -> String {
+    format!(
+        "{} (dataset world {} of base seed {})",
+        source.description, w.index, opts.seed
+    )
 }
 
-/// Whether a process with this id runs on this machine (`/proc/PID`; where there is no
-/// `/proc`, every process counts as gone, as before this check).
-fn process_alive(pid: u32) -> bool {
-    Path::new("/proc").join(pid.to_string()).is_dir()
-}
-
-/// Whether the world's folder holds this dataset's world (complete), nothing (absent), or
-/// another dataset's world (an error). A folder without `world.toml` is a leftover: removed.
-fn existing_folder(out: &Path, w: &Planned) -> Result<Existing> {
+/// Whether a planned world is already there, complete and made with this run's options
+/// (its `world.toml` is byte for byte the one this run would write). A world made with other
+/// options (another `--tileset`, `--format`, pipeline or version) or of another dataset is an
+/// error naming the difference; nothing is deleted to make room for this run.
+fn existing(out: &Path, w: &Planned, expected_toml: &str) -> Result<Existing> {
     let dir = out.join(&w.name);
-    if !dir.exists() {
+    if std::fs::symlink_metadata(&dir).is_err() {
         return Ok(Existing::Absent);
     }
-    let toml_path = dir.join("world.toml");
-    if !toml_path.is_file() {
-        std::fs::remove_dir_all(&dir)
-            .with_context(|| format!("removing the incomplete world {}", dir.display()))?;
-        return Ok(Existing::Absent);
+    let listed = match manifest::read(&dir) {
+        Some(manifest::Manifest::Complete(listed)) => listed,
+        _ => {
+            let seed = std::fs::read_to_string(dir.join("world.toml"))
+                .ok()
+                .and_then(|t| recorded_seed(&t));
+            match seed {
+                Some(seed) if seed != w.seed => bail!(
+                    "{} holds a world of seed {seed}, but this dataset's world of that name has seed {}: it belongs to another dataset (other --seed or pipeline); give another --out, or move it away",
+                    dir.display(),
+                    w.seed
+                ),
+                _ => bail!(
+                    "{} is not a complete world written by subtgraph (no {} list of the files it wrote: made by an older version, or by something else); nothing was changed: move it away to have it made again",
+                    dir.display(),
+                    manifest::FILE
+                ),
+            }
+        }
+    };
+    let damage = manifest::damage(&dir, &listed);
+    if !damage.is_empty() {
+        return Ok(Existing::Damaged(damage.join(", ")));
     }
-    let text = std::fs::read_to_string(&toml_path)
-        .with_context(|| format!("reading {}", toml_path.display()))?;
-    let seed = recorded_seed(&text);
-    if seed == Some(w.seed) {
+    let toml = std::fs::read_to_string(dir.join("world.toml"))
+        .with_context(|| format!("reading {}/world.toml", dir.display()))?;
+    if toml == expected_toml {
         return Ok(Existing::Complete);
     }
+    if let Some(seed) = recorded_seed(&toml).filter(|&s| s != w.seed) {
+        bail!(
+            "{} holds a world of seed {seed}, but this dataset's world of that name has seed {}: it belongs to another dataset (other --seed or pipeline); give another --out, or move it away",
+            dir.display(),
+            w.seed
+        );
+    }
     bail!(
-        "{} holds a world of seed {}, but this dataset's world of that name has seed {}: it belongs to another dataset (other --seed or pipeline); give another --out, or remove it",
+        "{} was made with other options than this run's ({}); nothing was changed: run with the options it was made with, give another --out, or move it away to have it made again",
         dir.display(),
-        seed.map_or("unknown".into(), |s| s.to_string()),
-        w.seed
+        first_difference(&toml, expected_toml)
+    )
+}
+
+/// The first line where a world's `world.toml` and this run's differ (with the line after
+/// it, so a new table shows its first key), for messages.
+fn first_difference(on_disk: &str, expected: &str) -> String {
+    let a: Vec<&str> = on_disk.lines().collect();
+    let b: Vec<&str> = expected.lines().collect();
+    let n = (0..a.len().max(b.len()))
+        .find(|&i| a.get(i) != b.get(i))
+        .unwrap_or(0);
+    let show = |v: &[&str]| {
+        let shown: Vec<&str> = v.iter().skip(n).take(2).copied().collect();
+        if shown.is_empty() {
+            "nothing".to_owned()
+        } else {
+            format!("`{}`", crate::clip(&shown.join(" / "), 100))
+        }
+    };
+    format!(
+        "world.toml line {} is {} there and {} in this run",
+        n + 1,
+        show(&a),
+        show(&b)
     )
 }
 
@@ -409,28 +508,27 @@ enum Made {
     /// This run.
     Here,
     /// Another process writing into the same folder (a shard), since this run planned it:
-    /// the same world (same seed), kept.
+    /// the same world, kept.
     Elsewhere,
 }
 
-/// Generates one world and writes its folder, then its run facts beside it.
-fn make_world(source: &Source, w: &Planned, opts: &Options) -> Result<Made> {
-    // Another process may have made it since the plan: then there is nothing to do.
-    if opts.out.join(&w.name).exists()
-        && matches!(existing_folder(&opts.out, w)?, Existing::Complete)
-    {
-        return Ok(Made::Elsewhere);
-    }
+/// Generates one world and writes its folder, then its run facts beside it. A world another
+/// process (a shard) wrote since the plan is kept if it is the same world, and ours discarded.
+fn make_world(source: &Source, w: &Planned, opts: &Options, replace: bool) -> Result<Made> {
     let mut p = source.pipeline.clone();
     p.world.seed = w.seed;
+    let description = description(source, w, opts);
+    // Made by another process since the plan: nothing to do.
+    if !replace && std::fs::symlink_metadata(opts.out.join(&w.name)).is_ok() {
+        let expected = make::expected_world_toml(&p, &description)?;
+        if existing(&opts.out, w, &expected)? == Existing::Complete {
+            return Ok(Made::Elsewhere);
+        }
+    }
     let started = Instant::now();
-    let description = format!(
-        "{} (dataset world {} of base seed {})",
-        source.description, w.index, opts.seed
-    );
     let world = make::generate(&p, &source.registry, &description)?;
     let generation_s = started.elapsed().as_secs_f64();
-    if write_world(&world, source, w, opts)? == Made::Elsewhere {
+    if write_world(&world, source, w, opts, replace)? == Made::Elsewhere {
         return Ok(Made::Elsewhere);
     }
     let facts = RunFacts {
@@ -443,32 +541,48 @@ fn make_world(source: &Source, w: &Planned, opts: &Options) -> Result<Made> {
     Ok(Made::Here)
 }
 
-/// Writes a generated world's folder. When the folder appeared while this run made it
-/// (another process writing into the same folder got there first), the same world is there
-/// already: that is no failure, and [`Made::Elsewhere`] is returned (the caller then writes
-/// no run facts: the process that made it writes its own).
+/// Writes a generated world's folder. When the folder appeared while this run made the world
+/// (another process writing into the same folder got there first) and holds the same world,
+/// that is no failure: [`Made::Elsewhere`], and our copy is discarded. The folder writer's
+/// words about `--force` never reach the user: `dataset` has no such flag.
 fn write_world(
     world: &subtgraph_core::World,
     source: &Source,
     w: &Planned,
     opts: &Options,
+    replace: bool,
 ) -> Result<Made> {
-    let dir = opts.out.join(&w.name);
-    match make::write(world, &source.exporters, &dir, false) {
-        Ok(()) => Ok(Made::Here),
-        Err(e) if dir.exists() => match existing_folder(&opts.out, w)? {
-            Existing::Complete => Ok(Made::Elsewhere),
-            // Not a world (a folder without world.toml, now removed): say so without the
-            // folder writer's words about --force, which dataset does not have.
-            _ => {
-                drop(e);
-                bail!(
-                    "{} appeared while this run was making it, and held no world; run the same command again to make it",
-                    dir.display()
-                )
-            }
-        },
-        Err(e) => Err(e),
+    let dest = opts.out.join(&w.name);
+    let e = match make::write_folder(world, &source.exporters, &dest, replace) {
+        Ok(()) => return Ok(Made::Here),
+        Err(e) => e,
+    };
+    if !matches!(
+        e,
+        FolderError::AppearedMeanwhile { .. } | FolderError::Exists(_)
+    ) {
+        return Err(e.into());
+    }
+    let mut p = source.pipeline.clone();
+    p.world.seed = w.seed;
+    let expected = make::expected_world_toml(&p, &description(source, w, opts))?;
+    let there = existing(&opts.out, w, &expected);
+    if let FolderError::AppearedMeanwhile { kept, .. } = &e {
+        if matches!(there, Ok(Existing::Complete)) {
+            crate::folder::remove_listed(kept)
+                .with_context(|| format!("removing the duplicate {}", kept.display()))?;
+            return Ok(Made::Elsewhere);
+        }
+        return Err(e.into());
+    }
+    match there {
+        Ok(Existing::Complete) => Ok(Made::Elsewhere),
+        // Another dataset's world, or one made with other options: that message says what to do.
+        Err(other) => Err(other),
+        Ok(_) => bail!(
+            "{} appeared while this run was making it, and does not hold this world complete; nothing was changed: run the same command again to make it",
+            dest.display()
+        ),
     }
 }
 
@@ -541,7 +655,7 @@ mod tests {
         run(sources, &opts).unwrap();
         let w = &plan(&["cave"], 1, 5)[0];
         let before = std::fs::read(opts.out.join("cave-0000/topology.json")).unwrap();
-        let made = make_world(&source, w, &opts);
+        let made = make_world(&source, w, &opts, false);
         assert_eq!(
             made.expect("the same world, made meanwhile, is no failure"),
             Made::Elsewhere
@@ -549,9 +663,9 @@ mod tests {
         // The same, when it appears while this run generates it (after the check above).
         let mut p = source.pipeline.clone();
         p.world.seed = w.seed;
-        let world = make::generate(&p, &source.registry, "preset cave").unwrap();
+        let world = make::generate(&p, &source.registry, &description(&source, w, &opts)).unwrap();
         assert_eq!(
-            write_world(&world, &source, w, &opts).unwrap(),
+            write_world(&world, &source, w, &opts, false).unwrap(),
             Made::Elsewhere
         );
         assert_eq!(
@@ -563,7 +677,7 @@ mod tests {
             seed: w.seed + 1,
             ..w.clone()
         };
-        let e = write_world(&world, &source, &other, &opts).unwrap_err();
+        let e = write_world(&world, &source, &other, &opts, false).unwrap_err();
         let text = format!("{e:#}");
         assert!(text.contains("belongs to another dataset"), "{text}");
         assert!(!text.contains("--force"), "{text}");

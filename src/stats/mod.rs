@@ -22,7 +22,7 @@ mod tables;
 
 use std::path::{Path, PathBuf};
 
-use anyhow::{Context, Result, bail};
+use anyhow::{Result, bail};
 
 pub use load::{Group, Sample, load, sample_of};
 
@@ -87,13 +87,11 @@ pub fn run(inputs: &[PathBuf], out: &Path, crop: Crop) -> Result<String> {
         .filter(|g| !g.samples.is_empty())
         .collect();
     let stats = report::compute(&groups, crop);
-    std::fs::create_dir_all(out).with_context(|| {
-        format!(
-            "cannot create the report folder --out {}; choose a folder you can write to",
-            out.display()
-        )
+    // Written atomically like a world folder: an earlier report is replaced, a folder holding
+    // anything else is refused, and nothing is half-written.
+    crate::folder::write_atomically(out, true, |w| {
+        tables::write(&stats, &groups, w.root())?;
+        charts::write_all(&stats, &groups, w.root())
     })?;
-    tables::write(&stats, &groups, out)?;
-    charts::write_all(&stats, &groups, out)?;
     Ok(tables::summary(&stats, out))
 }
