@@ -216,7 +216,7 @@ fn an_existing_folder_is_refused_without_force_and_replaced_with_it() {
     std::fs::create_dir(&precious).unwrap();
     std::fs::write(precious.join("a.txt"), "keep me").unwrap();
     let err = fails(&["generate", "--out", precious.to_str().unwrap(), "--force"]);
-    assert!(err.contains("not a subtgraph world folder"), "{err}");
+    assert!(err.contains("not a folder written by subtgraph"), "{err}");
     assert!(precious.join("a.txt").exists());
 }
 
