@@ -22,6 +22,7 @@ use subtgraph_core::registry::{DuplicateName, Registry};
 pub mod convex_pieces;
 mod gltf;
 pub mod ground_truth;
+pub mod heightfields;
 mod instances;
 mod level_maps;
 mod mjcf;
