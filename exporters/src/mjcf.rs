@@ -2,25 +2,35 @@
 //! default), metres and Z up as MuJoCo's own frame.
 //!
 //! MuJoCo collides every mesh geom as its convex hull, so the world's collision surface as one
-//! mesh would be a solid block. Each part's collision surface is therefore cut into thin convex
-//! slabs lying in the rock ([`crate::convex_pieces`]), each an inline `<mesh vertex="...">`
-//! (MuJoCo takes the hull of the points: no extra file, no faces to write). The visual mesh is
-//! the shared per-part OBJ, a static geom with `contype="0" conaffinity="0"` in group 1, with
-//! `inertia="shell"` so an open surface never fails MuJoCo's volume check. MuJoCo ignores an
-//! OBJ's per-face materials: each visual geom gets the colour of the part's most used
-//! tile-set material.
+//! mesh would be a solid block. By default each tile gets two height fields instead
+//! ([`crate::heightfields`]): a floor, and a roof turned upside down, sampled `step` metres
+//! apart on vertical lines through the closed collision surface; between them is the passage.
+//! That is two geoms per tile with no hull to build: MuJoCo 4.0 also spends time quadratic in
+//! the number of geoms while it reads a model (every geom added resets its lists of all
+//! geoms), so the 45,000 convex slabs of a cave took 10 s to load and the 170,000 of a lava
+//! tube 90 s. `collision = "slabs"` keeps the older export: the surface cut into thin convex
+//! slabs in the rock ([`crate::convex_pieces`]), each an inline `<mesh vertex>`, which follows
+//! overhangs a height field cannot, for small worlds.
+//!
+//! The visual mesh is a part's own `mujoco/meshes/<part>.msh` (MuJoCo's binary mesh format,
+//! read twice as fast as OBJ text), a static geom with `contype="0" conaffinity="0"` in group
+//! 1, with `inertia="shell"` so an open surface never fails MuJoCo's volume check. Each visual
+//! geom gets the colour of the part's most used tile-set material (MuJoCo has no per-face
+//! materials).
 //!
 //! Every part file is a complete model (`<mujoco>` root, its own `<compiler meshdir="..">`,
 //! which resolves against the folder of the file MuJoCo opened, `mujoco/` in both cases), so
 //! `mujoco/level-2.xml` loads one level alone (with `split = "whole"`, the one part is
-//! `mujoco/whole.xml`). Collision slabs are in group 3 (hidden in the
-//! viewer by default). Nothing moves: the file holds the world only, no robot.
+//! `mujoco/whole.xml`). Collision geoms are in group 3 (hidden in the viewer by default).
+//! Nothing moves: the file holds the world only, no robot.
 //!
 //! ```toml
 //! [[export]]
 //! type = "mjcf"
-//! tolerance = 0.1    # m a collision slab may stand proud of the surface
-//! thickness = 0.5    # m each slab reaches into the rock
+//! collision = "heightfields"   # or "slabs"
+//! step = 0.5         # m between height samples (a whole number of them spans the pitch)
+//! thickness = 0.5    # m each slab, or each field's base, reaches into the rock
+//! tolerance = 0.1    # m a collision slab may stand proud of the surface (slabs only)
 //! split = "level"    # or "region" (with region_tiles) or "whole"
 //! ```
 
@@ -242,15 +252,18 @@ fn write_visual_meshes(
                 Ok::<(), std::io::Error>(())
             };
             for p in &m.positions {
-                p.iter().for_each(|v| buf.extend_from_slice(&v.to_le_bytes()));
+                p.iter()
+                    .for_each(|v| buf.extend_from_slice(&v.to_le_bytes()));
                 flush(&mut buf, w)?;
             }
             for n in &m.normals[..nn] {
-                n.iter().for_each(|v| buf.extend_from_slice(&v.to_le_bytes()));
+                n.iter()
+                    .for_each(|v| buf.extend_from_slice(&v.to_le_bytes()));
                 flush(&mut buf, w)?;
             }
             for t in &m.uvs[..nt] {
-                t.iter().for_each(|v| buf.extend_from_slice(&v.to_le_bytes()));
+                t.iter()
+                    .for_each(|v| buf.extend_from_slice(&v.to_le_bytes()));
                 flush(&mut buf, w)?;
             }
             for t in &m.triangles {
@@ -316,7 +329,10 @@ fn field_geom(buf: &mut Vec<u8>, part: &str, t: usize, f: &TileField, roof: bool
     buf.extend_from_slice(b"    <geom type=\"hfield\" hfield=\"");
     push_field_name(buf, part, t, roof);
     buf.extend_from_slice(b"\" pos=\"");
-    for (k, v) in [f.centre[0] as f32, f.centre[1] as f32, at].into_iter().enumerate() {
+    for (k, v) in [f.centre[0] as f32, f.centre[1] as f32, at]
+        .into_iter()
+        .enumerate()
+    {
         if k > 0 {
             buf.push(b' ');
         }
@@ -360,15 +376,18 @@ impl Exporter for Mjcf {
                 .par_iter()
                 .map(|p| PartCollision::Slabs(convex_pieces(&p.collision(mesh), &self.pieces)))
                 .collect(),
-            Collision::Heightfields { .. } => {
-                parts.iter().map(|_| PartCollision::Fields(&fields)).collect()
-            }
+            Collision::Heightfields { .. } => parts
+                .iter()
+                .map(|_| PartCollision::Fields(&fields))
+                .collect(),
         };
         let base = self.pieces.thickness;
         let compiler = "  <compiler angle=\"radian\" meshdir=\"..\"/>\n";
         let what = match self.collision {
             Collision::Slabs => "collision slabs (convex, in the rock)",
-            Collision::Heightfields { .. } => "collision height fields (a floor and an upside-down roof per tile)",
+            Collision::Heightfields { .. } => {
+                "collision height fields (a floor and an upside-down roof per tile)"
+            }
         };
         let mut main = format!(
             "<mujoco model=\"subtgraph world, seed {}\">\n  <!-- metres, x east, y north, z up; visual geoms in group 1, {what} in group 3 -->\n{compiler}",
