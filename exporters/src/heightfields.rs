@@ -3,7 +3,7 @@
 //!
 //! Along every vertical line of a regular grid (`step` metres apart, lines on the tile edges so
 //! two neighbours share their edge lines), the free stretches of the closed collision surface
-//! are found exactly by ray parity ([`crate::ground_truth::inside`]). For a tile on level `L`,
+//! are found exactly by ray parity (as for the free-space ground truth, `ground_truth/inside.rs`). For a tile on level `L`,
 //! the stretches meeting the level's band (from a quarter of a level height below its floor
 //! to three quarters above) give the **floor** (the lowest bottom) and the **roof** (the
 //! highest top) of that line; a line with no free stretch in the band is rock, where floor
@@ -96,8 +96,7 @@ pub fn tile_fields(world: &World, mesh: &WorldMesh, step: f64) -> Vec<TileField>
             let (i0, j0) = ((gx - lo.0) as usize * n, (gy - lo.1) as usize * n);
             let mut floor = Vec::with_capacity((n + 1) * (n + 1));
             let mut roof = Vec::with_capacity((n + 1) * (n + 1));
-            for j in j0..=j0 + n {
-                let row = &lines[j];
+            for row in &lines[j0..=j0 + n] {
                 for i in i0..=i0 + n {
                     let first = row.partition_point(|s| (s.0 as usize) < i);
                     let (mut f, mut r) = (f32::MAX, f32::MIN);
@@ -135,16 +134,29 @@ mod tests {
     fn neighbours_share_their_edge_heights_and_every_tile_has_a_passage() {
         let world = crate::test_world_with_mesh();
         let mesh = world.mesh.as_ref().unwrap();
-        let fields = tile_fields(&world, mesh, 1.0);
+        let fields = tile_fields(&world, mesh, 1.25);
+        let passages = Passages::of(&world);
+        let mut centres = 0;
         assert_eq!(fields.len(), mesh.tiles.len());
         let pitch = world.resolved.tile_pitch;
         let mut shared = 0;
         for (a, fa) in mesh.tiles.iter().zip(&fields) {
             let n = fa.n;
-            let free = (0..fa.floor.len())
-                .filter(|&k| fa.floor[k] < fa.roof[k])
-                .count();
-            assert!(free > n, "tile {:?} has {free} free lines", a.cell);
+            // The centre sample is the free stretch through the tile's centre, found alone.
+            let pos = world.cell_position(a.cell);
+            let column = passages.column(pos[0], pos[1]);
+            assert_eq!(fa.centre, [pos[0], pos[1]]);
+            let k = (n / 2) * (n + 1) + n / 2;
+            if let Some(s) = column
+                .iter()
+                .find(|s| s[1] > pos[2] - 5.0 && s[0] < pos[2] + 20.0)
+            {
+                assert!((f64::from(fa.floor[k]) - s[0]).abs() < 1e-4, "{:?}", a.cell);
+                assert!((f64::from(fa.roof[k]) - s[1]).abs() < 1e-4, "{:?}", a.cell);
+                centres += 1;
+            } else {
+                assert_eq!(fa.floor[k], fa.roof[k], "rock at {:?}", a.cell);
+            }
             for (b, fb) in mesh.tiles.iter().zip(&fields) {
                 // b east of a on the same level: a's east column is b's west column.
                 if b.cell.level == a.cell.level
@@ -162,5 +174,6 @@ mod tests {
             }
         }
         assert!(shared > 3, "{shared} east-west neighbours");
+        assert!(centres > mesh.tiles.len() / 2, "{centres} free centres");
     }
 }
