@@ -145,15 +145,19 @@ pub fn write(world: &World, exporters: &[NamedExporter], out: &Path, force: bool
     Ok(())
 }
 
-/// Writes the world folder at `out`, atomically (see [`crate::folder`]).
+/// Writes the world folder at `out`, atomically (see [`crate::folder`]). The mesh is written
+/// as OBJ (`mesh/world.obj`, `collision.obj`) unless an exporter writes geometry: then only
+/// what was asked is written (`obj` among the formats writes the OBJ). world.toml records the
+/// exporters, so it makes the same files again.
 pub fn write_folder(
     world: &World,
     exporters: &[NamedExporter],
     out: &Path,
     force: bool,
 ) -> Result<(), crate::folder::FolderError> {
+    let default_obj = !exporters.iter().any(|e| e.exporter.needs_geometry());
     crate::folder::write_atomically(out, force, |w| {
-        subtgraph_exporters::write_world_folder(world, w)?;
+        subtgraph_exporters::write_world_files(world, w, default_obj)?;
         for e in exporters {
             e.exporter
                 .export(world, w)

@@ -22,7 +22,7 @@ fn read_scene(world: &Path) -> Result<Scene> {
     let obj_path = world.join("mesh/world.obj");
     let text = std::fs::read_to_string(&obj_path).with_context(|| {
         format!(
-            "reading {}: is {} a world generated with a [tileset] (not `generate --no-mesh`)?",
+            "reading {}: is {} a world generated with a [tileset] (not `generate --no-mesh`), with its mesh as OBJ (the default, or `obj` among `generate --format`)?",
             obj_path.display(),
             world.display()
         )

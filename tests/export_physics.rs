@@ -10,7 +10,9 @@ use std::process::Command;
 
 use common::{arg, fails, folder_bytes, ok, read_with_python, small_cave_pipeline};
 
-const BOTH: &str = "[[export]]\ntype = \"mjcf\"\n\n[[export]]\ntype = \"urdf\"\n";
+/// MuJoCo and PyBullet, and the OBJ the naive exports are made from.
+const BOTH: &str =
+    "[[export]]\ntype = \"mjcf\"\n\n[[export]]\ntype = \"urdf\"\n\n[[export]]\ntype = \"obj\"\n";
 
 /// The small two-level cave (its collision lattice holds the 5 m tunnels open: see
 /// `small_cave_pipeline`), made through the command line.
@@ -35,10 +37,31 @@ fn a_ball_rests_on_a_corridor_floor_in_mujoco_and_pybullet() {
     }
     let xml = std::fs::read_to_string(world.join("mujoco/world.xml")).unwrap();
     assert!(xml.contains("<include file=\"level-1.xml\"/>"), "{xml}");
+    // The default collision: a floor and a roof height field per tile, no convex slab.
+    let part = std::fs::read_to_string(world.join("mujoco/level-0.xml")).unwrap();
+    assert!(part.contains("type=\"hfield\"") && !part.contains("-rock-"));
     if let Some(out) = read_with_python(&["mujoco", "numpy"], "mujoco_check.py", &[arg(&world)]) {
         assert!(out.contains("OK"), "{out}");
     }
     if let Some(out) = read_with_python(&["pybullet"], "pybullet_check.py", &[arg(&world)]) {
+        assert!(out.contains("OK"), "{out}");
+    }
+}
+
+/// The older collision export, convex slabs in the rock, still holds the ball too.
+#[test]
+fn a_ball_rests_on_convex_slabs_in_mujoco() {
+    let tmp = tempfile::tempdir().unwrap();
+    let path = small_cave_pipeline(
+        tmp.path(),
+        1,
+        "[[export]]\ntype = \"mjcf\"\ncollision = \"slabs\"\n",
+    );
+    let out = tmp.path().join("world");
+    ok(&["generate", arg(&path), "--out", arg(&out)]);
+    let part = std::fs::read_to_string(out.join("mujoco/level-0.xml")).unwrap();
+    assert!(part.contains("-rock-") && !part.contains("hfield"), "slabs");
+    if let Some(out) = read_with_python(&["mujoco", "numpy"], "mujoco_check.py", &[arg(&out)]) {
         assert!(out.contains("OK"), "{out}");
     }
 }
@@ -118,6 +141,12 @@ fn bad_physics_settings_name_the_key() {
             "export[0].tolerance",
             "tolerance = 0.1",
         ),
+        (
+            "type = \"mjcf\"\ncollision = \"boxes\"",
+            "export[0].collision",
+            "heightfields",
+        ),
+        ("type = \"mjcf\"\nstep = 0", "export[0].step", "step = 0.5"),
         (
             "type = \"mjcf\"\nthickness = \"deep\"",
             "export[0].thickness",

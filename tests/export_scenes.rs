@@ -12,8 +12,7 @@ use std::process::Command;
 use common::{arg, fails, folder_bytes, ok, read_with_python, small_cave_pipeline};
 
 /// The three scene exporters with their defaults.
-const SCENES: &str =
-    "[[export]]\ntype = \"sdf\"\n\n[[export]]\ntype = \"usd\"\n\n[[export]]\ntype = \"gltf\"\n";
+const SCENES: &str = "[[export]]\ntype = \"sdf\"\n\n[[export]]\ntype = \"usd\"\n\n[[export]]\ntype = \"gltf\"\n\n[[export]]\ntype = \"obj\"\n";
 
 /// A two-level small cave world with `exports`, generated through the command line.
 fn world(dir: &Path, exports: &str) -> PathBuf {
@@ -225,7 +224,7 @@ fn usd_opens_in_usd_core_with_triangle_mesh_colliders() {
     // With the SDF exporter, which writes the per-level OBJs the USD meshes are compared to.
     let w = world(
         dir.path(),
-        "[[export]]\ntype = \"sdf\"\n\n[[export]]\ntype = \"usd\"\n",
+        "[[export]]\ntype = \"sdf\"\n\n[[export]]\ntype = \"usd\"\n\n[[export]]\ntype = \"obj\"\n",
     );
     let parts = w.join("mesh/parts/level");
     let Some(summary) = check_usd(&w, &["--parts", arg(&parts)]) else {
@@ -256,7 +255,7 @@ fn usd_of_darpa_tiles_instances_repeated_tiles() {
              [topology]\nloops = 0\nt_junctions = 1\nintersections = 1\n\n\
              [route]\ntype = \"parabolic\"\n\n\
              [tileset]\ntype = \"mesh-files\"\nmanifest = {manifest:?}\n\n\
-             [[export]]\ntype = \"usd\"\n"
+             [[export]]\ntype = \"usd\"\n\n[[export]]\ntype = \"obj\"\n"
         ),
     )
     .unwrap();

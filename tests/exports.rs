@@ -52,6 +52,44 @@ fn formats_from_the_command_line_are_written_once_and_recorded() {
     common::assert_same_files(&out, &again, &["world.toml"]);
 }
 
+/// Only what was asked is written: `--format usd` writes USD and no OBJ (gigabytes for a large
+/// world); with no format the mesh is OBJ + MTL; `obj` among the formats writes both. world.toml
+/// records the formats, so it makes the same files again.
+#[test]
+fn a_format_writes_only_itself_and_obj_stays_the_default() {
+    let dir = tempfile::tempdir().unwrap();
+    let p = small_cave_pipeline(dir.path(), 1, "");
+    let obj = ["mesh/world.obj", "mesh/world.mtl", "mesh/collision.obj"];
+    for (formats, usd, with_obj) in [
+        (None, false, true),
+        (Some("usd"), true, false),
+        (Some("usd,obj"), true, true),
+        (Some("obj"), false, true),
+    ] {
+        let out = dir.path().join(format!("w-{}", formats.unwrap_or("none")));
+        let mut args = vec!["generate", arg(&p), "--out", arg(&out)];
+        if let Some(f) = formats {
+            args.extend(["--format", f]);
+        }
+        ok(&args);
+        assert_eq!(out.join("usd/world.usda").is_file(), usd, "{formats:?}");
+        for f in obj {
+            assert_eq!(out.join(f).is_file(), with_obj, "{formats:?}: {f}");
+        }
+        // The same files again from world.toml.
+        let again = dir
+            .path()
+            .join(format!("again-{}", formats.unwrap_or("none")));
+        ok(&[
+            "generate",
+            arg(&out.join("world.toml")),
+            "--out",
+            arg(&again),
+        ]);
+        common::assert_same_files(&out, &again, &["world.toml"]);
+    }
+}
+
 #[test]
 fn unknown_formats_and_settings_are_refused_before_generating() {
     let dir = tempfile::tempdir().unwrap();

@@ -51,6 +51,7 @@ fn pipeline(dir: &Path, extra_route: &str) -> PathBuf {
          [route]\ntype = \"meander\"\nwavelength = 6\n{extra_route}\
          [tileset]\ntype = \"ice-cave\"\nresolution = 12\n\
          [[export]]\ntype = \"ply\"\n\
+         [[export]]\ntype = \"obj\"\n\
          [plugins]\npaths = [{}]\n",
         libs.join(", ")
     );

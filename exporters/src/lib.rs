@@ -22,6 +22,7 @@ use subtgraph_core::registry::{DuplicateName, Registry};
 pub mod convex_pieces;
 mod gltf;
 pub mod ground_truth;
+pub mod heightfields;
 mod instances;
 mod level_maps;
 mod mjcf;
@@ -154,13 +155,25 @@ pub(crate) fn write_json<T: serde::Serialize + ?Sized>(
     subtgraph_core::export::write_file(out, path, text.as_bytes())
 }
 
-/// Writes the files every world folder has.
+/// Writes the files every world folder has, and the OBJ meshes when the world has geometry.
 pub fn write_world_folder(world: &World, out: &mut dyn WorldWriter) -> Result<(), ExportError> {
+    write_world_files(world, out, true)
+}
+
+/// Writes the files every world folder has; with `obj`, also the OBJ meshes (`mesh/world.obj`,
+/// `.mtl`, `collision.obj`) when the world has geometry. The command line passes `obj` only
+/// when no exporter writes geometry: a world asked for in USD alone gets USD alone (the OBJ of
+/// a large world is gigabytes), and one asked for in no format keeps its mesh as OBJ.
+pub fn write_world_files(
+    world: &World,
+    out: &mut dyn WorldWriter,
+    obj: bool,
+) -> Result<(), ExportError> {
     let always: [&dyn Exporter; 4] = [&WorldToml, &OccupancyNpy, &TopologyJson, &LevelMaps];
     for e in always {
         e.export(world, out)?;
     }
-    if world.mesh.is_some() {
+    if obj && world.mesh.is_some() {
         Obj::default().export(world, out)?;
     }
     Ok(())
