@@ -167,7 +167,12 @@ fn main() -> ExitCode {
     match run(cli) {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
-            eprintln!("error: {e:#}");
+            // Every message passes through `shorten`, so no path that echoes a user's value can
+            // print a huge one whole.
+            eprintln!(
+                "error: {}",
+                subtgraph::core::error::shorten(&format!("{e:#}"))
+            );
             ExitCode::FAILURE
         }
     }

@@ -419,6 +419,25 @@ impl Pipeline {
     /// Parses a pipeline file. `file` names it in errors.
     pub fn parse(source: &str, file: &str) -> Result<Pipeline, ConfigError> {
         let file: Arc<str> = Arc::from(file);
+        if source
+            .lines()
+            .all(|l| l.trim().is_empty() || l.trim_start().starts_with('#'))
+        {
+            // An empty file would silently mean seed 0 and no tile set: the built-in defaults
+            // are what running without a file is for.
+            return Err(ConfigError {
+                location: Location {
+                    file,
+                    line: 1,
+                    column: 1,
+                },
+                key: String::new(),
+                message: "the pipeline file is empty (no table, no key); write at least a [world] \
+                          table (see examples/cave.toml), or run without a pipeline file to use \
+                          the built-in defaults (the cave preset)"
+                    .into(),
+            });
+        }
         let mut p: Pipeline = toml::from_str(source).map_err(|e| {
             let offset = e.span().map_or(0, |s| s.start);
             let location = Location::of_offset(&file, source, offset);
@@ -703,7 +722,7 @@ pub fn structure_count(spec: &ComponentSpec) -> Result<IntRange, ConfigError> {
 }
 
 /// The dotted key whose value or name starts at `offset` in a TOML document (best effort).
-fn key_at(source: &str, offset: usize) -> String {
+pub(crate) fn key_at(source: &str, offset: usize) -> String {
     let offset = offset.min(source.len());
     let line_start = source[..offset].rfind('\n').map_or(0, |i| i + 1);
     let line_end = source[offset..]
