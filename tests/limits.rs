@@ -57,7 +57,10 @@ fn crafted_npy_shapes_are_refused_and_stats_skips_them() {
             "--out",
             arg(&tmp.path().join("w")),
         ]);
-        assert!(err.contains("more elements than any file can hold"), "{err}");
+        assert!(
+            err.contains("more elements than any file can hold"),
+            "{err}"
+        );
         assert!(!err.contains("empty"), "{err}");
     }
     assert!(!tmp.path().join("w").exists());
@@ -83,7 +86,10 @@ fn crafted_npy_shapes_are_refused_and_stats_skips_them() {
     }
     let report: serde_json::Value =
         serde_json::from_slice(&std::fs::read(tmp.path().join("r/stats.json")).unwrap()).unwrap();
-    assert_eq!(report["groups"][0]["worlds"], 1, "the good grid is reported");
+    assert_eq!(
+        report["groups"][0]["worlds"], 1,
+        "the good grid is reported"
+    );
 }
 
 #[test]
@@ -104,7 +110,10 @@ fn an_empty_pipeline_file_is_refused() {
             ],
         ] {
             let err = refused(&cmd);
-            assert!(err.contains("empty.toml:1:1: the pipeline file is empty"), "{err}");
+            assert!(
+                err.contains("empty.toml:1:1: the pipeline file is empty"),
+                "{err}"
+            );
             assert!(err.contains("without a pipeline file"), "{err}");
         }
     }
@@ -127,7 +136,12 @@ fn huge_values_are_cut_in_messages() {
     for text in &cases {
         let p = write(tmp.path(), "huge.toml", text);
         let err = refused(&["generate", arg(&p), "--out", arg(&out)]);
-        assert!(err.len() < 2000, "{} bytes of error: {}", err.len(), &err[..300]);
+        assert!(
+            err.len() < 2000,
+            "{} bytes of error: {}",
+            err.len(),
+            &err[..300]
+        );
         assert!(err.contains("bytes in all"), "{err}");
     }
     // Command-line values and crafted headers too.
@@ -137,7 +151,10 @@ fn huge_values_are_cut_in_messages() {
     let f = tmp.path().join("huge.npy");
     std::fs::write(&f, npy(&"<".repeat(60_000), "(2, 2)", &[0; 4])).unwrap();
     let err = refused(&["generate", "--occupancy", arg(&f), "--out", arg(&out)]);
-    assert!(err.len() < 2000 && err.contains("unsupported dtype"), "{err}");
+    assert!(
+        err.len() < 2000 && err.contains("unsupported dtype"),
+        "{err}"
+    );
 }
 
 /// Where cargo put this build's libraries.
@@ -172,13 +189,31 @@ fn parameter_errors_name_their_key_for_every_component_kind() {
     let cases = [
         // The case: a plugin's missing field.
         ("[route]\ntype = \"meander\"\n", "route.wavelength"),
-        ("[route]\ntype = \"meander\"\nwavelength = \"long\"\n", "route.wavelength"),
-        ("[route]\ntype = \"harmonic\"\nharmonics = \"3\"\n", "route.harmonics"),
-        ("[tileset]\ntype = \"cave\"\nwidth = \"wide\"\n", "tileset.width"),
+        (
+            "[route]\ntype = \"meander\"\nwavelength = \"long\"\n",
+            "route.wavelength",
+        ),
+        (
+            "[route]\ntype = \"harmonic\"\nharmonics = \"3\"\n",
+            "route.harmonics",
+        ),
+        (
+            "[tileset]\ntype = \"cave\"\nwidth = \"wide\"\n",
+            "tileset.width",
+        ),
         ("[tileset]\ntype = \"mesh-files\"\n", "tileset.manifest"),
-        ("[[export]]\ntype = \"obj\"\n[[export]]\ntype = \"ground-truth\"\nvoxel = \"fine\"\n", "export[1].voxel"),
-        ("[[export]]\ntype = \"mjcf\"\ntolerance = \"x\"\n", "export[0].tolerance"),
-        ("[[topology.structure]]\ntype = \"y-fork\"\ncount = 1\nspread = \"x\"\n", "topology.structure[0].spread"),
+        (
+            "[[export]]\ntype = \"obj\"\n[[export]]\ntype = \"ground-truth\"\nvoxel = \"fine\"\n",
+            "export[1].voxel",
+        ),
+        (
+            "[[export]]\ntype = \"mjcf\"\ntolerance = \"x\"\n",
+            "export[0].tolerance",
+        ),
+        (
+            "[[topology.structure]]\ntype = \"y-fork\"\ncount = 1\nspread = \"x\"\n",
+            "topology.structure[0].spread",
+        ),
     ];
     for (body, key) in cases {
         let p = write(tmp.path(), "p.toml", &format!("{world}{body}{plugins}"));
@@ -186,4 +221,188 @@ fn parameter_errors_name_their_key_for_every_component_kind() {
         assert!(err.contains(&format!(": {key}")), "{body}: {err}");
         assert!(!err.contains(": route.:") && !err.contains(".: "), "{err}");
     }
+}
+
+#[test]
+fn per_tile_knobs_are_capped_at_meaningful_values() {
+    let tmp = tempfile::tempdir().unwrap();
+    for (style, key, value) in [
+        ("cave", "rocks", "1e9"),
+        ("mine", "rocks", "51"),
+        ("cave", "rocks", "-1"),
+    ] {
+        let p = write(
+            tmp.path(),
+            "rocks.toml",
+            &format!("[world]\nseed = 1\n[tileset]\ntype = \"{style}\"\n{key} = {value}\n"),
+        );
+        let err = refused(&["validate", arg(&p)]);
+        assert!(
+            err.contains("tileset.rocks") && err.contains("must be from 0 to 50"),
+            "{err}"
+        );
+    }
+}
+
+#[test]
+fn worlds_too_large_for_the_memory_budget_are_refused_before_they_are_made() {
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("w");
+    // The 64 levels of 2048 x 2048 with a tile set: refused before the layout.
+    let p = write(
+        tmp.path(),
+        "huge.toml",
+        "[world]\nseed = 1\nlevels = 64\nrows = 2048\ncols = 2048\n[tileset]\ntype = \"cave\"\n",
+    );
+    let err = refused(&[
+        "generate",
+        arg(&p),
+        "--max-memory",
+        "2G",
+        "--out",
+        arg(&out),
+    ]);
+    assert!(
+        err.contains("a world of 64 level(s) of 2048 x 2048 cells needs about 3.4 GB")
+            && err.contains("--max-memory allows (2.0 GB)")
+            && err.contains("world.levels"),
+        "{err}"
+    );
+    // A normal world whose meshes exceed a small budget: refused by the estimate, naming
+    // the detail knob; without meshes it fits.
+    let err = refused(&[
+        "generate",
+        "--preset",
+        "cave",
+        "--seed",
+        "3",
+        "--max-memory",
+        "40M",
+        "--out",
+        arg(&out),
+    ]);
+    assert!(
+        err.contains("this world's meshes (about")
+            && err.contains("estimated")
+            && err.contains("lower [tileset] resolution (now 24")
+            && err.contains("--no-mesh"),
+        "{err}"
+    );
+    assert!(!out.exists());
+    ok(&[
+        "generate",
+        "--preset",
+        "cave",
+        "--seed",
+        "3",
+        "--no-mesh",
+        "--max-memory",
+        "40M",
+        "--out",
+        arg(&out),
+    ]);
+    // A dataset's workers share the budget.
+    let err = refused(&[
+        "dataset",
+        "--preset",
+        "cave",
+        "--count",
+        "2",
+        "--jobs",
+        "2",
+        "--max-memory",
+        "150M",
+        "--out",
+        arg(&tmp.path().join("d")),
+    ]);
+    assert!(
+        err.contains("--max-memory shared by --jobs 2 allows (75 MB)"),
+        "{err}"
+    );
+    // Sizes that are not sizes.
+    let err = refused(&["generate", "--max-memory", "lots", "--out", arg(&out)]);
+    assert!(err.contains("give a size like 16G"), "{err}");
+}
+
+#[test]
+fn imports_are_sized_from_the_header_before_they_are_decoded() {
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("w");
+    // 4096 x 4096 cells (16 MB of uint8): the values as f64 alone are 134 MB.
+    let side = 4096;
+    let mut grid = vec![0u8; side * side];
+    for c in 1..side - 1 {
+        grid[side * (side / 2) + c] = 1;
+    }
+    let f = tmp.path().join("big.npy");
+    std::fs::write(&f, subtgraph::core::npy::encode_u8(&[side, side], &grid)).unwrap();
+    let err = refused(&[
+        "generate",
+        "--occupancy",
+        arg(&f),
+        "--no-mesh",
+        "--max-memory",
+        "300M",
+        "--out",
+        arg(&out),
+    ]);
+    assert!(
+        err.contains("importing") && err.contains("16777216 cells") && err.contains("needs about"),
+        "{err}"
+    );
+    // The imported world's meshes are checked as a generated world's are.
+    let mut small = vec![0u8; 64 * 64];
+    for c in 1..63 {
+        small[64 * 32 + c] = 1;
+        small[64 * c + 32] = 1;
+    }
+    let f = tmp.path().join("small.npy");
+    std::fs::write(&f, subtgraph::core::npy::encode_u8(&[64, 64], &small)).unwrap();
+    let err = refused(&[
+        "generate",
+        "--occupancy",
+        arg(&f),
+        "--preset",
+        "cave",
+        "--max-memory",
+        "5M",
+        "--out",
+        arg(&out),
+    ]);
+    assert!(err.contains("this world's meshes (about"), "{err}");
+    ok(&[
+        "generate",
+        "--occupancy",
+        arg(&f),
+        "--preset",
+        "cave",
+        "--max-memory",
+        "2G",
+        "--out",
+        arg(&out),
+    ]);
+}
+
+#[test]
+fn preview_refuses_a_corrupt_mesh_without_panicking() {
+    let tmp = tempfile::tempdir().unwrap();
+    let p = common::small_cave_pipeline(tmp.path(), 1, "");
+    let w = tmp.path().join("w");
+    ok(&["generate", arg(&p), "--out", arg(&w)]);
+    let png = tmp.path().join("p.png");
+    for obj in ["v 0 0 0\nv 1 0 0\nv 0 1 0\nf 0 1 2\n", "v 0 0 0\nf 1 2 9\n"] {
+        std::fs::write(w.join("mesh/world.obj"), obj).unwrap();
+        let err = refused(&["preview", arg(&w), "--out", arg(&png)]);
+        assert!(
+            err.contains("a face refers to a vertex that does not exist"),
+            "{err}"
+        );
+    }
+    std::fs::write(
+        w.join("mesh/world.obj"),
+        format!("v 1 2 {}\n", "x".repeat(1 << 20)),
+    )
+    .unwrap();
+    let err = refused(&["preview", arg(&w), "--out", arg(&png)]);
+    assert!(err.contains("bad vertex line") && err.len() < 1000, "{err}");
 }

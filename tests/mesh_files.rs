@@ -278,7 +278,10 @@ fn a_pitch_the_meshes_contradict_is_refused_with_the_measured_one() {
         MeshFiles::open(&p)
     };
     // The meshes' openings are 80 m apart: the right pitch loads.
-    assert_eq!(open("pitch = 80.0", THROUGH_KINDS).unwrap().pitch(), Some(80.0));
+    assert_eq!(
+        open("pitch = 80.0", THROUGH_KINDS).unwrap().pitch(),
+        Some(80.0)
+    );
     // Half of it, and an absurd one: refused with what the meshes measure, never a level
     // height to go with the wrong pitch (issue 10, item 12).
     for pitch in ["40", "1e30", "0.001"] {
@@ -292,7 +295,9 @@ fn a_pitch_the_meshes_contradict_is_refused_with_the_measured_one() {
         assert!(!err.contains("level_height"), "{err}");
     }
     // In file units when the files are scaled.
-    let err = open("pitch = 40.0\nscale = 0.5", THROUGH_KINDS).err().unwrap();
+    let err = open("pitch = 40.0\nscale = 0.5", THROUGH_KINDS)
+        .err()
+        .unwrap();
     assert!(
         err.contains("openings are 40 m apart") && err.contains("set pitch = 80 (in file units"),
         "{err}"
@@ -319,19 +324,39 @@ fn the_darpa_manifest_with_a_wrong_pitch_is_told_the_real_one() {
     let root = format!("root = {:?}", tiles.display().to_string());
     let dir = tempfile::tempdir().unwrap();
     for (from, to, want) in [
-        ("pitch = 80.0", "pitch = 40.0", "openings are 80 m apart; set pitch = 80"),
-        ("pitch = 80.0", "pitch = 1e30", "openings are 80 m apart; set pitch = 80"),
-        ("rotation = 3", "rotation = 7", "rotation = 7: give the quarter turns as 0, 1, 2 or 3"),
+        (
+            "pitch = 80.0",
+            "pitch = 40.0",
+            "openings are 80 m apart; set pitch = 80",
+        ),
+        (
+            "pitch = 80.0",
+            "pitch = 1e30",
+            "openings are 80 m apart; set pitch = 80",
+        ),
+        (
+            "rotation = 3",
+            "rotation = 7",
+            "rotation = 7: give the quarter turns as 0, 1, 2 or 3",
+        ),
     ] {
         let text = shipped
             .lines()
-            .map(|l| if l.starts_with("root =") { root.clone() } else { l.to_owned() })
+            .map(|l| {
+                if l.starts_with("root =") {
+                    root.clone()
+                } else {
+                    l.to_owned()
+                }
+            })
             .collect::<Vec<_>>()
             .join("\n")
             .replace(from, to);
         let p = dir.path().join("darpa.toml");
         std::fs::write(&p, text).unwrap();
-        let err = MeshFiles::open(&p).err().unwrap_or_else(|| panic!("{to} is accepted"));
+        let err = MeshFiles::open(&p)
+            .err()
+            .unwrap_or_else(|| panic!("{to} is accepted"));
         assert!(err.contains(want), "{to}: {err}");
         assert!(!err.contains("level_height"), "{err}");
     }

@@ -174,6 +174,11 @@ pub enum Error {
         message: String,
     },
 
+    /// The world would need more memory than the budget allows (see [`crate::budget`]): the
+    /// message gives the estimate and what to change.
+    #[error("{0}")]
+    TooLarge(String),
+
     /// A component (route descriptor, shape, tile set, exporter) failed.
     #[error("{component} '{}': {}", excerpt(.name), shorten(.message))]
     Component {

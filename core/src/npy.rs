@@ -49,14 +49,35 @@ pub fn encode_u8(shape: &[usize], data: &[u8]) -> Vec<u8> {
     out
 }
 
-/// Decodes a `.npy` file. The error says what is wrong with it.
-pub fn decode(bytes: &[u8]) -> Result<NpyArray, String> {
+/// What a `.npy` header says, checked against the file's size.
+struct Header {
+    shape: Vec<usize>,
+    count: usize,
+    dtype: String,
+    fortran: bool,
+    data_start: usize,
+    endian: u8,
+    kind: u8,
+    size: usize,
+}
+
+/// The shape a `.npy` file declares, read from its header alone (no values decoded; the dtype
+/// and that the file holds the bytes the shape needs are checked), so a caller can size the
+/// work before decoding. Errors as [`decode`]'s.
+pub fn shape(bytes: &[u8]) -> Result<Vec<usize>, String> {
+    header(bytes).map(|h| h.shape)
+}
+
+fn header(bytes: &[u8]) -> Result<Header, String> {
     if bytes.len() < 10 || &bytes[..6] != b"\x93NUMPY" {
         return Err("not a .npy file (no \\x93NUMPY magic); save the array with numpy.save".into());
     }
     let major = bytes[6];
     let (header_len, start) = match major {
-        1 => (usize::from(u16::from_le_bytes([bytes[8], bytes[9]])), 10usize),
+        1 => (
+            usize::from(u16::from_le_bytes([bytes[8], bytes[9]])),
+            10usize,
+        ),
         2 | 3 => {
             if bytes.len() < 12 {
                 return Err("truncated .npy header".into());
@@ -84,13 +105,12 @@ pub fn decode(bytes: &[u8]) -> Result<NpyArray, String> {
         .map(str::trim)
         .filter(|s| !s.is_empty())
         .map(|s| {
-            s.parse::<usize>()
-                .map_err(|_| {
-                    format!(
-                        "bad shape {}: the dimensions must be whole numbers",
-                        crate::error::excerpt(shape_text)
-                    )
-                })
+            s.parse::<usize>().map_err(|_| {
+                format!(
+                    "bad shape {}: the dimensions must be whole numbers",
+                    crate::error::excerpt(shape_text)
+                )
+            })
         })
         .collect::<Result<_, _>>()?;
     let count = shape
@@ -139,6 +159,31 @@ pub fn decode(bytes: &[u8]) -> Result<NpyArray, String> {
             data.len(),
         ));
     }
+    Ok(Header {
+        shape,
+        count,
+        dtype,
+        fortran,
+        data_start: start + header_len,
+        endian,
+        kind,
+        size,
+    })
+}
+
+/// Decodes a `.npy` file. The error says what is wrong with it.
+pub fn decode(bytes: &[u8]) -> Result<NpyArray, String> {
+    let Header {
+        shape,
+        count,
+        dtype,
+        fortran,
+        data_start,
+        endian,
+        kind,
+        size,
+    } = header(bytes)?;
+    let data = &bytes[data_start..];
     let big = endian == b'>';
     let read = |i: usize| -> f64 {
         let mut b = [0u8; 8];
@@ -258,18 +303,40 @@ mod tests {
     fn crafted_shapes_are_refused_not_wrapped_or_panicking() {
         // 4611686018427388004 * 4 wraps to 400 in 64 bits: the header must not be believed
         // because 400 bytes happen to follow (issue 10, item 3).
-        let e = decode(&with_header("|u1", false, "(4611686018427388004, 4)", &[1; 400]))
-            .unwrap_err();
+        let e = decode(&with_header(
+            "|u1",
+            false,
+            "(4611686018427388004, 4)",
+            &[1; 400],
+        ))
+        .unwrap_err();
         assert!(e.contains("more elements than any file can hold"), "{e}");
         // 2^62 * 4 * 4 wraps to 0: not an "empty grid".
-        let e = decode(&with_header("|u1", false, "(4611686018427387904, 4, 4)", &[])).unwrap_err();
+        let e = decode(&with_header(
+            "|u1",
+            false,
+            "(4611686018427387904, 4, 4)",
+            &[],
+        ))
+        .unwrap_err();
         assert!(e.contains("more elements"), "{e}");
         // The element count fits, the bytes do not.
-        let e = decode(&with_header("<f8", false, "(4611686018427387904,)", &[0; 8])).unwrap_err();
+        let e = decode(&with_header(
+            "<f8",
+            false,
+            "(4611686018427387904,)",
+            &[0; 8],
+        ))
+        .unwrap_err();
         assert!(e.contains("larger than any file can hold"), "{e}");
         // Fortran order with an overflowing shape.
-        let e = decode(&with_header("<i8", true, "(4294967296, 4294967296, 2)", &[0; 16]))
-            .unwrap_err();
+        let e = decode(&with_header(
+            "<i8",
+            true,
+            "(4294967296, 4294967296, 2)",
+            &[0; 16],
+        ))
+        .unwrap_err();
         assert!(e.contains("more elements"), "{e}");
         // A dtype with a multibyte character is an error, not a panic.
         let e = decode(&with_header("<\u{e9}8", false, "(1,)", &[0; 8])).unwrap_err();

@@ -98,6 +98,8 @@ pub struct Options {
     pub jobs: usize,
     /// This machine's share.
     pub shard: Shard,
+    /// Memory the whole run may use; each of the `jobs` workers gets its share.
+    pub max_memory: subtgraph_core::Budget,
 }
 
 /// One world of the global list.
@@ -301,7 +303,8 @@ fn make_world(source: &Source, w: &Planned, opts: &Options) -> Result<()> {
         "{} (dataset world {} of base seed {})",
         source.description, w.index, opts.seed
     );
-    let world = make::generate(&p, &source.registry, &description)?;
+    let budget = crate::memory::per_world(&opts.max_memory, opts.jobs);
+    let world = make::generate(&p, &source.registry, &description, &budget)?;
     let generation_s = started.elapsed().as_secs_f64();
     make::write(&world, &source.exporters, &opts.out.join(&w.name), false)?;
     let facts = RunFacts {

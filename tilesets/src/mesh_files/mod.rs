@@ -38,6 +38,7 @@ use std::sync::{Arc, Mutex};
 
 use serde::Deserialize;
 use subtgraph_core::World;
+use subtgraph_core::budget::TileTriangles;
 use subtgraph_core::error::ConfigError;
 use subtgraph_core::grid::{Direction, Openings, rotate_openings};
 use subtgraph_core::mesh::{Material, Mesh};
@@ -636,6 +637,27 @@ impl TileSet for MeshFiles {
 
     fn pitch(&self) -> Option<f64> {
         Some(self.manifest.pitch * self.manifest.scale)
+    }
+
+    fn estimate(&self, _world: &World, kind: TileKind) -> Option<TileTriangles> {
+        // The files' own triangles (the mean over a kind's files, plus its cap); collision is
+        // the same surface snapped to a coarser grid, measured at about a third of it on the
+        // DARPA tiles, counted at half to stay on the safe side.
+        let entry = self.entry(kind)?;
+        let files = entry
+            .assets
+            .iter()
+            .map(|a| a.mesh.triangle_count() as f64)
+            .sum::<f64>()
+            / entry.assets.len().max(1) as f64;
+        let cap = entry
+            .cap
+            .as_ref()
+            .map_or(0.0, |c| c.mesh.triangle_count() as f64);
+        Some(TileTriangles {
+            visual: files + cap,
+            collision: 0.5 * (files + cap),
+        })
     }
 
     fn check(&self, world: &World) -> Result<(), TileSetError> {
