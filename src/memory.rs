@@ -54,7 +54,7 @@ pub fn parse_size(text: &str) -> Result<u64, String> {
     };
     let value = number.parse::<f64>().map(|n| n * factor);
     match value {
-        Ok(v) if v.is_finite() && v >= 1e6 && v < 1e18 => Ok(v as u64),
+        Ok(v) if (1e6..1e18).contains(&v) => Ok(v as u64),
         Ok(v) if v.is_finite() && (0.0..1e6).contains(&v) => Err(format!(
             "--max-memory {}: at least 1M is needed for any world",
             subtgraph_core::error::excerpt(text)

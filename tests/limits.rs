@@ -6,7 +6,7 @@ mod common;
 
 use std::path::{Path, PathBuf};
 
-use common::{arg, fails, ok, subtgraph};
+use common::{arg, ok, subtgraph};
 
 /// A `.npy` file with any header text and data, as a crafted file would be.
 fn npy(descr: &str, shape: &str, data: &[u8]) -> Vec<u8> {
