@@ -73,23 +73,20 @@ pub fn budget(max_memory: Option<&str>) -> Result<Budget> {
             Ok(bytes) => Ok(Budget {
                 bytes,
                 knob: "--max-memory".into(),
+                note: String::new(),
             }),
             Err(e) => bail!(e),
         },
         None => Ok(match physical_memory() {
             Some(total) => Budget {
                 bytes: (total as f64 * DEFAULT_SHARE) as u64,
-                knob: format!(
-                    "--max-memory (default: 3/4 of this machine's {})",
-                    Bytes(total)
-                ),
+                knob: "--max-memory".into(),
+                note: format!("by default 3/4 of this machine's {}", Bytes(total)),
             },
             None => Budget {
                 bytes: FALLBACK_BYTES,
-                knob: format!(
-                    "--max-memory (default: {}, as this machine's memory is unknown)",
-                    Bytes(FALLBACK_BYTES)
-                ),
+                knob: "--max-memory".into(),
+                note: "by default, as this machine's memory is unknown".into(),
             },
         }),
     }
@@ -100,9 +97,18 @@ pub fn per_world(budget: &Budget, jobs: usize) -> Budget {
     if jobs <= 1 {
         return budget.clone();
     }
+    let whole = if budget.note.is_empty() {
+        String::new()
+    } else {
+        format!("; {}", budget.note)
+    };
     Budget {
         bytes: budget.bytes / jobs as u64,
-        knob: format!("{} shared by --jobs {jobs}", budget.knob),
+        knob: budget.knob.clone(),
+        note: format!(
+            "each world's share of {} over --jobs {jobs}{whole}",
+            Bytes(budget.bytes)
+        ),
     }
 }
 
@@ -124,6 +130,11 @@ mod tests {
         assert_eq!(meminfo_total("nothing"), None);
         let b = per_world(&budget(Some("8G")).unwrap(), 4);
         assert_eq!(b.bytes, 2_000_000_000);
-        assert!(b.knob.contains("--jobs 4"));
+        assert_eq!(b.knob, "--max-memory");
+        assert!(
+            b.note.contains("share of 8.0 GB over --jobs 4"),
+            "{}",
+            b.note
+        );
     }
 }

@@ -283,7 +283,7 @@ fn worlds_too_large_for_the_memory_budget_are_refused_before_they_are_made() {
     ]);
     assert!(
         err.contains("this world's meshes (about")
-            && err.contains("estimated")
+            && err.contains("each, estimated)")
             && err.contains("lower [tileset] resolution (now 24")
             && err.contains("--no-mesh"),
         "{err}"
@@ -316,7 +316,7 @@ fn worlds_too_large_for_the_memory_budget_are_refused_before_they_are_made() {
         arg(&tmp.path().join("d")),
     ]);
     assert!(
-        err.contains("--max-memory shared by --jobs 2 allows (75 MB)"),
+        err.contains("--max-memory allows (75 MB, each world's share of 150 MB over --jobs 2)"),
         "{err}"
     );
     // Sizes that are not sizes.

@@ -38,8 +38,11 @@ pub const BYTES_PER_TRIANGLE: u64 = 80;
 pub struct Budget {
     /// Bytes.
     pub bytes: u64,
-    /// What sets the limit and how to change it, for messages (`--max-memory`).
+    /// What sets the limit, for messages (`--max-memory`).
     pub knob: String,
+    /// Where the number comes from when the user did not give it (`3/4 of this machine's
+    /// 25 GB`), for messages; empty when they did.
+    pub note: String,
 }
 
 impl Budget {
@@ -47,7 +50,8 @@ impl Budget {
     pub fn unlimited() -> Self {
         Self {
             bytes: u64::MAX,
-            knob: "no limit".into(),
+            knob: "the budget".into(),
+            note: String::new(),
         }
     }
 
@@ -57,8 +61,13 @@ impl Budget {
         if needed <= self.bytes {
             return Ok(());
         }
+        let note = if self.note.is_empty() {
+            String::new()
+        } else {
+            format!(", {}", self.note)
+        };
         Err(format!(
-            "{what} needs about {} of memory, more than {} allows ({}); {advice}, or raise {}",
+            "{what} needs about {} of memory, more than {} allows ({}{note}); {advice}, or raise {}",
             Bytes(needed),
             self.knob,
             Bytes(self.bytes),
@@ -122,10 +131,10 @@ impl MeshEstimate {
         }
     }
 
-    /// "about 210 million triangles (52000 tiles)".
+    /// "about 210.3 million triangles (52000 tiles of about 4044 each)".
     pub fn describe(&self) -> String {
         format!(
-            "about {:.1} million triangles ({} tiles of about {:.0} each)",
+            "about {:.1} million triangles: {} tiles of about {:.0} each",
             self.triangles / 1e6,
             self.tiles,
             self.triangles / self.tiles.max(1) as f64
@@ -165,6 +174,7 @@ mod tests {
         let b = Budget {
             bytes: 2_000_000_000,
             knob: "--max-memory".into(),
+            note: String::new(),
         };
         assert!(b.check(1_999_999_999, "x", "y").is_ok());
         let e = b

@@ -35,7 +35,21 @@ pub fn shorten(message: &str) -> Cow<'_, str> {
     let mut out = String::with_capacity(message.len().min(4096));
     let mut rest = message;
     let mut changed = false;
-    while let Some(open) = rest.find(['"', '\'', '`']) {
+    let word = |b: Option<&u8>| b.is_some_and(|b| b.is_ascii_alphanumeric());
+    // An apostrophe inside a word (`machine's`) is not a quote: a quote opens after a
+    // non-word character and closes before one.
+    let opens = |s: &str, i: usize| {
+        let b = s.as_bytes();
+        b[i] != b'\'' || i == 0 || !word(b.get(i - 1))
+    };
+    loop {
+        let Some(open) = rest
+            .char_indices()
+            .find(|&(i, c)| matches!(c, '"' | '\'' | '`') && opens(rest, i))
+            .map(|(i, _)| i)
+        else {
+            break;
+        };
         let q = rest.as_bytes()[open];
         let inner_start = open + 1;
         // The closing quote: the next unescaped one of the same kind.
@@ -45,7 +59,7 @@ pub fn shorten(message: &str) -> Cow<'_, str> {
         while i < bytes.len() {
             match bytes[i] {
                 b'\\' => i += 2,
-                b if b == q => {
+                b if b == q && (q != b'\'' || !word(bytes.get(i + 1))) => {
                     close = Some(i);
                     break;
                 }
@@ -211,6 +225,12 @@ mod tests {
         // Unquoted, still cut.
         let m = format!("bad shape ({huge}, 4)");
         assert!(shorten(&m).len() < 1000);
+        // Apostrophes in words are not quotes.
+        let m = format!(
+            "tile set 'cave': this world's meshes need {}; raise --max-memory (this machine's 25 GB)",
+            "y".repeat(200)
+        );
+        assert_eq!(shorten(&m), m);
         // Short messages are untouched.
         assert_eq!(shorten("key: unknown field `x`"), "key: unknown field `x`");
         // Multibyte characters are cut on a character boundary.
