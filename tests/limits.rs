@@ -245,6 +245,28 @@ fn per_tile_knobs_are_capped_at_meaningful_values() {
 }
 
 #[test]
+fn world_lengths_are_capped_at_meaningful_values() {
+    let tmp = tempfile::tempdir().unwrap();
+    for (key, value) in [
+        ("tile_pitch", "1e30"),
+        ("tile_pitch", "0.001"),
+        ("level_height", "5e-27"),
+        ("level_height", "1e9"),
+    ] {
+        let p = write(
+            tmp.path(),
+            "len.toml",
+            &format!("[world]\nseed = 1\n{key} = {value}\n"),
+        );
+        let err = refused(&["validate", arg(&p)]);
+        assert!(
+            err.contains(&format!("world.{key}: must be from 0.5 to 1000 metres")),
+            "{err}"
+        );
+    }
+}
+
+#[test]
 fn worlds_too_large_for_the_memory_budget_are_refused_before_they_are_made() {
     let tmp = tempfile::tempdir().unwrap();
     let out = tmp.path().join("w");

@@ -387,6 +387,10 @@ pub const BUILT_IN_STRUCTURES: [(&str, &str); 3] = [
 
 /// Limits that keep a world within what the tool is meant for.
 const MAX_LEVELS: u32 = 64;
+/// Shortest `world.tile_pitch` and `world.level_height`, metres.
+const MIN_LENGTH: f64 = 0.5;
+/// Longest `world.tile_pitch` and `world.level_height`, metres.
+const MAX_LENGTH: f64 = 1000.0;
 const MAX_SIDE: u32 = 2048;
 const MIN_SIDE: u32 = 8;
 
@@ -523,17 +527,20 @@ impl Pipeline {
                 ));
             }
         }
-        if !(w.tile_pitch.is_finite() && w.tile_pitch > 0.0) {
+        // Lengths a passage tile can physically have: from a crawlspace to a cavern. Beyond,
+        // meshes lose their precision (single-precision vertices) or their meaning.
+        let metres = MIN_LENGTH..=MAX_LENGTH;
+        if !metres.contains(&w.tile_pitch) {
             return Err(err(
                 "world.tile_pitch",
-                "must be a positive number of metres".into(),
+                format!("must be from {MIN_LENGTH} to {MAX_LENGTH} metres"),
             ));
         }
         if let Some(h) = w.level_height {
-            if !(h.is_finite() && h > 0.0) {
+            if !metres.contains(&h) {
                 return Err(err(
                     "world.level_height",
-                    "must be a positive number of metres".into(),
+                    format!("must be from {MIN_LENGTH} to {MAX_LENGTH} metres"),
                 ));
             }
         }

@@ -682,8 +682,18 @@ impl TileSet for MeshFiles {
             if world.resolved.levels > 1
                 && (scaled - world.resolved.level_height).abs() > 1e-6 * scaled.max(1.0)
             {
+                // Suggest only a level height a pipeline accepts (0.5 to 1000 m).
+                let fix = if (0.5..=1000.0).contains(&scaled) {
+                    format!("set world.level_height = {scaled}")
+                } else {
+                    format!(
+                        "no level height can match that: set world.tile_pitch nearer the tiles' \
+                         own {} m",
+                        self.manifest.pitch * self.manifest.scale
+                    )
+                };
                 return Err(TileSetError(format!(
-                    "{}: shaft tiles climb {scaled} m at this pitch but levels are {} m apart; set world.level_height = {scaled}",
+                    "{}: shaft tiles climb {scaled} m at this pitch but levels are {} m apart; {fix}",
                     self.manifest_path.display(),
                     world.resolved.level_height
                 )));
