@@ -42,14 +42,11 @@ pub fn shorten(message: &str) -> Cow<'_, str> {
         let b = s.as_bytes();
         b[i] != b'\'' || i == 0 || !word(b.get(i - 1))
     };
-    loop {
-        let Some(open) = rest
-            .char_indices()
-            .find(|&(i, c)| matches!(c, '"' | '\'' | '`') && opens(rest, i))
-            .map(|(i, _)| i)
-        else {
-            break;
-        };
+    while let Some(open) = rest
+        .char_indices()
+        .find(|&(i, c)| matches!(c, '"' | '\'' | '`') && opens(rest, i))
+        .map(|(i, _)| i)
+    {
         let q = rest.as_bytes()[open];
         let inner_start = open + 1;
         // The closing quote: the next unescaped one of the same kind.
