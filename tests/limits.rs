@@ -285,7 +285,7 @@ fn worlds_too_large_for_the_memory_budget_are_refused_before_they_are_made() {
         arg(&out),
     ]);
     assert!(
-        err.contains("a world of 64 level(s) of 2048 x 2048 cells needs about 3.4 GB")
+        err.contains("a world of 64 level(s) of 2048 x 2048 cells would need about 3.4 GB")
             && err.contains("--max-memory allows (2.0 GB)")
             && err.contains("world.levels"),
         "{err}"
@@ -369,7 +369,9 @@ fn imports_are_sized_from_the_header_before_they_are_decoded() {
         arg(&out),
     ]);
     assert!(
-        err.contains("importing") && err.contains("16777216 cells") && err.contains("needs about"),
+        err.contains("importing")
+            && err.contains("16777216 cells")
+            && err.contains("would need about"),
         "{err}"
     );
     // The imported world's meshes are checked as a generated world's are.

@@ -67,7 +67,7 @@ impl Budget {
             format!(", {}", self.note)
         };
         Err(format!(
-            "{what} needs about {} of memory, more than {} allows ({}{note}); {advice}, or raise {}",
+            "{what} would need about {} of memory, more than {} allows ({}{note}); {advice}, or raise {}",
             Bytes(needed),
             self.knob,
             Bytes(self.bytes),
@@ -182,7 +182,7 @@ mod tests {
             .unwrap_err();
         assert_eq!(
             e,
-            "this world needs about 12.7 GB of memory, more than --max-memory allows (2.0 GB); \
+            "this world would need about 12.7 GB of memory, more than --max-memory allows (2.0 GB); \
              use fewer levels, or raise --max-memory"
         );
         assert!(Budget::unlimited().check(u64::MAX, "x", "y").is_ok());
