@@ -27,6 +27,15 @@ fn bench(c: &mut Criterion, name: &str, pipeline: &Pipeline) {
         b.iter(|| assemble(black_box(&world), tileset.as_ref()).expect("mesh"))
     });
     group.finish();
+    // What assembly adds to check the memory budget before the first tile: the estimate.
+    let mut group = c.benchmark_group("estimate");
+    group.bench_function(name, |b| {
+        b.iter(|| {
+            let w = black_box(&world);
+            subtgraph::core::budget::mesh_estimate(w, |k| tileset.estimate(w, k))
+        })
+    });
+    group.finish();
 }
 
 fn presets(c: &mut Criterion) {

@@ -20,6 +20,7 @@ pub use subtgraph_tilesets as tilesets;
 pub mod dataset;
 pub mod folder;
 pub mod make;
+pub mod memory;
 pub mod presets;
 pub mod preview;
 pub mod stats;

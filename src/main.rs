@@ -60,6 +60,10 @@ enum Command {
         /// sets the scale (tile pitch, level height).
         #[arg(long, value_name = "FILE.npy")]
         occupancy: Option<PathBuf>,
+        /// Memory the run may use, like 16G or 512M (default: 3/4 of physical memory). A world
+        /// whose grid or meshes would need more is refused before it is made, with its estimate.
+        #[arg(long, value_name = "SIZE")]
+        max_memory: Option<String>,
     },
     /// Make a dataset: COUNT worlds per source (pipeline files and presets), in parallel.
     ///
@@ -121,6 +125,10 @@ enum Command {
         /// A plugin library to load (repeatable), besides the pipelines' `[plugins] paths`.
         #[arg(long = "plugin", value_name = "PATH")]
         plugins: Vec<PathBuf>,
+        /// Memory the whole run may use, like 16G (default: 3/4 of physical memory); each of
+        /// the --jobs workers gets its share.
+        #[arg(long, value_name = "SIZE")]
+        max_memory: Option<String>,
     },
     /// Variability statistics of worlds (the paper's "Topological Analysis"): IoU, mirror
     /// asymmetry, tile mix, sizes, constraint satisfaction, graph statistics; JSON, CSV and
@@ -188,7 +196,9 @@ fn main() -> ExitCode {
     match run(cli) {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
-            eprintln!("error: {}", message(&e));
+            // Every message passes through `shorten`, so no path that echoes a user's value can
+            // print a huge one whole.
+            eprintln!("error: {}", subtgraph::core::error::shorten(&message(&e)));
             ExitCode::FAILURE
         }
     }
@@ -223,7 +233,9 @@ fn run(cli: Cli) -> Result<()> {
             format,
             plugins,
             occupancy,
+            max_memory,
         } => {
+            let budget = subtgraph::memory::budget(max_memory.as_deref())?;
             let (mut p, source) = load_pipeline(pipeline.as_deref(), preset.as_deref())?;
             if let Some(name) = tileset {
                 p.tileset = Some(subtgraph::core::params::ComponentSpec::named(&name));
@@ -243,17 +255,21 @@ fn run(cli: Cli) -> Result<()> {
             let started = Instant::now();
             let world = match occupancy {
                 Some(npy_path) => {
-                    let mut world = import_world(&npy_path, &p)?;
+                    let mut world = import_world(&npy_path, &p, &budget)?;
                     if let Some(spec) = &p.tileset {
                         let tileset = registry.tilesets.build(spec)?;
                         world.mesh = Some(
-                            subtgraph::core::assembly::assemble(&world, tileset.as_ref())
-                                .map_err(|e| anyhow!("tile set '{}': {e}", spec.type_name))?,
+                            subtgraph::core::assembly::assemble_within(
+                                &world,
+                                tileset.as_ref(),
+                                &budget,
+                            )
+                            .map_err(|e| anyhow!("tile set '{}': {e}", spec.type_name))?,
                         );
                     }
                     world
                 }
-                None => make::generate(&p, &registry, &source)?,
+                None => make::generate(&p, &registry, &source, &budget)?,
             };
             let generated_in = started.elapsed();
             subtgraph_plugins::check_failures().map_err(|e| anyhow!(e))?;
@@ -277,8 +293,10 @@ fn run(cli: Cli) -> Result<()> {
             tileset,
             format,
             plugins,
+            max_memory,
         } => {
             use subtgraph::dataset;
+            let max_memory = subtgraph::memory::budget(max_memory.as_deref())?;
             let shard = match (shard, shard_index, shard_count) {
                 (Some(s), _, _) => s.parse::<dataset::Shard>().map_err(|e| anyhow!(e))?,
                 (None, Some(k), Some(n)) => {
@@ -347,6 +365,7 @@ fn run(cli: Cli) -> Result<()> {
                     std::thread::available_parallelism().map_or(1, std::num::NonZero::get)
                 }),
                 shard,
+                max_memory,
             };
             let started = Instant::now();
             let summary = dataset::run(&sources, &opts)?;
@@ -484,9 +503,28 @@ fn load_pipeline(file: Option<&Path>, preset: Option<&str>) -> Result<(Pipeline,
     }
 }
 
-fn import_world(path: &Path, p: &Pipeline) -> Result<World> {
+fn import_world(path: &Path, p: &Pipeline, budget: &subtgraph::core::Budget) -> Result<World> {
+    use subtgraph::core::budget;
     let bytes = std::fs::read(path).with_context(|| format!("reading {}", path.display()))?;
     let name = path.display().to_string();
+    // Sized from the header before any value is decoded: the values as f64, the codes, and the
+    // world's grids.
+    let shape = npy::shape(&bytes).map_err(|m| anyhow!("{name}: {m}"))?;
+    let cells: usize = shape.iter().product();
+    let (levels, per_level) = match shape[..] {
+        [l, r, c] => (l, r * c),
+        _ => (1, cells),
+    };
+    let needed = budget::layout_bytes(levels, 1, per_level)
+        .saturating_add((cells as u64).saturating_mul(budget::BYTES_PER_IMPORTED_CELL))
+        .saturating_add(bytes.len() as u64);
+    budget
+        .check(
+            needed,
+            &format!("importing {name} ({cells} cells, shape {shape:?})"),
+            "import a smaller grid (crop or split it with numpy)",
+        )
+        .map_err(|e| anyhow!(e))?;
     let array = npy::decode(&bytes).map_err(|m| anyhow!("{name}: {m}"))?;
     let (world, encoding) = import::import_occupancy(&array, &name, p, env!("CARGO_PKG_VERSION"))?;
     eprintln!("imported {name}: {encoding:?} encoding");

@@ -9,7 +9,7 @@ use anyhow::{Result, anyhow, bail};
 use subtgraph_core::config::Provenance;
 use subtgraph_core::export::Exporter;
 use subtgraph_core::params::ComponentSpec;
-use subtgraph_core::{Pipeline, Registry, World};
+use subtgraph_core::{Budget, Pipeline, Registry, World};
 
 /// The registry with every built-in and the plugins of the pipeline and the command line.
 pub fn registry_with(p: &Pipeline, extra: &[PathBuf]) -> Result<Registry> {
@@ -119,9 +119,9 @@ pub fn expected_world_toml(p: &Pipeline, source: &str) -> Result<String> {
     Ok(subtgraph_exporters::world_toml_text(&resolved))
 }
 
-/// Generates a world and records where its pipeline came from.
-pub fn generate(p: &Pipeline, registry: &Registry, source: &str) -> Result<World> {
-    let mut world = subtgraph_core::generate(p, registry)?;
+/// Generates a world within a memory budget and records where its pipeline came from.
+pub fn generate(p: &Pipeline, registry: &Registry, source: &str, budget: &Budget) -> Result<World> {
+    let mut world = subtgraph_core::generate_within(p, registry, budget)?;
     world.pipeline.generated = Some(provenance(source));
     subtgraph_plugins::check_failures().map_err(|e| anyhow!(e))?;
     Ok(world)

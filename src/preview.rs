@@ -54,17 +54,22 @@ fn read_scene(world: &Path) -> Result<Scene> {
             let mut it = rest.split_whitespace().map(|x| x.parse::<f32>());
             match (it.next(), it.next(), it.next()) {
                 (Some(Ok(x)), Some(Ok(y)), Some(Ok(z))) => scene.positions.push([x, y, z]),
-                _ => bail!("{}: bad vertex line '{line}'", obj_path.display()),
+                _ => bail!(
+                    "{}: bad vertex line '{}'",
+                    obj_path.display(),
+                    subtgraph_core::error::excerpt(line)
+                ),
             }
         } else if let Some(rest) = line.strip_prefix("f ") {
+            // OBJ indices are 1-based; 0 (or a negative, relative one) is refused below
+            // with the other out-of-range indices, not subtracted into a panic.
             let idx: Vec<u32> = rest
                 .split_whitespace()
                 .filter_map(|t| t.split('/').next()?.parse::<u32>().ok())
+                .map(|i| i.checked_sub(1).unwrap_or(u32::MAX))
                 .collect();
             for k in 1..idx.len().saturating_sub(1) {
-                scene
-                    .triangles
-                    .push([idx[0] - 1, idx[k] - 1, idx[k + 1] - 1]);
+                scene.triangles.push([idx[0], idx[k], idx[k + 1]]);
                 scene.colours.push(colour);
             }
         } else if let Some(name) = line.strip_prefix("usemtl ") {

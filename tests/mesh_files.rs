@@ -250,3 +250,114 @@ fn the_darpa_manifest_builds_the_papers_worlds() {
     let err = assemble(&w2, &m).unwrap_err().to_string();
     assert!(err.contains("set world.level_height = 20"), "{err}");
 }
+
+/// Straights, T-junctions and intersections with their rotations given (as the DARPA
+/// manifest gives them), so openings are not read at the manifest's pitch.
+const THROUGH_KINDS: &str = r#"
+[[tile]]
+kind = "straight"
+rotation = 0
+files = ["straight.obj"]
+[[tile]]
+kind = "t-junction"
+rotation = 0
+files = ["tee.obj"]
+[[tile]]
+kind = "intersection"
+rotation = 0
+files = ["cross.obj"]
+"#;
+
+#[test]
+fn a_pitch_the_meshes_contradict_is_refused_with_the_measured_one() {
+    let dir = tempfile::tempdir().unwrap();
+    write_tiles(dir.path());
+    let open = |head: &str, body: &str| {
+        let p = dir.path().join("pitch.toml");
+        std::fs::write(&p, format!("{head}\nup = \"z\"\n{body}")).unwrap();
+        MeshFiles::open(&p)
+    };
+    // The meshes' openings are 80 m apart: the right pitch loads.
+    assert_eq!(
+        open("pitch = 80.0", THROUGH_KINDS).unwrap().pitch(),
+        Some(80.0)
+    );
+    // Half of it, and an absurd one: refused with what the meshes measure, never a level
+    // height to go with the wrong pitch (issue 10, item 12).
+    for pitch in ["40", "1e30", "0.001"] {
+        let err = open(&format!("pitch = {pitch}"), THROUGH_KINDS)
+            .err()
+            .unwrap_or_else(|| panic!("pitch = {pitch} is accepted"));
+        assert!(
+            err.contains("the meshes' openings are 80 m apart") && err.contains("set pitch = 80"),
+            "{pitch}: {err}"
+        );
+        assert!(!err.contains("level_height"), "{err}");
+    }
+    // In file units when the files are scaled.
+    let err = open("pitch = 40.0\nscale = 0.5", THROUGH_KINDS)
+        .err()
+        .unwrap();
+    assert!(
+        err.contains("openings are 40 m apart") && err.contains("set pitch = 80 (in file units"),
+        "{err}"
+    );
+    assert!(open("pitch = 80.0\nscale = 0.5", THROUGH_KINDS).is_ok());
+    // A rotation is a quarter-turn count, not taken modulo 4.
+    for r in [4, 7, 255] {
+        let body = THROUGH_KINDS.replacen("rotation = 0", &format!("rotation = {r}"), 1);
+        let err = open("pitch = 80.0", &body).err().unwrap();
+        assert!(
+            err.contains(&format!("rotation = {r}")) && err.contains("0, 1, 2 or 3"),
+            "{err}"
+        );
+    }
+}
+
+#[test]
+fn the_darpa_manifest_with_a_wrong_pitch_is_told_the_real_one() {
+    let Some(tiles) = darpa() else { return };
+    let shipped = std::fs::read_to_string(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("tilesets/manifests/darpa-cave-type-b.toml"),
+    )
+    .unwrap();
+    let root = format!("root = {:?}", tiles.display().to_string());
+    let dir = tempfile::tempdir().unwrap();
+    for (from, to, want) in [
+        (
+            "pitch = 80.0",
+            "pitch = 40.0",
+            "openings are 80 m apart; set pitch = 80",
+        ),
+        (
+            "pitch = 80.0",
+            "pitch = 1e30",
+            "openings are 80 m apart; set pitch = 80",
+        ),
+        (
+            "rotation = 3",
+            "rotation = 7",
+            "rotation = 7: give the quarter turns as 0, 1, 2 or 3",
+        ),
+    ] {
+        let text = shipped
+            .lines()
+            .map(|l| {
+                if l.starts_with("root =") {
+                    root.clone()
+                } else {
+                    l.to_owned()
+                }
+            })
+            .collect::<Vec<_>>()
+            .join("\n")
+            .replace(from, to);
+        let p = dir.path().join("darpa.toml");
+        std::fs::write(&p, text).unwrap();
+        let err = MeshFiles::open(&p)
+            .err()
+            .unwrap_or_else(|| panic!("{to} is accepted"));
+        assert!(err.contains(want), "{to}: {err}");
+        assert!(!err.contains("level_height"), "{err}");
+    }
+}

@@ -190,3 +190,42 @@ fn bad_tileset_settings_are_refused_with_what_to_change() {
     let err = assemble(&w, t.as_ref()).unwrap_err();
     assert!(err.to_string().contains("do not fit"), "{err}");
 }
+
+/// The memory check before meshing relies on each procedural tile set's estimate of its
+/// triangles (`TileSet::estimate`): it must follow what the tile set really makes.
+#[test]
+fn triangle_estimates_follow_the_meshes() {
+    use subtgraph::core::budget::mesh_estimate;
+    let r = subtgraph::registry();
+    let mut ratios = Vec::new();
+    for (style, table, preset) in [
+        ("cave", "", "cave"),
+        ("mine", "", "mine"),
+        ("lava-tube", "", "lava-tube"),
+        ("cave", "resolution = 8\nrocks = 3\n", "cave"),
+        ("mine", "resolution = 48\n", "cave"),
+        ("lava-tube", "collision_resolution = 4\n", "mine"),
+    ] {
+        let w = world(preset, 4);
+        let spec = ComponentSpec {
+            type_name: style.into(),
+            params: Params::from_table("tileset", toml::from_str(table).unwrap()),
+        };
+        let t = r.tilesets.build(&spec).unwrap();
+        let estimate = mesh_estimate(&w, |k| t.estimate(&w, k)).unwrap();
+        let m = assemble(&w, t.as_ref()).unwrap();
+        let made = (m.visual.triangle_count() + m.collision.triangle_count()) as f64;
+        let ratio = estimate.triangles / made;
+        eprintln!(
+            "{style} {table:?} on {preset}: estimate {:.0}, made {made}, ratio {ratio:.2}",
+            estimate.triangles
+        );
+        ratios.push((style, table, ratio));
+    }
+    for (style, table, ratio) in ratios {
+        assert!(
+            (0.75..1.5).contains(&ratio),
+            "{style} {table}: ratio {ratio}"
+        );
+    }
+}

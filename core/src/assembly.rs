@@ -9,6 +9,7 @@ use std::ops::Range;
 
 use rayon::prelude::*;
 
+use crate::budget::{Budget, MeshEstimate};
 use crate::grid::Cell;
 use crate::mesh::{Material, Mesh};
 use crate::rng::derive_seed;
@@ -53,9 +54,47 @@ fn reserve(m: &mut Mesh, vertices: usize, triangles: usize) {
     m.materials.reserve(triangles);
 }
 
-/// Makes every tile of a world and joins them.
+/// Makes every tile of a world and joins them, with no memory budget (see
+/// [`assemble_within`]).
 pub fn assemble(world: &World, tileset: &dyn TileSet) -> Result<WorldMesh, TileSetError> {
+    assemble_within(world, tileset, &Budget::unlimited())
+}
+
+/// Makes every tile of a world and joins them, refusing first a world whose meshes would need
+/// more memory than `budget`: by the tile set's estimate before any tile is made, and for tile
+/// sets without one, by the first chunk of tiles extrapolated to the world.
+pub fn assemble_within(
+    world: &World,
+    tileset: &dyn TileSet,
+    budget: &Budget,
+) -> Result<WorldMesh, TileSetError> {
     tileset.check(world)?;
+    let advice = match tileset.detail_advice() {
+        Some(a) => format!(
+            "{a}, make a smaller world (world.min_length, or world.rows and world.cols, and \
+             world.levels), or make no mesh (--no-mesh)"
+        ),
+        None => "make a smaller world (world.min_length, or world.rows and world.cols, and \
+                 world.levels), or make no mesh (--no-mesh)"
+            .to_owned(),
+    };
+    let grid = crate::budget::layout_bytes(
+        world.occupancy.levels(),
+        world.occupancy.rows(),
+        world.occupancy.cols(),
+    );
+    let too_large = |estimate: MeshEstimate, how: &str| {
+        budget
+            .check(
+                estimate.bytes.saturating_add(grid),
+                &format!("this world's meshes ({}, {how})", estimate.describe()),
+                &advice,
+            )
+            .map_err(TileSetError)
+    };
+    if let Some(e) = crate::budget::mesh_estimate(world, |k| tileset.estimate(world, k)) {
+        too_large(e, "estimated")?;
+    }
     let cells: Vec<Cell> = world
         .occupancy
         .cells()
@@ -109,6 +148,10 @@ pub fn assemble(world: &World, tileset: &dyn TileSet) -> Result<WorldMesh, TileS
             };
             let (vv, vt) = count(|g| (g.visual.positions.len(), g.visual.triangles.len()));
             let (cv, ct) = count(|g| (g.collision.positions.len(), g.collision.triangles.len()));
+            too_large(
+                MeshEstimate::of(cells.len() as u64, (vt + ct) as f64 / 1.05),
+                &format!("measured on its first {} tiles", group.len()),
+            )?;
             reserve(&mut out.visual, vv, vt);
             reserve(&mut out.collision, cv, ct);
         }

@@ -387,6 +387,10 @@ pub const BUILT_IN_STRUCTURES: [(&str, &str); 3] = [
 
 /// Limits that keep a world within what the tool is meant for.
 const MAX_LEVELS: u32 = 64;
+/// Shortest `world.tile_pitch` and `world.level_height`, metres.
+const MIN_LENGTH: f64 = 0.5;
+/// Longest `world.tile_pitch` and `world.level_height`, metres.
+const MAX_LENGTH: f64 = 1000.0;
 const MAX_SIDE: u32 = 2048;
 const MIN_SIDE: u32 = 8;
 
@@ -419,6 +423,25 @@ impl Pipeline {
     /// Parses a pipeline file. `file` names it in errors.
     pub fn parse(source: &str, file: &str) -> Result<Pipeline, ConfigError> {
         let file: Arc<str> = Arc::from(file);
+        if source
+            .lines()
+            .all(|l| l.trim().is_empty() || l.trim_start().starts_with('#'))
+        {
+            // An empty file would silently mean seed 0 and no tile set: the built-in defaults
+            // are what running without a file is for.
+            return Err(ConfigError {
+                location: Location {
+                    file,
+                    line: 1,
+                    column: 1,
+                },
+                key: String::new(),
+                message: "the pipeline file is empty (no table, no key); write at least a [world] \
+                          table (see examples/cave.toml), or run without a pipeline file to use \
+                          the built-in defaults (the cave preset)"
+                    .into(),
+            });
+        }
         let mut p: Pipeline = toml::from_str(source).map_err(|e| {
             let offset = e.span().map_or(0, |s| s.start);
             let location = Location::of_offset(&file, source, offset);
@@ -504,17 +527,20 @@ impl Pipeline {
                 ));
             }
         }
-        if !(w.tile_pitch.is_finite() && w.tile_pitch > 0.0) {
+        // Lengths a passage tile can physically have: from a crawlspace to a cavern. Beyond,
+        // meshes lose their precision (single-precision vertices) or their meaning.
+        let metres = MIN_LENGTH..=MAX_LENGTH;
+        if !metres.contains(&w.tile_pitch) {
             return Err(err(
                 "world.tile_pitch",
-                "must be a positive number of metres".into(),
+                format!("must be from {MIN_LENGTH} to {MAX_LENGTH} metres"),
             ));
         }
         if let Some(h) = w.level_height {
-            if !(h.is_finite() && h > 0.0) {
+            if !metres.contains(&h) {
                 return Err(err(
                     "world.level_height",
-                    "must be a positive number of metres".into(),
+                    format!("must be from {MIN_LENGTH} to {MAX_LENGTH} metres"),
                 ));
             }
         }
@@ -703,7 +729,7 @@ pub fn structure_count(spec: &ComponentSpec) -> Result<IntRange, ConfigError> {
 }
 
 /// The dotted key whose value or name starts at `offset` in a TOML document (best effort).
-fn key_at(source: &str, offset: usize) -> String {
+pub(crate) fn key_at(source: &str, offset: usize) -> String {
     let offset = offset.min(source.len());
     let line_start = source[..offset].rfind('\n').map_or(0, |i| i + 1);
     let line_end = source[offset..]

@@ -1,7 +1,96 @@
 //! Errors of the core library. Each says what went wrong and what to change.
 
+use std::borrow::Cow;
 use std::fmt;
 use std::sync::Arc;
+
+/// The most characters of a user's value that a message quotes.
+///
+/// Messages quote what the user wrote so they can find it, but a value can be anything a file
+/// holds (a 50 MB string as `route.type`): past this length a message shows its start and how
+/// long it was, so an error stays readable and cheap to print.
+pub const QUOTE_LIMIT: usize = 80;
+
+/// A user's value as messages quote it: whole up to [`QUOTE_LIMIT`] characters, else its
+/// first [`QUOTE_LIMIT`] characters, `...` and its length.
+pub fn excerpt(value: &str) -> Cow<'_, str> {
+    match value.char_indices().nth(QUOTE_LIMIT) {
+        None => Cow::Borrowed(value),
+        Some((cut, _)) => Cow::Owned(format!(
+            "{}... ({} bytes in all)",
+            &value[..cut],
+            value.len()
+        )),
+    }
+}
+
+/// A message with every quoted span (between `"`, `'` or backticks, as serde, TOML and our
+/// own messages quote values) longer than [`QUOTE_LIMIT`] characters cut with [`excerpt`],
+/// and any line still longer than ten times that cut in its middle. Applied where messages
+/// are shown, so that no path that echoes a value can print it whole.
+pub fn shorten(message: &str) -> Cow<'_, str> {
+    if message.len() <= QUOTE_LIMIT {
+        return Cow::Borrowed(message);
+    }
+    let mut out = String::with_capacity(message.len().min(4096));
+    let mut rest = message;
+    let mut changed = false;
+    let word = |b: Option<&u8>| b.is_some_and(|b| b.is_ascii_alphanumeric());
+    // An apostrophe inside a word (`machine's`) is not a quote: a quote opens after a
+    // non-word character and closes before one.
+    let opens = |s: &str, i: usize| {
+        let b = s.as_bytes();
+        b[i] != b'\'' || i == 0 || !word(b.get(i - 1))
+    };
+    while let Some(open) = rest
+        .char_indices()
+        .find(|&(i, c)| matches!(c, '"' | '\'' | '`') && opens(rest, i))
+        .map(|(i, _)| i)
+    {
+        let q = rest.as_bytes()[open];
+        let inner_start = open + 1;
+        // The closing quote: the next unescaped one of the same kind.
+        let bytes = rest.as_bytes();
+        let mut close = None;
+        let mut i = inner_start;
+        while i < bytes.len() {
+            match bytes[i] {
+                b'\\' => i += 2,
+                b if b == q && (q != b'\'' || !word(bytes.get(i + 1))) => {
+                    close = Some(i);
+                    break;
+                }
+                _ => i += 1,
+            }
+        }
+        let Some(close) = close else { break };
+        let inner = &rest[inner_start..close];
+        out.push_str(&rest[..inner_start]);
+        let cut = excerpt(inner);
+        changed |= matches!(cut, Cow::Owned(_));
+        out.push_str(&cut);
+        out.push(char::from(q));
+        rest = &rest[close + 1..];
+    }
+    out.push_str(rest);
+    let long = QUOTE_LIMIT * 10;
+    if out.lines().any(|l| l.len() > long) {
+        changed = true;
+        out = out
+            .split('\n')
+            .map(|l| match l.char_indices().nth(long) {
+                None => l.to_owned(),
+                Some((cut, _)) => format!("{}... ({} bytes in all)", &l[..cut], l.len()),
+            })
+            .collect::<Vec<_>>()
+            .join("\n");
+    }
+    if changed {
+        Cow::Owned(out)
+    } else {
+        Cow::Borrowed(message)
+    }
+}
 
 /// A place in a pipeline file.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -36,9 +125,18 @@ impl fmt::Display for Location {
     }
 }
 
+/// `key: ` for a message about a key, nothing for one about the whole file.
+fn key_prefix(key: &str) -> String {
+    if key.is_empty() {
+        String::new()
+    } else {
+        format!("{}: ", excerpt(key))
+    }
+}
+
 /// A pipeline configuration that cannot be used as written.
 #[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
-#[error("{location}: {key}: {message}")]
+#[error("{location}: {}{}", key_prefix(.key), shorten(.message))]
 pub struct ConfigError {
     /// Where in the file.
     pub location: Location,
@@ -79,7 +177,7 @@ pub enum Error {
     },
 
     /// An imported occupancy grid has a shape, type or value the tool cannot read.
-    #[error("{source_name}: {message}")]
+    #[error("{source_name}: {}", shorten(.message))]
     Import {
         /// The file or array name.
         source_name: String,
@@ -87,8 +185,13 @@ pub enum Error {
         message: String,
     },
 
+    /// The world would need more memory than the budget allows (see [`crate::budget`]): the
+    /// message gives the estimate and what to change.
+    #[error("{0}")]
+    TooLarge(String),
+
     /// A component (route descriptor, shape, tile set, exporter) failed.
-    #[error("{component} '{name}': {message}")]
+    #[error("{component} '{}': {}", excerpt(.name), shorten(.message))]
     Component {
         /// What kind of component.
         component: &'static str,
@@ -97,4 +200,48 @@ pub enum Error {
         /// What went wrong.
         message: String,
     },
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn long_values_are_cut_where_messages_quote_them() {
+        assert_eq!(excerpt("short"), "short");
+        let huge = "x".repeat(50_000_000);
+        let e = excerpt(&huge);
+        assert!(e.len() < 200 && e.contains("50000000 bytes"), "{e}");
+        let m = format!("unknown route descriptor '{huge}' (known: linear, sine)");
+        let s = shorten(&m);
+        assert!(s.len() < 200, "{} bytes", s.len());
+        assert!(s.ends_with("(known: linear, sine)"), "{s}");
+        let m = format!("invalid type: string \"{huge}\\\"{huge}\", expected f64");
+        let s = shorten(&m);
+        assert!(s.len() < 300 && s.ends_with(", expected f64"), "{s}");
+        // Unquoted, still cut.
+        let m = format!("bad shape ({huge}, 4)");
+        assert!(shorten(&m).len() < 1000);
+        // Apostrophes in words are not quotes.
+        let m = format!(
+            "tile set 'cave': this world's meshes need {}; raise --max-memory (this machine's 25 GB)",
+            "y".repeat(200)
+        );
+        assert_eq!(shorten(&m), m);
+        // Short messages are untouched.
+        assert_eq!(shorten("key: unknown field `x`"), "key: unknown field `x`");
+        // Multibyte characters are cut on a character boundary.
+        let wide = "é".repeat(100);
+        assert!(excerpt(&wide).starts_with(&"é".repeat(80)));
+        let c = ConfigError {
+            location: Location {
+                file: Arc::from("p.toml"),
+                line: 1,
+                column: 1,
+            },
+            key: huge.clone(),
+            message: format!("unknown field `{huge}`"),
+        };
+        assert!(c.to_string().len() < 400);
+    }
 }

@@ -19,6 +19,7 @@
 //! lets the command line make world folders atomic.
 
 pub mod assembly;
+pub mod budget;
 pub mod config;
 pub mod error;
 pub mod export;
@@ -39,8 +40,9 @@ pub mod tileset;
 pub mod vec3;
 pub mod world;
 
+pub use budget::Budget;
 pub use config::Pipeline;
 pub use error::{ConfigError, Error};
-pub use generate::{generate, layout};
+pub use generate::{generate, generate_within, layout, layout_within};
 pub use registry::Registry;
 pub use world::World;

@@ -1,5 +1,15 @@
 //! The NumPy `.npy` format (version 1.0 to 3.0), as bytes: writing `uint8` grids and reading
 //! the integer, boolean and float arrays the original tool and numpy users save.
+//!
+//! The reader is our own rather than the `npyz` crate's: it is one function over a byte
+//! slice (core does no file I/O), it converts every accepted dtype to the `f64` values the
+//! importer checks cell by cell, which `npyz` would make us dispatch by hand over its typed
+//! readers anyway, and the one writer and the reader share this file. What it must get right
+//! on hostile files it does here: every size read from the header (header length, each
+//! dimension, their product, the bytes it takes) is computed with checked arithmetic and
+//! compared with the bytes actually present *before* anything is allocated, so a crafted
+//! shape can neither panic, wrap around to a small or empty array, nor reserve memory the
+//! file does not back.
 
 /// A decoded array: its shape and its values in C (row-major) order.
 #[derive(Clone, Debug, PartialEq)]
@@ -39,14 +49,35 @@ pub fn encode_u8(shape: &[usize], data: &[u8]) -> Vec<u8> {
     out
 }
 
-/// Decodes a `.npy` file. The error says what is wrong with it.
-pub fn decode(bytes: &[u8]) -> Result<NpyArray, String> {
+/// What a `.npy` header says, checked against the file's size.
+struct Header {
+    shape: Vec<usize>,
+    count: usize,
+    dtype: String,
+    fortran: bool,
+    data_start: usize,
+    endian: u8,
+    kind: u8,
+    size: usize,
+}
+
+/// The shape a `.npy` file declares, read from its header alone (no values decoded; the dtype
+/// and that the file holds the bytes the shape needs are checked), so a caller can size the
+/// work before decoding. Errors as [`decode`]'s.
+pub fn shape(bytes: &[u8]) -> Result<Vec<usize>, String> {
+    header(bytes).map(|h| h.shape)
+}
+
+fn header(bytes: &[u8]) -> Result<Header, String> {
     if bytes.len() < 10 || &bytes[..6] != b"\x93NUMPY" {
         return Err("not a .npy file (no \\x93NUMPY magic); save the array with numpy.save".into());
     }
     let major = bytes[6];
     let (header_len, start) = match major {
-        1 => (u16::from_le_bytes([bytes[8], bytes[9]]) as usize, 10),
+        1 => (
+            usize::from(u16::from_le_bytes([bytes[8], bytes[9]])),
+            10usize,
+        ),
         2 | 3 => {
             if bytes.len() < 12 {
                 return Err("truncated .npy header".into());
@@ -58,8 +89,9 @@ pub fn decode(bytes: &[u8]) -> Result<NpyArray, String> {
         }
         v => return Err(format!("unsupported .npy version {v}")),
     };
-    let header = bytes
-        .get(start..start + header_len)
+    let header = start
+        .checked_add(header_len)
+        .and_then(|end| bytes.get(start..end))
         .ok_or("truncated .npy header")?;
     let header = std::str::from_utf8(header).map_err(|_| "the .npy header is not text")?;
     let dtype = dict_value(header, "descr")
@@ -73,20 +105,37 @@ pub fn decode(bytes: &[u8]) -> Result<NpyArray, String> {
         .map(str::trim)
         .filter(|s| !s.is_empty())
         .map(|s| {
-            s.parse::<usize>()
-                .map_err(|_| format!("bad shape {shape_text}"))
+            s.parse::<usize>().map_err(|_| {
+                format!(
+                    "bad shape {}: the dimensions must be whole numbers",
+                    crate::error::excerpt(shape_text)
+                )
+            })
         })
         .collect::<Result<_, _>>()?;
-    let count: usize = shape.iter().product();
+    let count = shape
+        .iter()
+        .try_fold(1usize, |n, &d| n.checked_mul(d))
+        .ok_or_else(|| {
+            format!(
+                "shape {} has more elements than any file can hold; the header is corrupt",
+                crate::error::excerpt(shape_text)
+            )
+        })?;
     let data = &bytes[start + header_len..];
     let (endian, kind, size) = {
         let b = dtype.as_bytes();
         if b.len() < 3 {
-            return Err(format!("unsupported dtype '{dtype}'"));
+            return Err(format!(
+                "unsupported dtype '{}'",
+                crate::error::excerpt(&dtype)
+            ));
         }
-        let size: usize = dtype[2..]
+        let size: usize = dtype
+            .get(2..)
+            .unwrap_or_default()
             .parse()
-            .map_err(|_| format!("unsupported dtype '{dtype}'"))?;
+            .map_err(|_| format!("unsupported dtype '{}'", crate::error::excerpt(&dtype)))?;
         (b[0], b[1], size)
     };
     if !matches!(
@@ -94,16 +143,47 @@ pub fn decode(bytes: &[u8]) -> Result<NpyArray, String> {
         (b'u' | b'i', 1 | 2 | 4 | 8) | (b'b', 1) | (b'f', 4 | 8)
     ) {
         return Err(format!(
-            "unsupported dtype '{dtype}': use an integer, boolean or float array"
+            "unsupported dtype '{}': use an integer, boolean or float array",
+            crate::error::excerpt(&dtype)
         ));
     }
-    if data.len() < count * size {
+    let promised = count.checked_mul(size).ok_or_else(|| {
+        format!(
+            "shape {} with {size}-byte values is larger than any file can hold",
+            crate::error::excerpt(shape_text)
+        )
+    })?;
+    if data.len() < promised {
         return Err(format!(
-            "the file holds {} bytes of data, the header promises {} ({count} values of {size} bytes)",
+            "the file holds {} bytes of data, the header promises {promised} ({count} values of {size} bytes)",
             data.len(),
-            count * size
         ));
     }
+    Ok(Header {
+        shape,
+        count,
+        dtype,
+        fortran,
+        data_start: start + header_len,
+        endian,
+        kind,
+        size,
+    })
+}
+
+/// Decodes a `.npy` file. The error says what is wrong with it.
+pub fn decode(bytes: &[u8]) -> Result<NpyArray, String> {
+    let Header {
+        shape,
+        count,
+        dtype,
+        fortran,
+        data_start,
+        endian,
+        kind,
+        size,
+    } = header(bytes)?;
+    let data = &bytes[data_start..];
     let big = endian == b'>';
     let read = |i: usize| -> f64 {
         let mut b = [0u8; 8];
@@ -217,5 +297,59 @@ mod tests {
         assert!(e.contains("unsupported dtype"), "{e}");
         let e = decode(&with_header("<i8", false, "(4,)", &[0; 16])).unwrap_err();
         assert!(e.contains("header promises"), "{e}");
+    }
+
+    #[test]
+    fn crafted_shapes_are_refused_not_wrapped_or_panicking() {
+        // 4611686018427388004 * 4 wraps to 400 in 64 bits: the header must not be believed
+        // because 400 bytes happen to follow (issue 10, item 3).
+        let e = decode(&with_header(
+            "|u1",
+            false,
+            "(4611686018427388004, 4)",
+            &[1; 400],
+        ))
+        .unwrap_err();
+        assert!(e.contains("more elements than any file can hold"), "{e}");
+        // 2^62 * 4 * 4 wraps to 0: not an "empty grid".
+        let e = decode(&with_header(
+            "|u1",
+            false,
+            "(4611686018427387904, 4, 4)",
+            &[],
+        ))
+        .unwrap_err();
+        assert!(e.contains("more elements"), "{e}");
+        // The element count fits, the bytes do not.
+        let e = decode(&with_header(
+            "<f8",
+            false,
+            "(4611686018427387904,)",
+            &[0; 8],
+        ))
+        .unwrap_err();
+        assert!(e.contains("larger than any file can hold"), "{e}");
+        // Fortran order with an overflowing shape.
+        let e = decode(&with_header(
+            "<i8",
+            true,
+            "(4294967296, 4294967296, 2)",
+            &[0; 16],
+        ))
+        .unwrap_err();
+        assert!(e.contains("more elements"), "{e}");
+        // A dtype with a multibyte character is an error, not a panic.
+        let e = decode(&with_header("<\u{e9}8", false, "(1,)", &[0; 8])).unwrap_err();
+        assert!(e.contains("unsupported dtype"), "{e}");
+        // Negative and non-numeric dimensions.
+        for shape in ["(-1, 4)", "(4, x)"] {
+            let e = decode(&with_header("|u1", false, shape, &[0; 4])).unwrap_err();
+            assert!(e.contains("bad shape"), "{shape}: {e}");
+        }
+        // A version-2 header whose length runs past the file.
+        let mut v2 = b"\x93NUMPY\x02\x00".to_vec();
+        v2.extend_from_slice(&u32::MAX.to_le_bytes());
+        v2.extend_from_slice(b"{}");
+        assert!(decode(&v2).unwrap_err().contains("truncated"));
     }
 }

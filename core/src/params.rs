@@ -122,10 +122,10 @@ impl Params {
                 line: 0,
                 column: 0,
             });
-        let key = if self.section_name.is_empty() {
-            key.to_owned()
-        } else {
-            format!("{}.{key}", self.section_name)
+        let key = match (self.section_name.is_empty(), key.is_empty()) {
+            (true, _) => key.to_owned(),
+            (false, true) => self.section_name.clone(),
+            (false, false) => format!("{}.{key}", self.section_name),
         };
         ConfigError {
             location,
@@ -140,15 +140,46 @@ impl Params {
         let value = toml::Value::Table(self.to_table());
         T::deserialize(value).map_err(|e| {
             let message = e.to_string().trim().to_owned();
-            let key = message
-                .split('`')
-                .skip(1)
-                .step_by(2)
-                .find(|k| self.values.contains_key(*k))
-                .unwrap_or("")
-                .to_owned();
+            let key = self.key_of_error::<T>(&message);
             self.error(&key, message)
         })
+    }
+
+    /// The key (dotted below this section) a deserialization error is about. Serde names a
+    /// key only in some messages (`unknown field `x``, `missing field `x``); for the others
+    /// (a value of the wrong type, out of range) the same table is read again from TOML text,
+    /// whose errors point at the offending line. Only runs on the error path.
+    fn key_of_error<T: DeserializeOwned>(&self, message: &str) -> String {
+        let quoted = |m: &str| -> Vec<String> {
+            m.split('`').skip(1).step_by(2).map(str::to_owned).collect()
+        };
+        let missing = message
+            .strip_prefix("missing field `")
+            .and_then(|m| m.split('`').next())
+            .map(str::to_owned);
+        if missing.is_none() {
+            if let Some(k) = quoted(message)
+                .into_iter()
+                .find(|k| self.values.contains_key(k))
+            {
+                return k;
+            }
+        }
+        let located = toml::to_string(&self.to_table())
+            .ok()
+            .and_then(|text| {
+                let e = toml::from_str::<T>(&text).err()?;
+                let span = e.span()?;
+                // A span that starts the document is about the section as a whole.
+                (span.start > 0 || !text[span.clone()].contains('\n'))
+                    .then(|| crate::config::key_at(&text, span.start))
+            })
+            .unwrap_or_default();
+        match (located.is_empty(), missing) {
+            (true, Some(field)) => field,
+            (false, Some(field)) => format!("{located}.{field}"),
+            (_, None) => located,
+        }
     }
 
     /// Fails on the first key not in `known`, listing the known ones.
@@ -246,6 +277,60 @@ mod tests {
         assert_eq!(err.location.line, 4, "{err}");
         assert_eq!(err.key, "route.amplitud");
         assert!(err.message.contains("unknown field"), "{err}");
+    }
+
+    #[derive(Debug, Deserialize)]
+    #[serde(deny_unknown_fields)]
+    #[allow(dead_code)]
+    struct Wave {
+        wavelength: f64,
+        #[serde(default)]
+        amplitude: f64,
+        #[serde(default)]
+        shape: Option<Inner>,
+    }
+
+    #[derive(Debug, Deserialize)]
+    #[serde(deny_unknown_fields)]
+    #[allow(dead_code)]
+    struct Inner {
+        depth: u32,
+    }
+
+    fn route(src: &str) -> Params {
+        let mut doc: Doc = toml::from_str(src).unwrap();
+        doc.route
+            .params
+            .locate(&Arc::from("p.toml"), src, "route".into());
+        doc.route.params
+    }
+
+    #[test]
+    fn every_parameter_error_names_its_key() {
+        // A missing field is named, not left as `route.` (issue 10, item 13).
+        let err = route("[route]\ntype = \"meander\"\n")
+            .deserialize::<Wave>()
+            .unwrap_err();
+        assert_eq!(err.key, "route.wavelength", "{err}");
+        assert!(err.message.contains("missing field"), "{err}");
+        // A value of the wrong type names its key and points at its line.
+        let err = route("[route]\ntype = \"meander\"\nwavelength = 6.0\namplitude = \"big\"\n")
+            .deserialize::<Wave>()
+            .unwrap_err();
+        assert_eq!(err.key, "route.amplitude", "{err}");
+        assert_eq!(err.location.line, 4, "{err}");
+        // Inside a nested table too.
+        let err = route("[route]\ntype = \"m\"\nwavelength = 6.0\nshape = { depth = -1 }\n")
+            .deserialize::<Wave>()
+            .unwrap_err();
+        assert_eq!(err.key, "route.shape.depth", "{err}");
+        let err = route("[route]\ntype = \"m\"\nwavelength = 6.0\nshape = {}\n")
+            .deserialize::<Wave>()
+            .unwrap_err();
+        assert_eq!(err.key, "route.shape.depth", "{err}");
+        // Never a dangling dot, even when no key can be told.
+        let p = Params::from_table("route", toml::Table::new());
+        assert_eq!(p.error("", "x").key, "route");
     }
 
     #[test]

@@ -10,9 +10,10 @@
 //! vertex, so the world is one closed surface. Procedural tile sets get this by evaluating
 //! one world-wide field; mesh tiles by sharing an opening profile.
 
+use crate::budget::TileTriangles;
 use crate::grid::Cell;
 use crate::mesh::{Material, Mesh};
-use crate::tile::Tile;
+use crate::tile::{Tile, TileKind};
 use crate::world::World;
 
 /// What a tile set knows about the tile it is asked for.
@@ -121,6 +122,20 @@ pub trait TileSet: Send + Sync {
     /// Checks that the world suits the tile set (pitch, level height) before any tile is made.
     fn check(&self, _world: &World) -> Result<(), TileSetError> {
         Ok(())
+    }
+
+    /// Triangles of one tile of `kind` in this world, estimated without meshing, so that a
+    /// world too large for the memory budget is refused before any tile is made (see
+    /// [`crate::budget`]). Keep it cheap: it is called once per kind. `None` (the default):
+    /// assembly measures the first tiles it makes and extrapolates instead.
+    fn estimate(&self, _world: &World, _kind: TileKind) -> Option<TileTriangles> {
+        None
+    }
+
+    /// What to change in this tile set for lighter meshes, named when a world's meshes are
+    /// too large (`lower [tileset] resolution`). `None`: only the world's size is named.
+    fn detail_advice(&self) -> Option<String> {
+        None
     }
 
     /// Metres per texture repeat for UVs computed by assembly.

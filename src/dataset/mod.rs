@@ -136,6 +136,8 @@ pub struct Options {
     pub jobs: usize,
     /// This machine's share.
     pub shard: Shard,
+    /// Memory the whole run may use; each of the `jobs` workers gets its share.
+    pub max_memory: subtgraph_core::Budget,
 }
 
 /// One world of the global list.
@@ -526,7 +528,8 @@ fn make_world(source: &Source, w: &Planned, opts: &Options, replace: bool) -> Re
         }
     }
     let started = Instant::now();
-    let world = make::generate(&p, &source.registry, &description)?;
+    let budget = crate::memory::per_world(&opts.max_memory, opts.jobs);
+    let world = make::generate(&p, &source.registry, &description, &budget)?;
     let generation_s = started.elapsed().as_secs_f64();
     if write_world(&world, source, w, opts, replace)? == Made::Elsewhere {
         return Ok(Made::Elsewhere);

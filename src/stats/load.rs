@@ -127,7 +127,11 @@ fn source_of(name: &str) -> Option<&str> {
 }
 
 fn warn(path: &Path, why: &str) {
-    eprintln!("warning: skipping {}: {why}", path.display());
+    eprintln!(
+        "warning: skipping {}: {}",
+        path.display(),
+        subtgraph_core::error::shorten(why)
+    );
 }
 
 /// Adds the worlds at `path`: a world folder, a `.npy` file, or a folder of either (one level

@@ -4,13 +4,23 @@
 
 use serde::Deserialize;
 use subtgraph_core::World;
+use subtgraph_core::budget::TileTriangles;
 use subtgraph_core::error::ConfigError;
 use subtgraph_core::mesh::Material;
 use subtgraph_core::params::Params;
+use subtgraph_core::tile::TileKind;
 use subtgraph_core::tileset::{CrossSection, TileContext, TileGeometry, TileSet, TileSetError};
 
 use crate::field::{Column, Levels, LocalField, Passage, Profile, material};
 use crate::marching::{Block, polygonise_columns};
+
+/// Triangles per lattice cell of surface that marching tetrahedra make on these fields
+/// (measured on the presets; see the test `estimates_follow_the_meshes`).
+const TRIANGLES_PER_CELL: f64 = 6.0;
+
+/// Most rocks per tile: a rock pile's rocks are a tenth of the passage wide, so a few dozen
+/// cover a tile's floor; more is not a cave, only work.
+pub const MAX_ROCKS: f64 = 50.0;
 
 /// The `[tileset]` keys every procedural tile set takes. Lengths in metres; when absent they
 /// follow the world's pitch and `world.max_width`.
@@ -68,10 +78,20 @@ impl Procedural {
                 return Err(params.error(key, "must be a positive number of metres"));
             }
         }
-        for (key, v) in [("roughness", settings.roughness), ("rocks", settings.rocks)] {
-            if v.is_some_and(|v| !(v.is_finite() && v >= 0.0)) {
-                return Err(params.error(key, "must be a number >= 0"));
-            }
+        if settings
+            .roughness
+            .is_some_and(|v| !(v.is_finite() && v >= 0.0))
+        {
+            return Err(params.error("roughness", "must be a number >= 0"));
+        }
+        if let Some(r) = settings.rocks.filter(|r| !(0.0..=MAX_ROCKS).contains(r)) {
+            return Err(params.error(
+                "rocks",
+                format!(
+                    "rocks = {r} per tile: must be from 0 to {MAX_ROCKS} (a pile's rocks are a \
+                     tenth of the passage wide; {MAX_ROCKS} cover a tile's floor)"
+                ),
+            ));
         }
         if let Some(r) = settings.resolution {
             if !(8..=256).contains(&r) || r % 4 != 0 {
@@ -259,5 +279,45 @@ impl TileSet for Procedural {
 
     fn texture_scale(&self) -> f32 {
         3.0
+    }
+
+    fn estimate(&self, world: &World, kind: TileKind) -> Option<TileTriangles> {
+        // Marching tetrahedra make about TRIANGLES_PER_CELL triangles per lattice cell of
+        // surface, and a tile's surface is its half-corridors' walls (the section's perimeter
+        // along half a pitch each), its shaft's and its rocks'.
+        let p = self.passage(world);
+        let pitch = world.resolved.tile_pitch;
+        let perimeter =
+            2.0 * (p.width * (1.0 + p.width_variation) + p.height * (1.0 + p.height_variation));
+        let arms = match kind {
+            TileKind::DeadEnd | TileKind::ShaftUp | TileKind::ShaftLanding => 1.0,
+            TileKind::Straight | TileKind::Corner => 2.0,
+            TileKind::TJunction => 3.0,
+            TileKind::Intersection => 4.0,
+        };
+        let shaft = if matches!(kind, TileKind::ShaftUp | TileKind::ShaftLanding) {
+            std::f64::consts::TAU * p.shaft_radius * p.width * 0.5 * world.resolved.level_height
+        } else {
+            0.0
+        };
+        let rocks = p.rocks.ceil() * 2.0 * std::f64::consts::TAU * p.rock_size * p.rock_size;
+        let area = arms * perimeter * 0.5 * pitch + shaft + rocks;
+        let (visual, collision) = self.resolution();
+        let triangles = |n: u32| {
+            let h = pitch / f64::from(n);
+            TRIANGLES_PER_CELL * area / (h * h)
+        };
+        Some(TileTriangles {
+            visual: triangles(visual),
+            collision: triangles(collision),
+        })
+    }
+
+    fn detail_advice(&self) -> Option<String> {
+        let (visual, collision) = self.resolution();
+        Some(format!(
+            "lower [tileset] resolution (now {visual}; triangles grow with its square) or \
+             collision_resolution (now {collision})"
+        ))
     }
 }

@@ -16,6 +16,7 @@ mod search;
 
 use std::collections::BTreeMap;
 
+use crate::budget::Budget;
 use crate::config::Pipeline;
 use crate::error::Error;
 use crate::grid::{Cell, Grid3};
@@ -28,13 +29,23 @@ pub use level::structure_counts;
 pub use search::DETOUR_COST;
 
 /// Generates the world a pipeline describes: its layout and, when the pipeline has a
-/// `[tileset]`, its geometry.
+/// `[tileset]`, its geometry. No memory budget: see [`generate_within`].
 pub fn generate(pipeline: &Pipeline, registry: &Registry) -> Result<World, Error> {
+    generate_within(pipeline, registry, &Budget::unlimited())
+}
+
+/// [`generate`], refusing a world that would need more memory than `budget` before making
+/// it: its grid before the layout, its meshes before the first tile.
+pub fn generate_within(
+    pipeline: &Pipeline,
+    registry: &Registry,
+    budget: &Budget,
+) -> Result<World, Error> {
     let tileset = match &pipeline.tileset {
         Some(t) => Some(registry.tilesets.build(t)?),
         None => None,
     };
-    let mut world = layout(pipeline, registry)?;
+    let mut world = layout_within(pipeline, registry, budget)?;
     if let Some(tileset) = tileset {
         let name = pipeline
             .tileset
@@ -42,10 +53,12 @@ pub fn generate(pipeline: &Pipeline, registry: &Registry) -> Result<World, Error
             .map(|t| t.type_name.clone())
             .unwrap_or_default();
         world.mesh = Some(
-            crate::assembly::assemble(&world, tileset.as_ref()).map_err(|e| Error::Component {
-                component: "tile set",
-                name,
-                message: e.0,
+            crate::assembly::assemble_within(&world, tileset.as_ref(), budget).map_err(|e| {
+                Error::Component {
+                    component: "tile set",
+                    name,
+                    message: e.0,
+                }
             })?,
         );
     }
@@ -53,9 +66,28 @@ pub fn generate(pipeline: &Pipeline, registry: &Registry) -> Result<World, Error
 }
 
 /// Generates a world's layout only: occupancy, tiles, shafts, graph and report, without
-/// geometry (what `--no-mesh` runs).
+/// geometry (what `--no-mesh` runs). No memory budget: see [`layout_within`].
 pub fn layout(pipeline: &Pipeline, registry: &Registry) -> Result<World, Error> {
+    layout_within(pipeline, registry, &Budget::unlimited())
+}
+
+/// [`layout`], refusing first a grid that would need more memory than `budget`.
+pub fn layout_within(
+    pipeline: &Pipeline,
+    registry: &Registry,
+    budget: &Budget,
+) -> Result<World, Error> {
     let (resolved_pipeline, resolved) = pipeline.resolve()?;
+    budget
+        .check(
+            crate::budget::layout_bytes(resolved.levels, resolved.rows, resolved.cols),
+            &format!(
+                "a world of {} level(s) of {} x {} cells",
+                resolved.levels, resolved.rows, resolved.cols
+            ),
+            "make it smaller (world.levels, world.min_length, or world.rows and world.cols)",
+        )
+        .map_err(Error::TooLarge)?;
     let descriptor = registry.route_descriptors.build(&pipeline.route)?;
     if let Some(t) = &pipeline.tileset {
         registry.tilesets.build(t)?;

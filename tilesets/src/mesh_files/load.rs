@@ -36,6 +36,21 @@ pub fn load(path: &Path) -> Result<Vec<Part>, String> {
             ));
         }
     };
+    // Indices come from the file: one past the vertices would panic later, not here.
+    for p in &parts {
+        let n = p.positions.len();
+        if let Some(t) = p
+            .triangles
+            .iter()
+            .find(|t| t.iter().any(|&i| i as usize >= n))
+        {
+            return Err(format!(
+                "{}: part '{}' has a triangle {t:?} that refers past its {n} vertices; the file is corrupt",
+                path.display(),
+                subtgraph_core::error::excerpt(&p.name)
+            ));
+        }
+    }
     if parts.iter().all(|p| p.triangles.is_empty()) {
         return Err(format!("{}: the file has no triangles", path.display()));
     }

@@ -38,6 +38,7 @@ use std::sync::{Arc, Mutex};
 
 use serde::Deserialize;
 use subtgraph_core::World;
+use subtgraph_core::budget::TileTriangles;
 use subtgraph_core::error::ConfigError;
 use subtgraph_core::grid::{Direction, Openings, rotate_openings};
 use subtgraph_core::mesh::{Material, Mesh};
@@ -202,6 +203,15 @@ impl MeshFiles {
                 manifest.up
             ));
         }
+        for t in &manifest.tiles {
+            if let Some(r) = t.rotation.filter(|&r| r > 3) {
+                return Err(format!(
+                    "{}: tile '{}': rotation = {r}: give the quarter turns as 0, 1, 2 or 3",
+                    path.display(),
+                    subtgraph_core::error::excerpt(&t.kind)
+                ));
+            }
+        }
         let mut materials: Vec<Material> = manifest
             .materials
             .iter()
@@ -276,7 +286,7 @@ impl MeshFiles {
             for f in &t.files {
                 let mesh = read(f)?;
                 let rotation = match t.rotation {
-                    Some(r) => r % 4,
+                    Some(r) => r,
                     None => {
                         let found = openings(&mesh, manifest.pitch * manifest.scale, shape);
                         (0..4)
@@ -338,6 +348,7 @@ impl MeshFiles {
                 ));
             }
         }
+        check_pitch(path, &manifest, &entries)?;
         Ok(Self {
             manifest_path: path.to_owned(),
             manifest,
@@ -358,6 +369,71 @@ impl MeshFiles {
             _ => None,
         })
     }
+}
+
+/// Metres between opposite openings as the meshes have them: the extent of every file that
+/// opens on two opposite sides (straights, T-junctions, intersections, in their base
+/// orientation) along that axis. Rock may cross the tile boundary but a passage reaches both
+/// its openings, so each extent is at least the pitch: the smallest is the measurement.
+/// `None` when no listed kind opens on opposite sides.
+fn measured_pitch(entries: &BTreeMap<TileKind, Entry>) -> Option<f64> {
+    let mut extents = Vec::new();
+    for (kind, entry) in entries {
+        if entry.cap.is_some() {
+            continue;
+        }
+        let open = kind.base_openings();
+        let through = |a: Direction, b: Direction| open & a.bit() != 0 && open & b.bit() != 0;
+        for asset in &entry.assets {
+            let Some((lo, hi)) = asset.mesh.bounds() else {
+                continue;
+            };
+            if through(Direction::East, Direction::West) {
+                extents.push(f64::from(hi[0] - lo[0]));
+            }
+            if through(Direction::North, Direction::South) {
+                extents.push(f64::from(hi[1] - lo[1]));
+            }
+        }
+    }
+    extents.into_iter().filter(|e| *e > 0.0).reduce(f64::min)
+}
+
+/// Refuses a `pitch` the meshes contradict, saying what the meshes measure: a wrong pitch
+/// would otherwise surface later as a shaft that does not fit, or place tiles overlapping or
+/// apart.
+fn check_pitch(
+    path: &Path,
+    manifest: &Manifest,
+    entries: &BTreeMap<TileKind, Entry>,
+) -> Result<(), String> {
+    let Some(measured) = measured_pitch(entries) else {
+        return Ok(());
+    };
+    let declared = manifest.pitch * manifest.scale;
+    if (measured / declared - 1.0).abs() <= 0.1 {
+        return Ok(());
+    }
+    let round = |v: f64| {
+        if v >= 10.0 {
+            format!("{}", v.round())
+        } else {
+            format!("{}", (v * 100.0).round() / 100.0)
+        }
+    };
+    let units = if manifest.scale == 1.0 {
+        String::new()
+    } else {
+        format!(" (in file units, with scale = {})", manifest.scale)
+    };
+    Err(format!(
+        "{}: pitch = {}: the meshes' openings are {} m apart; set pitch = {}{units} (measured \
+         on the tiles that open on opposite sides)",
+        path.display(),
+        manifest.pitch,
+        round(measured),
+        round(measured / manifest.scale),
+    ))
 }
 
 fn materials_of(m: &Manifest) -> Vec<(String, u8)> {
@@ -563,6 +639,27 @@ impl TileSet for MeshFiles {
         Some(self.manifest.pitch * self.manifest.scale)
     }
 
+    fn estimate(&self, _world: &World, kind: TileKind) -> Option<TileTriangles> {
+        // The files' own triangles (the mean over a kind's files, plus its cap); collision is
+        // the same surface snapped to a coarser grid, measured at about a third of it on the
+        // DARPA tiles, counted at half to stay on the safe side.
+        let entry = self.entry(kind)?;
+        let files = entry
+            .assets
+            .iter()
+            .map(|a| a.mesh.triangle_count() as f64)
+            .sum::<f64>()
+            / entry.assets.len().max(1) as f64;
+        let cap = entry
+            .cap
+            .as_ref()
+            .map_or(0.0, |c| c.mesh.triangle_count() as f64);
+        Some(TileTriangles {
+            visual: files + cap,
+            collision: 0.5 * (files + cap),
+        })
+    }
+
     fn check(&self, world: &World) -> Result<(), TileSetError> {
         let mut missing = Vec::new();
         for c in world.occupancy.cells() {
@@ -585,8 +682,18 @@ impl TileSet for MeshFiles {
             if world.resolved.levels > 1
                 && (scaled - world.resolved.level_height).abs() > 1e-6 * scaled.max(1.0)
             {
+                // Suggest only a level height a pipeline accepts (0.5 to 1000 m).
+                let fix = if (0.5..=1000.0).contains(&scaled) {
+                    format!("set world.level_height = {scaled}")
+                } else {
+                    format!(
+                        "no level height can match that: set world.tile_pitch nearer the tiles' \
+                         own {} m",
+                        self.manifest.pitch * self.manifest.scale
+                    )
+                };
                 return Err(TileSetError(format!(
-                    "{}: shaft tiles climb {scaled} m at this pitch but levels are {} m apart; set world.level_height = {scaled}",
+                    "{}: shaft tiles climb {scaled} m at this pitch but levels are {} m apart; {fix}",
                     self.manifest_path.display(),
                     world.resolved.level_height
                 )));
