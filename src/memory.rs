@@ -106,7 +106,7 @@ pub fn per_world(budget: &Budget, jobs: usize) -> Budget {
         bytes: budget.bytes / jobs as u64,
         knob: budget.knob.clone(),
         note: format!(
-            "each world's share of {} over --jobs {jobs}{whole}",
+            "each world's share of {} over dataset --jobs {jobs}{whole}",
             Bytes(budget.bytes)
         ),
     }
@@ -132,7 +132,7 @@ mod tests {
         assert_eq!(b.bytes, 2_000_000_000);
         assert_eq!(b.knob, "--max-memory");
         assert!(
-            b.note.contains("share of 8.0 GB over --jobs 4"),
+            b.note.contains("share of 8.0 GB over dataset --jobs 4"),
             "{}",
             b.note
         );

@@ -188,11 +188,12 @@ fn reached_by(file: &str, src: &str, pos: usize) -> Vec<&'static str> {
         // writer's messages about --force only reach generate.
         f if f.starts_with("src/folder") => vec!["generate"],
         f if f.starts_with("src/") => vec!["generate", "dataset"],
-        // Writing files (the exporters' and the core's export errors) happens only in
-        // generate and dataset.
+        // Writing files (the exporters' and the core's export errors) and meshing within a
+        // memory budget happen only in generate and dataset.
         f if f.starts_with("exporters/")
             || f.starts_with("tilesets/")
-            || f == "core/src/export.rs" =>
+            || f == "core/src/export.rs"
+            || f == "core/src/assembly.rs" =>
         {
             vec!["generate", "dataset"]
         }
