@@ -1,11 +1,13 @@
 """Drives a ball along a subtgraph world's ground-truth route in MuJoCo or PyBullet.
 
-Usage: drive_check.py WORLD_FOLDER --engine mujoco|pybullet [--gap] [--skip-corners]
-                      [--speed M_PER_S]
+Usage: drive_check.py WORLD_FOLDER --engine mujoco|pybullet [--gap] [--speed M_PER_S]
 
 The route: ground_truth/graph.json, from the start node to the dead end of the start's level
 farthest from it by path length (Dijkstra over the corridors of that level), through the
-centre of every cell of the passages on the way (the corridors' polylines).
+centre of every cell of the passages on the way (the corridors' polylines). When
+ground_truth/spawn_poses.json was computed from the collision surface, the route starts at the
+first robot's spawn pose and ends at its goal pose (on the floor: a dead end's centre can be
+rock where a tile caps its passage early).
 
 The body: a free sphere of radius 0.3 m, pushed by a simple velocity controller (a horizontal
 force proportional to the velocity error towards the next waypoint, capped at twice its
@@ -24,8 +26,6 @@ Checks, exiting non-zero with a line starting FAIL on the first failure:
 (MuJoCo: that tile's floor height field stops colliding; PyBullet: the collision mesh's floor
 triangles in that tile are dropped): the ball falls through, so the drive must fail. The test
 runs it, so the check is known able to fail.
---skip-corners drops the waypoints at corner cells (a cell whose passage turns): the DARPA
-corner tiles' passages arc away from the tile's centre, so their centre can be rock.
 """
 import heapq
 import json
@@ -230,9 +230,6 @@ def main():
             print("start and goal from ground_truth/spawn_poses.json")
     turning = corners(points)
     gap = points[gap_cell(points, turning)] if "--gap" in argv else None
-    if "--skip-corners" in argv:
-        points = np.array([p for i, p in enumerate(points) if i not in turning])
-        print(f"skipping {len(turning)} corner waypoints")
     print(f"route: {len(points)} waypoints, {length:.0f} m by the graph, to dead end {goal}"
           + (f"; floor cut under {gap.tolist()}" if gap is not None else ""))
     os.chdir(tempfile.gettempdir())  # not the world folder: paths must resolve by themselves
