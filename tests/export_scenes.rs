@@ -438,6 +438,74 @@ fn usd_opens_in_usd_core_with_triangle_mesh_colliders() {
     }
 }
 
+/// The Isaac Sim checks can fail: a copy of the world whose collider lost its physics material
+/// binding, or its `PhysicsCollisionAPI`, or whose root layer lost its physics materials, is
+/// refused by `usd_check.py`, naming what is missing.
+#[test]
+fn usd_checks_refuse_a_collider_without_its_physics_schemas() {
+    let dir = tempfile::tempdir().unwrap();
+    let w = world(
+        dir.path(),
+        "[[export]]\ntype = \"usd\"\n\n[[export]]\ntype = \"obj\"\n",
+    );
+    if check_usd(&w, &[]).is_none() {
+        return;
+    }
+    let part = w.join("usd/parts/level-0.usda");
+    let root = w.join("usd/world.usda");
+    let (part_text, root_text) = (
+        std::fs::read_to_string(&part).unwrap(),
+        std::fs::read_to_string(&root).unwrap(),
+    );
+    let python = common::python_with(&["pxr", "numpy"]).unwrap();
+    for (file, text, from, to, says) in [
+        (
+            &part,
+            &part_text,
+            "rel material:binding:physics",
+            "rel unbound",
+            "no physics material bound",
+        ),
+        (
+            &part,
+            &part_text,
+            "\"PhysicsCollisionAPI\", ",
+            "",
+            "lacks PhysicsCollisionAPI",
+        ),
+        (
+            &root,
+            &root_text,
+            "\"PhysicsMaterialAPI\"",
+            "\"MaterialBindingAPI\"",
+            "no physics material",
+        ),
+        (
+            &root,
+            &root_text,
+            "kilogramsPerUnit = 1\n",
+            "",
+            "kilogramsPerUnit",
+        ),
+    ] {
+        assert!(text.contains(from), "{from} in {}", file.display());
+        std::fs::write(file, text.replace(from, to)).unwrap();
+        let out = Command::new(&python)
+            .arg(Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/readers/usd_check.py"))
+            .arg(&w)
+            .output()
+            .unwrap();
+        let report = String::from_utf8_lossy(&out.stdout);
+        assert!(
+            !out.status.success() && report.contains("FAIL") && report.contains(says),
+            "without {from}: {report}{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        std::fs::write(file, text).unwrap();
+    }
+    assert!(check_usd(&w, &[]).is_some());
+}
+
 #[test]
 fn usd_of_darpa_tiles_instances_repeated_tiles() {
     let Some(_) = common::darpa_tiles() else {
