@@ -542,6 +542,87 @@ fn usd_of_darpa_tiles_instances_repeated_tiles() {
     );
 }
 
+/// Runs Blender headless on a mesh file with `tests/readers/blender_check.py`; its report.
+/// `None` (skipped with a message) without a `blender` on the PATH, unless
+/// `SUBTGRAPH_REQUIRE_BLENDER=1` (as `scripts/test` sets after installing it).
+fn blender_import(file: &Path) -> Option<serde_json::Value> {
+    let has = Command::new("blender")
+        .arg("--version")
+        .output()
+        .is_ok_and(|o| o.status.success());
+    if !has {
+        assert!(
+            std::env::var("SUBTGRAPH_REQUIRE_BLENDER").is_err(),
+            "blender is missing; apt-get install --no-install-recommends blender python3-numpy (scripts/test does)"
+        );
+        eprintln!(
+            "skipping: no blender (apt-get install --no-install-recommends blender python3-numpy)"
+        );
+        return None;
+    }
+    let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/readers/blender_check.py");
+    let out = Command::new("blender")
+        .args([
+            "-b",
+            "--factory-startup",
+            "--python-exit-code",
+            "1",
+            "--python",
+        ])
+        .arg(&script)
+        .arg("--")
+        .arg(file)
+        .output()
+        .unwrap();
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "blender could not import {}:\n{text}{}",
+        file.display(),
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let line = text
+        .lines()
+        .find_map(|l| l.strip_prefix("RESULT "))
+        .unwrap_or_else(|| panic!("no RESULT from blender:\n{text}"));
+    Some(serde_json::from_str(line).unwrap())
+}
+
+/// Blender (Debian's 3.4, headless) imports `mesh/world.glb` and `mesh/world.obj` with its own
+/// importers: as many faces as `world.obj` has triangles, a mesh object per part from the GLB
+/// (per `o` from the OBJ), and the materials the OBJ uses, by name.
+#[test]
+fn blender_imports_the_glb_and_the_obj() {
+    let dir = tempfile::tempdir().unwrap();
+    let w = world(dir.path(), SCENES);
+    let obj = std::fs::read_to_string(w.join("mesh/world.obj")).unwrap();
+    let faces = obj.lines().filter(|l| l.starts_with("f ")).count() as u64;
+    let objects = obj.lines().filter(|l| l.starts_with("o ")).count();
+    let materials: BTreeSet<&str> = obj
+        .lines()
+        .filter_map(|l| l.strip_prefix("usemtl "))
+        .collect();
+    let parts = level_parts(&w);
+    for (file, count) in [("mesh/world.glb", parts.len()), ("mesh/world.obj", objects)] {
+        let Some(report) = blender_import(&w.join(file)) else {
+            return;
+        };
+        assert_eq!(report["faces"].as_u64(), Some(faces), "{file}: {report}");
+        assert_eq!(
+            report["objects"].as_array().unwrap().len(),
+            count,
+            "{file}: {report}"
+        );
+        let names: BTreeSet<&str> = report["materials"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|m| m.as_str().unwrap())
+            .collect();
+        assert_eq!(names, materials, "{file}: {report}");
+    }
+}
+
 #[test]
 fn obj_and_glb_are_the_same_closed_surface_in_trimesh() {
     let dir = tempfile::tempdir().unwrap();
