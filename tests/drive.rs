@@ -81,10 +81,11 @@ fn a_ball_drives_the_route_on_every_preset() {
     }
 }
 
-/// The negative control: the same drive over a world whose collision lacks the floor of one
+/// The negative controls: the same drive over a world whose collision lacks the floor of one
 /// tile in the middle of the route (MuJoCo: that tile's floor height field does not collide;
 /// PyBullet: its floor triangles are cut from the collision mesh) fails, the ball falling
-/// through; the intact world passes.
+/// through; with an invisible wall across the route on a tile seam instead, it fails stuck;
+/// the intact world passes.
 #[test]
 fn a_gap_in_the_collision_floor_fails_the_drive() {
     let tmp = tempfile::tempdir().unwrap();
@@ -97,17 +98,22 @@ fn a_gap_in_the_collision_floor_fails_the_drive() {
         if python_with(&[module, "numpy"]).is_none() {
             continue;
         }
-        let out = Command::new(&python)
-            .arg(Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/readers/drive_check.py"))
-            .args([arg(&world), "--engine", engine, "--gap"])
-            .output()
-            .unwrap();
-        let text = String::from_utf8_lossy(&out.stderr);
-        assert!(
-            !out.status.success() && text.contains("FAIL: the ball fell below the floor"),
-            "{engine} --gap should fail:\n{}\n{text}",
-            String::from_utf8_lossy(&out.stdout)
-        );
+        for (flag, says) in [
+            ("--gap", "FAIL: the ball fell below the floor"),
+            ("--wall", "FAIL: stuck at"),
+        ] {
+            let out = Command::new(&python)
+                .arg(Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/readers/drive_check.py"))
+                .args([arg(&world), "--engine", engine, flag])
+                .output()
+                .unwrap();
+            let text = String::from_utf8_lossy(&out.stderr);
+            assert!(
+                !out.status.success() && text.contains(says),
+                "{engine} {flag} should fail:\n{}\n{text}",
+                String::from_utf8_lossy(&out.stdout)
+            );
+        }
     }
     // The cut copy lives outside the world folder.
     assert!(!world.join("urdf/world-gap.urdf").exists());

@@ -1,6 +1,6 @@
 """Drives a ball along a subtgraph world's ground-truth route in MuJoCo or PyBullet.
 
-Usage: drive_check.py WORLD_FOLDER --engine mujoco|pybullet [--gap] [--speed M_PER_S]
+Usage: drive_check.py WORLD_FOLDER --engine mujoco|pybullet [--gap | --wall] [--speed M_PER_S]
 
 The route: ground_truth/graph.json, from the start node to the dead end of the start's level
 farthest from it by path length (Dijkstra over the corridors of that level), through the
@@ -26,6 +26,9 @@ Checks, exiting non-zero with a line starting FAIL on the first failure:
 (MuJoCo: that tile's floor height field stops colliding; PyBullet: the collision mesh's floor
 triangles in that tile are dropped): the ball falls through, so the drive must fail. The test
 runs it, so the check is known able to fail.
+--wall adds an invisible wall instead: a static box 0.2 m thick across the passage on the
+seam between that tile and the next on the route (as a badly joined tile or part would
+leave): the ball is stopped there, so the drive must fail too.
 """
 import heapq
 import json
@@ -105,8 +108,16 @@ def gap_cell(points, turning):
     sys.exit("FAIL: the route is too short to cut a gap in")
 
 
+def wall_box(points, k, pitch):
+    """The centre, half sizes and yaw of a wall across the route on the seam after waypoint k."""
+    a, b = points[k], points[k + 1]
+    d = b[:2] - a[:2]
+    centre = [float(a[0] + b[0]) / 2, float(a[1] + b[1]) / 2, float(a[2]) + 2.0]
+    return centre, [0.1, pitch / 2, 4.0], float(np.arctan2(d[1], d[0]))
+
+
 class Mujoco:
-    def __init__(self, folder, start, gap, pitch):
+    def __init__(self, folder, start, gap, pitch, wall=None):
         import mujoco
 
         self.mj = mujoco
@@ -120,6 +131,10 @@ class Mujoco:
                         cut += 1
             if cut == 0:
                 sys.exit(f"FAIL: no floor height field found under {gap.tolist()} to cut")
+        if wall is not None:
+            centre, half, yaw = wall
+            spec.worldbody.add_geom(type=mujoco.mjtGeom.mjGEOM_BOX, pos=centre, size=half,
+                                    quat=[np.cos(yaw / 2), 0, 0, np.sin(yaw / 2)], group=4)
         body = spec.worldbody.add_body(name="ball", pos=start)
         body.add_freejoint(name="ball")
         body.add_geom(type=mujoco.mjtGeom.mjGEOM_SPHERE, size=[RADIUS, 0, 0], mass=MASS)
@@ -146,7 +161,7 @@ class Mujoco:
 
 
 class Bullet:
-    def __init__(self, folder, start, gap, pitch):
+    def __init__(self, folder, start, gap, pitch, wall=None):
         import pybullet as p
 
         self.p = p
@@ -156,6 +171,10 @@ class Bullet:
             urdf = self.cut(urdf, gap, pitch)
         p.connect(p.DIRECT)
         self.world = p.loadURDF(urdf, useFixedBase=True)
+        if wall is not None:
+            centre, half, yaw = wall
+            box = p.createCollisionShape(p.GEOM_BOX, halfExtents=half)
+            p.createMultiBody(0, box, -1, centre, p.getQuaternionFromEuler([0, 0, yaw]))
         shape = p.createCollisionShape(p.GEOM_SPHERE, radius=RADIUS)
         self.ball = p.createMultiBody(MASS, shape, -1, list(start))
         p.changeDynamics(self.ball, -1, rollingFriction=0.001)
@@ -229,12 +248,16 @@ def main():
                 points[-1] = robot["goal"]["pose"]["position"]
             print("start and goal from ground_truth/spawn_poses.json")
     turning = corners(points)
-    gap = points[gap_cell(points, turning)] if "--gap" in argv else None
+    k = gap_cell(points, turning)
+    gap = points[k] if "--gap" in argv else None
+    wall = wall_box(points, k, pitch) if "--wall" in argv else None
     print(f"route: {len(points)} waypoints, {length:.0f} m by the graph, to dead end {goal}"
-          + (f"; floor cut under {gap.tolist()}" if gap is not None else ""))
+          + (f"; floor cut under {gap.tolist()}" if gap is not None else "")
+          + (f"; a wall across the route at {wall[0]}" if wall is not None else ""))
     os.chdir(tempfile.gettempdir())  # not the world folder: paths must resolve by themselves
     t = time.time()
-    sim = (Mujoco if engine == "mujoco" else Bullet)(folder, points[0] + [0, 0, 1.5], gap, pitch)
+    sim = (Mujoco if engine == "mujoco" else Bullet)(folder, points[0] + [0, 0, 1.5], gap, pitch,
+                                                       wall)
     floors = [sim.floor(p + [0, 0, 1.5]) for p in points]
     found = [f for f in floors if f is not None]
     if floors[0] is None or not found:
