@@ -161,6 +161,205 @@ fn gazebo_sdf_loads_in_libsdformat_with_a_static_model_per_level() {
     assert_eq!(count(&report, "lights"), points);
 }
 
+/// The pkg-config modules the Gazebo physics checker is built with (Debian's
+/// libignition-physics-dev, -sdf-dev, -mesh-dev, libignition-common-dev, libsdformat-dev).
+const GAZEBO_PHYSICS: [&str; 7] = [
+    "ignition-physics5",
+    "ignition-physics5-sdf",
+    "ignition-physics5-mesh",
+    "ignition-plugin1-loader",
+    "ignition-common4-graphics",
+    "ignition-math6-eigen3",
+    "sdformat12",
+];
+
+/// `tests/readers/gazebo_physics_check.cc` compiled against ign-physics 5 (Gazebo Fortress),
+/// or `None` (skipped with a message) when pkg-config or the dartsim plugin is missing, unless
+/// `SUBTGRAPH_REQUIRE_GAZEBO_PHYSICS=1` (as `scripts/test` sets after installing them).
+fn gazebo_physics_checker(dir: &Path) -> Option<PathBuf> {
+    let flags = Command::new("pkg-config")
+        .arg("--cflags")
+        .arg("--libs")
+        .args(GAZEBO_PHYSICS)
+        .output()
+        .ok()
+        .filter(|o| o.status.success());
+    let plugin = Path::new(
+        "/usr/lib/x86_64-linux-gnu/ign-physics-5/engine-plugins/libignition-physics5-dartsim-plugin.so",
+    );
+    let (Some(flags), true) = (flags, plugin.exists()) else {
+        let hint = "apt install libignition-physics-dev libignition-physics5-dartsim-plugin5 \
+                    libignition-physics-sdf-dev libignition-physics-mesh-dev libignition-common-dev";
+        assert!(
+            std::env::var("SUBTGRAPH_REQUIRE_GAZEBO_PHYSICS").is_err(),
+            "ign-physics 5 with its dartsim plugin is missing; {hint} (scripts/test does)"
+        );
+        eprintln!("skipping: ign-physics 5 with its dartsim plugin is missing ({hint})");
+        return None;
+    };
+    let exe = dir.join("gazebo_physics_check");
+    let source =
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/readers/gazebo_physics_check.cc");
+    let flags = String::from_utf8(flags.stdout).unwrap();
+    let out = Command::new("g++")
+        .args(["-std=c++17", "-O1", "-o", arg(&exe), arg(&source)])
+        .args(flags.split_whitespace())
+        .output()
+        .expect("g++ runs");
+    assert!(
+        out.status.success(),
+        "compiling gazebo_physics_check.cc failed:\n{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    Some(exe)
+}
+
+/// Where a ball ended: (x, y, z) after "end" in a `ball I start ... end X Y Z ...` line.
+fn ball_end(line: &str) -> [f64; 3] {
+    let words: Vec<&str> = line.split_whitespace().collect();
+    let at = words.iter().position(|w| *w == "end").unwrap();
+    [1, 2, 3].map(|k| words[at + k].parse().unwrap())
+}
+
+/// Gazebo's own physics: the world built in ign-physics' dartsim engine as gz-sim builds it;
+/// a 0.2 m ball dropped 0.5 m above each spawn pose rests on the floor after 3 s, and one
+/// dropped inside the rock (the centre of a cell no passage crosses) falls through the
+/// surface, as it must, since a surface holds only from the passage's side (the negative
+/// control). Also what gz-sim expects of the file: one static <model> per part (gz-sim's
+/// levels load and unload whole models), every collision mesh URI found from the world's
+/// folder and, from another working directory, through `GZ_SIM_RESOURCE_PATH` (and not
+/// without it), and the world's one directional light.
+#[test]
+fn gazebo_physics_holds_balls_on_the_floor_in_dartsim() {
+    let dir = tempfile::tempdir().unwrap();
+    let Some(checker) = gazebo_physics_checker(dir.path()) else {
+        return;
+    };
+    let pipeline = small_cave_pipeline(dir.path(), 2, "");
+    let w = dir.path().join("world");
+    ok(&[
+        "generate",
+        arg(&pipeline),
+        "--format",
+        "sdf,spawn-poses",
+        "--out",
+        arg(&w),
+    ]);
+    let json = |f: &str| -> serde_json::Value {
+        serde_json::from_str(&std::fs::read_to_string(w.join(f)).unwrap()).unwrap()
+    };
+    let poses = json("ground_truth/spawn_poses.json");
+    let topology = json("topology.json");
+    let mut drops: Vec<[f64; 3]> = poses["robots"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|r| {
+            let p = &r["spawn"]["position"];
+            [0, 1, 2].map(|k| p[k].as_f64().unwrap())
+        })
+        .collect();
+    assert!(drops.len() >= 2, "{poses}");
+    // A cell of level 0 no passage crosses: solid rock at its centre.
+    let mut used = BTreeSet::new();
+    for e in topology["edges"].as_array().unwrap() {
+        for c in e["cells"].as_array().unwrap() {
+            used.insert((c["level"].as_u64(), c["row"].as_u64(), c["col"].as_u64()));
+        }
+    }
+    let (rows, pitch) = (
+        topology["rows"].as_u64().unwrap(),
+        topology["tile_pitch_m"].as_f64().unwrap(),
+    );
+    let (row, col) = (0..rows)
+        .flat_map(|r| (0..topology["cols"].as_u64().unwrap()).map(move |c| (r, c)))
+        .find(|&(r, c)| {
+            (r.saturating_sub(1)..=r + 1).all(|rr| {
+                (c.saturating_sub(1)..=c + 1)
+                    .all(|cc| !used.contains(&(Some(0), Some(rr), Some(cc))))
+            })
+        })
+        .expect("a rock cell with rock around it");
+    let rock = [col as f64 * pitch, (rows - 1 - row) as f64 * pitch, 1.5];
+    let mut args: Vec<String> = vec![
+        w.join("gazebo/world.sdf").display().to_string(),
+        "0.2".into(),
+    ];
+    for d in &mut drops {
+        d[2] += 0.5;
+    }
+    drops.push(rock);
+    args.extend(drops.iter().map(|d| format!("{},{},{}", d[0], d[1], d[2])));
+    let run = |resources: Option<&Path>| -> Vec<String> {
+        let mut cmd = Command::new(&checker);
+        cmd.args(&args)
+            .current_dir(dir.path())
+            .env_remove("GZ_SIM_RESOURCE_PATH");
+        if let Some(r) = resources {
+            cmd.env("GZ_SIM_RESOURCE_PATH", r);
+        }
+        let out = cmd.output().unwrap();
+        assert!(
+            out.status.success(),
+            "gazebo_physics_check failed:\n{}{}",
+            String::from_utf8_lossy(&out.stdout),
+            String::from_utf8_lossy(&out.stderr)
+        );
+        String::from_utf8(out.stdout)
+            .unwrap()
+            .lines()
+            .map(str::to_owned)
+            .collect()
+    };
+    let report = run(Some(&w.join("gazebo")));
+    let text = report.join("\n");
+    // One static model per part, each with its collision mesh, found both ways.
+    let parts = level_parts(&w);
+    let models: Vec<&String> = report.iter().filter(|l| l.starts_with("model ")).collect();
+    assert_eq!(models.len(), parts.len(), "{text}");
+    assert!(
+        models.iter().all(|l| l.ends_with(" collisions 1")),
+        "{text}"
+    );
+    let meshes: Vec<&String> = report.iter().filter(|l| l.starts_with("mesh ")).collect();
+    assert_eq!(meshes.len(), parts.len(), "{text}");
+    for m in &meshes {
+        let words: Vec<&str> = m.split_whitespace().collect();
+        assert!(words[2] != "-" && words[2] == words[3], "{m}");
+    }
+    assert_eq!(
+        report.iter().filter(|l| l.starts_with("light ")).count(),
+        1,
+        "{text}"
+    );
+    assert!(text.contains("light sun directional"), "{text}");
+    // The balls: each on the floor near where it was dropped; the one in the rock far below.
+    let balls: Vec<&String> = report.iter().filter(|l| l.starts_with("ball ")).collect();
+    assert_eq!(balls.len(), drops.len(), "{text}");
+    for (line, drop) in balls.iter().zip(&drops).take(drops.len() - 1) {
+        let end = ball_end(line);
+        let floor = drop[2] - 0.5;
+        assert!(
+            (end[2] - (floor + 0.2)).abs() < 0.6,
+            "a ball fell through or hangs: {line}\n{text}"
+        );
+        assert!(
+            (end[0] - drop[0]).hypot(end[1] - drop[1]) < 4.0,
+            "a ball rolled away: {line}"
+        );
+    }
+    let fell = ball_end(balls.last().unwrap());
+    assert!(
+        fell[2] < rock[2] - 10.0,
+        "the ball in the rock did not fall: {text}"
+    );
+    // Without GZ_SIM_RESOURCE_PATH the URIs are found from the world's folder only.
+    let without = run(None);
+    for m in without.iter().filter(|l| l.starts_with("mesh ")) {
+        assert!(m.ends_with(" -") && !m.contains(" - "), "{m}");
+    }
+}
+
 #[test]
 fn bad_scene_settings_are_refused_naming_the_key() {
     let dir = tempfile::tempdir().unwrap();
@@ -239,6 +438,74 @@ fn usd_opens_in_usd_core_with_triangle_mesh_colliders() {
     }
 }
 
+/// The Isaac Sim checks can fail: a copy of the world whose collider lost its physics material
+/// binding, or its `PhysicsCollisionAPI`, or whose root layer lost its physics materials, is
+/// refused by `usd_check.py`, naming what is missing.
+#[test]
+fn usd_checks_refuse_a_collider_without_its_physics_schemas() {
+    let dir = tempfile::tempdir().unwrap();
+    let w = world(
+        dir.path(),
+        "[[export]]\ntype = \"usd\"\n\n[[export]]\ntype = \"obj\"\n",
+    );
+    if check_usd(&w, &[]).is_none() {
+        return;
+    }
+    let part = w.join("usd/parts/level-0.usda");
+    let root = w.join("usd/world.usda");
+    let (part_text, root_text) = (
+        std::fs::read_to_string(&part).unwrap(),
+        std::fs::read_to_string(&root).unwrap(),
+    );
+    let python = common::python_with(&["pxr", "numpy"]).unwrap();
+    for (file, text, from, to, says) in [
+        (
+            &part,
+            &part_text,
+            "rel material:binding:physics",
+            "rel unbound",
+            "no physics material bound",
+        ),
+        (
+            &part,
+            &part_text,
+            "\"PhysicsCollisionAPI\", ",
+            "",
+            "lacks PhysicsCollisionAPI",
+        ),
+        (
+            &root,
+            &root_text,
+            "\"PhysicsMaterialAPI\"",
+            "\"MaterialBindingAPI\"",
+            "no physics material",
+        ),
+        (
+            &root,
+            &root_text,
+            "kilogramsPerUnit = 1\n",
+            "",
+            "kilogramsPerUnit",
+        ),
+    ] {
+        assert!(text.contains(from), "{from} in {}", file.display());
+        std::fs::write(file, text.replace(from, to)).unwrap();
+        let out = Command::new(&python)
+            .arg(Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/readers/usd_check.py"))
+            .arg(&w)
+            .output()
+            .unwrap();
+        let report = String::from_utf8_lossy(&out.stdout);
+        assert!(
+            !out.status.success() && report.contains("FAIL") && report.contains(says),
+            "without {from}: {report}{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        std::fs::write(file, text).unwrap();
+    }
+    assert!(check_usd(&w, &[]).is_some());
+}
+
 #[test]
 fn usd_of_darpa_tiles_instances_repeated_tiles() {
     let Some(_) = common::darpa_tiles() else {
@@ -273,6 +540,87 @@ fn usd_of_darpa_tiles_instances_repeated_tiles() {
         count > 0 && count < instances,
         "{count} prototypes for {instances} instances"
     );
+}
+
+/// Runs Blender headless on a mesh file with `tests/readers/blender_check.py`; its report.
+/// `None` (skipped with a message) without a `blender` on the PATH, unless
+/// `SUBTGRAPH_REQUIRE_BLENDER=1` (as `scripts/test` sets after installing it).
+fn blender_import(file: &Path) -> Option<serde_json::Value> {
+    let has = Command::new("blender")
+        .arg("--version")
+        .output()
+        .is_ok_and(|o| o.status.success());
+    if !has {
+        assert!(
+            std::env::var("SUBTGRAPH_REQUIRE_BLENDER").is_err(),
+            "blender is missing; apt-get install --no-install-recommends blender python3-numpy (scripts/test does)"
+        );
+        eprintln!(
+            "skipping: no blender (apt-get install --no-install-recommends blender python3-numpy)"
+        );
+        return None;
+    }
+    let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/readers/blender_check.py");
+    let out = Command::new("blender")
+        .args([
+            "-b",
+            "--factory-startup",
+            "--python-exit-code",
+            "1",
+            "--python",
+        ])
+        .arg(&script)
+        .arg("--")
+        .arg(file)
+        .output()
+        .unwrap();
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "blender could not import {}:\n{text}{}",
+        file.display(),
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let line = text
+        .lines()
+        .find_map(|l| l.strip_prefix("RESULT "))
+        .unwrap_or_else(|| panic!("no RESULT from blender:\n{text}"));
+    Some(serde_json::from_str(line).unwrap())
+}
+
+/// Blender (Debian's 3.4, headless) imports `mesh/world.glb` and `mesh/world.obj` with its own
+/// importers: as many faces as `world.obj` has triangles, a mesh object per part from the GLB
+/// (per `o` from the OBJ), and the materials the OBJ uses, by name.
+#[test]
+fn blender_imports_the_glb_and_the_obj() {
+    let dir = tempfile::tempdir().unwrap();
+    let w = world(dir.path(), SCENES);
+    let obj = std::fs::read_to_string(w.join("mesh/world.obj")).unwrap();
+    let faces = obj.lines().filter(|l| l.starts_with("f ")).count() as u64;
+    let objects = obj.lines().filter(|l| l.starts_with("o ")).count();
+    let materials: BTreeSet<&str> = obj
+        .lines()
+        .filter_map(|l| l.strip_prefix("usemtl "))
+        .collect();
+    let parts = level_parts(&w);
+    for (file, count) in [("mesh/world.glb", parts.len()), ("mesh/world.obj", objects)] {
+        let Some(report) = blender_import(&w.join(file)) else {
+            return;
+        };
+        assert_eq!(report["faces"].as_u64(), Some(faces), "{file}: {report}");
+        assert_eq!(
+            report["objects"].as_array().unwrap().len(),
+            count,
+            "{file}: {report}"
+        );
+        let names: BTreeSet<&str> = report["materials"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|m| m.as_str().unwrap())
+            .collect();
+        assert_eq!(names, materials, "{file}: {report}");
+    }
 }
 
 #[test]

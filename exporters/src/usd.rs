@@ -8,7 +8,10 @@
 //! `familyName = "materialBind"`) and a collision mesh (`purpose = "guide"`, so it is not
 //! rendered) with `PhysicsCollisionAPI` + `PhysicsMeshCollisionAPI` and
 //! `physics:approximation = "none"`: a triangle mesh, since the convex hull Isaac Sim uses by
-//! default would fill the cave. There is no rigid body: the cave is static.
+//! default would fill the cave; it is bound (purpose `physics`) to the root layer's
+//! `PhysicsMaterialAPI` material `/World/PhysicsMaterials/Rock` (friction 0.8 static, 0.7
+//! dynamic; restitution 0.1). There is no rigid body: the cave is static. The root layer also
+//! states `kilogramsPerUnit = 1`.
 //!
 //! Tiles whose visual geometry repeats up to a translation (the same mesh file placed with
 //! the same rotation, as with the DARPA tiles) become `instanceable` references to one
@@ -81,7 +84,8 @@ pub(crate) fn prim_name(name: &str) -> String {
     s
 }
 
-const HEADER: &str = "#usda 1.0\n(\n    metersPerUnit = 1\n    upAxis = \"Z\"\n)\n\n";
+const HEADER: &str =
+    "#usda 1.0\n(\n    metersPerUnit = 1\n    kilogramsPerUnit = 1\n    upAxis = \"Z\"\n)\n\n";
 
 /// Writes `name = [a, b, ...]` with `count` elements, formatted in parallel.
 fn array(
@@ -119,6 +123,9 @@ enum Role {
     Collision,
 }
 
+/// The physics material every collider is bound to (defined in the root layer).
+const ROCK: &str = "</World/PhysicsMaterials/Rock>";
+
 /// Writes one `Mesh` prim (its points relative to `origin`).
 fn write_mesh(
     w: &mut dyn Write,
@@ -131,7 +138,9 @@ fn write_mesh(
 ) -> std::io::Result<()> {
     let schemas = match role {
         Role::Visual => "\"MaterialBindingAPI\"",
-        Role::Collision => "\"PhysicsCollisionAPI\", \"PhysicsMeshCollisionAPI\"",
+        Role::Collision => {
+            "\"PhysicsCollisionAPI\", \"PhysicsMeshCollisionAPI\", \"MaterialBindingAPI\""
+        }
     };
     writeln!(
         w,
@@ -179,6 +188,7 @@ fn write_mesh(
             writeln!(w, "{inner}uniform token purpose = \"guide\"")?;
             writeln!(w, "{inner}bool physics:collisionEnabled = 1")?;
             writeln!(w, "{inner}uniform token physics:approximation = \"none\"")?;
+            writeln!(w, "{inner}rel material:binding:physics = {ROCK}")?;
         }
         Role::Visual => {
             if mesh.normals.len() == mesh.positions.len() {
@@ -265,7 +275,7 @@ fn write_bindings(
 /// The root layer: units, physics scene, materials, and the part layers as sublayers.
 fn root_layer(mesh: &WorldMesh, layers: &[String], materials: &[String]) -> String {
     let mut s = String::from(
-        "#usda 1.0\n(\n    defaultPrim = \"World\"\n    doc = \"subtgraph world: metres, x east, y north, z up\"\n    metersPerUnit = 1\n    upAxis = \"Z\"\n    subLayers = [\n",
+        "#usda 1.0\n(\n    defaultPrim = \"World\"\n    doc = \"subtgraph world: metres, x east, y north, z up\"\n    metersPerUnit = 1\n    kilogramsPerUnit = 1\n    upAxis = \"Z\"\n    subLayers = [\n",
     );
     for (i, l) in layers.iter().enumerate() {
         let comma = if i + 1 < layers.len() { "," } else { "" };
@@ -273,6 +283,9 @@ fn root_layer(mesh: &WorldMesh, layers: &[String], materials: &[String]) -> Stri
     }
     s.push_str("    ]\n)\n\ndef Xform \"World\"\n{\n");
     s.push_str("    def PhysicsScene \"PhysicsScene\"\n    {\n        vector3f physics:gravityDirection = (0, 0, -1)\n        float physics:gravityMagnitude = 9.81\n    }\n\n");
+    // The rock's contact properties, which Isaac Sim (PhysX) reads from the collider's
+    // physics-purpose binding.
+    s.push_str("    def Scope \"PhysicsMaterials\"\n    {\n        def Material \"Rock\" (\n            prepend apiSchemas = [\"PhysicsMaterialAPI\"]\n        )\n        {\n            float physics:dynamicFriction = 0.7\n            float physics:restitution = 0.1\n            float physics:staticFriction = 0.8\n        }\n    }\n\n");
     s.push_str("    def Scope \"Looks\"\n    {\n");
     let mut all: Vec<(String, [f32; 3])> = materials
         .iter()

@@ -1,5 +1,10 @@
 """Opens a world's usd/world.usda with usd-core (the USD library Isaac Sim is built on) and
-checks what a simulator relies on; prints a JSON summary.
+checks what a simulator (Isaac Sim) relies on: Z up, metres and kilograms stated, one
+PhysicsScene, physics materials with friction and restitution, every collider (every guide
+mesh) with PhysicsCollisionAPI, PhysicsMeshCollisionAPI approximation "none" and a bound
+physics material, no rigid body, every instance's prototype resolving to meshes reached
+through instance proxies, valid topology, per-vertex normals and st, materials on every face;
+prints a JSON summary.
 
 usage: usd_check.py WORLD_FOLDER [--parts DIR] [--min-instances N]
   --parts DIR         compare each part's visual mesh with DIR/<part>.obj (points and faces)
@@ -42,17 +47,32 @@ def main():
         fail(f"upAxis {UsdGeom.GetStageUpAxis(stage)}")
     if UsdGeom.GetStageMetersPerUnit(stage) != 1.0:
         fail(f"metersPerUnit {UsdGeom.GetStageMetersPerUnit(stage)}")
+    if not UsdPhysics.StageHasAuthoredKilogramsPerUnit(stage) or UsdPhysics.GetStageKilogramsPerUnit(stage) != 1.0:
+        fail("kilogramsPerUnit is not stated as 1")
     if not stage.GetDefaultPrim() or stage.GetDefaultPrim().GetPath() != "/World":
         fail("defaultPrim is not /World")
     scenes = [p for p in stage.Traverse() if p.IsA(UsdPhysics.Scene)]
     if len(scenes) != 1:
         fail(f"{len(scenes)} physics scenes")
+    physics_materials = [p for p in stage.Traverse() if p.HasAPI(UsdPhysics.MaterialAPI)]
+    if not physics_materials:
+        fail("no physics material (PhysicsMaterialAPI)")
+    for m in physics_materials:
+        api = UsdPhysics.MaterialAPI(m)
+        for attr in (api.GetStaticFrictionAttr(), api.GetDynamicFrictionAttr(), api.GetRestitutionAttr()):
+            if attr.Get() is None:
+                fail(f"{m.GetPath()}: {attr.GetName()} is not set")
 
-    visual_faces = collision_faces = instances = colliders = 0
+    visual_faces = collision_faces = instances = colliders = proxies = 0
     visual = {}
     for prim in Usd.PrimRange(stage.GetPseudoRoot(), Usd.TraverseInstanceProxies()):
         if prim.IsInstance():
             instances += 1
+            prototype = prim.GetPrototype()
+            if not prototype or not any(p.IsA(UsdGeom.Mesh) for p in Usd.PrimRange(prototype)):
+                fail(f"{prim.GetPath()}: its prototype does not resolve to a mesh")
+        if prim.IsInstanceProxy() and prim.IsA(UsdGeom.Mesh):
+            proxies += 1
         if prim.HasAPI(UsdPhysics.RigidBodyAPI):
             fail(f"{prim.GetPath()} is a rigid body; the cave is static")
         if not prim.IsA(UsdGeom.Mesh):
@@ -64,8 +84,14 @@ def main():
         ok, why = UsdGeom.Mesh.ValidateTopology(indices, counts, len(points))
         if not ok:
             fail(f"{prim.GetPath()}: {why}")
+        purpose = UsdGeom.Imageable(prim).ComputePurpose()
+        if (purpose == UsdGeom.Tokens.guide or prim.GetName() == "collision") and not prim.HasAPI(UsdPhysics.CollisionAPI):
+            fail(f"{prim.GetPath()} looks like a collider but lacks PhysicsCollisionAPI")
         if prim.HasAPI(UsdPhysics.CollisionAPI):
             colliders += 1
+            bound, _ = UsdShade.MaterialBindingAPI(prim).ComputeBoundMaterial("physics")
+            if not bound or not bound.GetPrim().HasAPI(UsdPhysics.MaterialAPI):
+                fail(f"{prim.GetPath()}: no physics material bound (purpose physics)")
             collision_faces += len(counts)
             if not prim.HasAPI(UsdPhysics.MeshCollisionAPI):
                 fail(f"{prim.GetPath()} lacks PhysicsMeshCollisionAPI")
@@ -121,11 +147,15 @@ def main():
                 fail(f"{name}: USD {visual.get(name)} (points, faces), OBJ {obj_counts(o)}")
     if instances < min_instances:
         fail(f"{instances} instances, expected at least {min_instances}")
+    if instances and proxies < instances:
+        fail(f"{instances} instances but {proxies} meshes reached through instance proxies")
     print(json.dumps({
         "visual_faces": visual_faces,
         "collision_faces": collision_faces,
         "colliders": colliders,
         "instances": instances,
+        "instance_proxy_meshes": proxies,
+        "physics_materials": len(physics_materials),
         "parts": len(visual),
     }))
 

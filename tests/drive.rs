@@ -1,0 +1,120 @@
+//! Drive the route: in MuJoCo (the height-field MJCF) and PyBullet (the URDF's triangle mesh),
+//! a 0.3 m ball pushed by a simple velocity controller follows the ground-truth graph from
+//! the start to the farthest dead end of its level through the centre of every cell on the
+//! way (`tests/readers/drive_check.py`): it reaches every waypoint within 1 m, never falls
+//! below the floor, and never needs more than three times the straight-line time, so there is
+//! no gap and no invisible wall at the seams between tiles or parts. A world whose collision
+//! lacks one tile's floor fails the same drive (the negative control).
+
+mod common;
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+use common::{arg, ok, python_with, read_with_python, small_cave_pipeline};
+
+/// What the drive reads: both physics exports and the ground truth's graph and spawn poses.
+const FORMATS: &str = "mjcf,urdf,graph,spawn-poses";
+
+fn generate(pipeline: &Path, out: &Path) {
+    ok(&[
+        "generate",
+        arg(pipeline),
+        "--format",
+        FORMATS,
+        "--out",
+        arg(out),
+    ]);
+}
+
+/// Runs the drive in both engines, asserting it succeeds; returns the two reports.
+fn drive(world: &Path, extra: &[&str]) -> Vec<String> {
+    let mut reports = Vec::new();
+    for (engine, module) in [("mujoco", "mujoco"), ("pybullet", "pybullet")] {
+        let mut args = vec![arg(world), "--engine", engine];
+        args.extend_from_slice(extra);
+        if let Some(out) = read_with_python(&[module, "numpy"], "drive_check.py", &args) {
+            assert!(out.contains("OK") && out.contains("reached all"), "{out}");
+            reports.push(out);
+        }
+    }
+    reports
+}
+
+/// A preset's pipeline with one level only: the drive stays on the start's level (a ball does
+/// not climb shafts), and the other levels would only make the files (up to 850 MB for the
+/// lava tube) and the loading slower. Everything else is the preset's.
+fn one_level_preset(dir: &Path, preset: &str) -> PathBuf {
+    let text = std::fs::read_to_string(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join(format!("examples/{preset}.toml")),
+    )
+    .unwrap();
+    let mut found = false;
+    let text: String = text
+        .lines()
+        .map(|l| {
+            if l.starts_with("levels = ") {
+                found = true;
+                "levels = 1".to_string()
+            } else {
+                l.to_string()
+            }
+        })
+        .collect::<Vec<_>>()
+        .join("\n");
+    assert!(found, "examples/{preset}.toml sets levels");
+    let path = dir.join(format!("{preset}.toml"));
+    std::fs::write(&path, text).unwrap();
+    path
+}
+
+#[test]
+fn a_ball_drives_the_route_on_every_preset() {
+    for preset in ["mine", "cave", "lava-tube"] {
+        let tmp = tempfile::tempdir().unwrap();
+        let pipeline = one_level_preset(tmp.path(), preset);
+        let world = tmp.path().join("world");
+        generate(&pipeline, &world);
+        for report in drive(&world, &[]) {
+            eprintln!("{preset}:\n{report}");
+        }
+    }
+}
+
+/// The negative controls: the same drive over a world whose collision lacks the floor of one
+/// tile in the middle of the route (MuJoCo: that tile's floor height field does not collide;
+/// PyBullet: its floor triangles are cut from the collision mesh) fails, the ball falling
+/// through; with an invisible wall across the route on a tile seam instead, it fails stuck;
+/// the intact world passes.
+#[test]
+fn a_gap_in_the_collision_floor_fails_the_drive() {
+    let tmp = tempfile::tempdir().unwrap();
+    let pipeline = small_cave_pipeline(tmp.path(), 1, "");
+    let world = tmp.path().join("world");
+    generate(&pipeline, &world);
+    drive(&world, &[]);
+    let python = std::env::var("SUBTGRAPH_PYTHON").unwrap_or_else(|_| "python3".into());
+    for (engine, module) in [("mujoco", "mujoco"), ("pybullet", "pybullet")] {
+        if python_with(&[module, "numpy"]).is_none() {
+            continue;
+        }
+        for (flag, says) in [
+            ("--gap", "FAIL: the ball fell below the floor"),
+            ("--wall", "FAIL: stuck at"),
+        ] {
+            let out = Command::new(&python)
+                .arg(Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/readers/drive_check.py"))
+                .args([arg(&world), "--engine", engine, flag])
+                .output()
+                .unwrap();
+            let text = String::from_utf8_lossy(&out.stderr);
+            assert!(
+                !out.status.success() && text.contains(says),
+                "{engine} {flag} should fail:\n{}\n{text}",
+                String::from_utf8_lossy(&out.stdout)
+            );
+        }
+    }
+    // The cut copy lives outside the world folder.
+    assert!(!world.join("urdf/world-gap.urdf").exists());
+}
