@@ -4,7 +4,7 @@
 use crate::rng::WorldRng;
 use crate::route::{RouteDescriptor, Segment};
 use crate::shape::{ConstraintShape, Heading, rotate_offset};
-use crate::world::Counts;
+use crate::topology::{self, Counts, GridView};
 
 use super::search::Search;
 
@@ -53,25 +53,26 @@ impl Level {
         }
     }
 
+    /// The level's cells as a topology view.
+    pub fn view(&self) -> GridView<'_> {
+        GridView::new(self.rows, self.cols, &self.occ)
+    }
+
     /// The index of `(row, col)` if inside the level.
     pub fn index(&self, r: i32, c: i32) -> Option<usize> {
-        (r >= 0 && c >= 0 && (r as usize) < self.rows && (c as usize) < self.cols)
-            .then(|| r as usize * self.cols + c as usize)
+        topology::index(self.rows, self.cols, r, c)
     }
 
     fn rc(&self, i: usize) -> (i32, i32) {
         ((i / self.cols) as i32, (i % self.cols) as i32)
     }
 
-    fn neighbours(&self, i: usize) -> impl Iterator<Item = usize> + '_ {
-        let (r, c) = self.rc(i);
-        [(0, 1), (-1, 0), (0, -1), (1, 0)]
-            .into_iter()
-            .filter_map(move |(dr, dc)| self.index(r + dr, c + dc))
+    fn neighbours(&self, i: usize) -> impl Iterator<Item = usize> + use<> {
+        topology::neighbours(self.rows, self.cols, i)
     }
 
     fn degree(&self, i: usize) -> usize {
-        self.neighbours(i).filter(|&n| self.occ[n]).count()
+        self.view().degree(i)
     }
 
     /// Whether a route from `s` to `g` owned by `owner` may pass through cell `v`: free, not
@@ -93,62 +94,17 @@ impl Level {
 
     /// 4-connected components: a label per cell (`u32::MAX` for empty) and their number.
     fn components(&self) -> (Vec<u32>, u32) {
-        let mut label = vec![u32::MAX; self.occ.len()];
-        let mut n = 0;
-        let mut stack = Vec::new();
-        for i in 0..self.occ.len() {
-            if !self.occ[i] || label[i] != u32::MAX {
-                continue;
-            }
-            label[i] = n;
-            stack.push(i);
-            while let Some(u) = stack.pop() {
-                for v in self.neighbours(u) {
-                    if self.occ[v] && label[v] == u32::MAX {
-                        label[v] = n;
-                        stack.push(v);
-                    }
-                }
-            }
-            n += 1;
-        }
-        (label, n)
+        self.view().components()
     }
 
     /// Junction, intersection, dead-end and cycle counts of the level.
     pub fn counts(&self) -> Counts {
-        let mut c = Counts::default();
-        let (mut cells, mut edges) = (0u32, 0u32);
-        for i in 0..self.occ.len() {
-            if !self.occ[i] {
-                continue;
-            }
-            cells += 1;
-            let (r, col) = self.rc(i);
-            edges += u32::from(self.index(r, col + 1).is_some_and(|j| self.occ[j]));
-            edges += u32::from(self.index(r + 1, col).is_some_and(|j| self.occ[j]));
-            match self.degree(i) {
-                1 => c.dead_ends += 1,
-                3 => c.t_junctions += 1,
-                4 => c.intersections += 1,
-                _ => {}
-            }
-        }
-        c.loops = (edges + self.components().1).saturating_sub(cells);
-        c
+        self.view().counts()
     }
 
     /// Whether any 2 x 2 block is fully occupied (corridors fused side by side).
     fn has_fused_block(&self) -> bool {
-        (0..self.rows.saturating_sub(1)).any(|r| {
-            (0..self.cols.saturating_sub(1)).any(|c| {
-                let i = r * self.cols + c;
-                self.occ[i]
-                    && self.occ[i + 1]
-                    && self.occ[i + self.cols]
-                    && self.occ[i + self.cols + 1]
-            })
-        })
+        self.view().has_fused_block()
     }
 
     fn clamp_inside(&self, [r, c]: [i32; 2]) -> (i32, i32) {
@@ -478,7 +434,9 @@ fn link_structures(
             let g = lvl.index(arms[b].from.0, arms[b].from.1).expect("inside");
             let seg = segment(lvl, lvl.rc(s), arms[b].from, rng);
             let guide = descriptor.guide(&seg);
-            if let Some(path) = search.route(lvl, s, g, &guide, [owner_a, arms[b].structure]) {
+            if let Some(path) = search.route([lvl.rows, lvl.cols], s, g, &guide, |v| {
+                lvl.route_may_use(v, s, g, [owner_a, arms[b].structure])
+            }) {
                 if path.is_empty() {
                     continue; // two arms touching directly would fuse their structures
                 }
@@ -554,7 +512,9 @@ fn route_arm(
         };
         let seg = segment(lvl, from, lvl.rc(g), rng);
         let guide = descriptor.guide(&seg);
-        if let Some(mut path) = search.route(lvl, s, g, &guide, [id, NONE]) {
+        if let Some(mut path) = search.route([lvl.rows, lvl.cols], s, g, &guide, |v| {
+            lvl.route_may_use(v, s, g, [id, NONE])
+        }) {
             if !lvl.occ[g] {
                 path.push(g);
             }
@@ -637,7 +597,9 @@ fn link_components(
             for &(_, a, b) in pairs.iter().take(24) {
                 let seg = segment(lvl, lvl.rc(a), lvl.rc(b), rng);
                 let guide = descriptor.guide(&seg);
-                if let Some(path) = search.route(lvl, a, b, &guide, [NONE; 2]) {
+                if let Some(path) = search.route([lvl.rows, lvl.cols], a, b, &guide, |v| {
+                    lvl.route_may_use(v, a, b, [NONE; 2])
+                }) {
                     lvl.commit(&path);
                     linked = true;
                     break;
