@@ -30,6 +30,7 @@ mod obj;
 mod occupancy_npy;
 pub mod parts;
 mod sdf;
+mod text;
 mod topology_json;
 mod urdf;
 mod usd;
