@@ -138,6 +138,65 @@ pub fn structure_counts(shape: &dyn ConstraintShape) -> Counts {
     c
 }
 
+/// Why one attempt at a level failed; the generator retries with a derived seed and reports
+/// the last one in [`crate::Error::Unsatisfiable`].
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+pub enum LevelFailure {
+    /// A structure found no free area.
+    #[error("no free area left for {structure} number {number}")]
+    NoRoom {
+        /// Shape name.
+        structure: String,
+        /// 1-based count of that structure on the level.
+        number: u32,
+    },
+    /// Two corridors ran side by side into a 2 x 2 block.
+    #[error("two corridors fused side by side")]
+    Fused,
+    /// The grid does not have the junctions or loops the structures bring.
+    #[error("asked for {want} {what} from its structures, the grid has {have}")]
+    Counts {
+        /// `T-junctions`, `intersections` or `loops`.
+        what: &'static str,
+        /// Asked for.
+        want: u32,
+        /// On the grid.
+        have: u32,
+    },
+    /// The landing of the shaft from below ended up with more than one opening.
+    #[error("the shaft landing is not a dead end")]
+    LandingNotDeadEnd,
+    /// No dead end away from the border is left for the shaft up.
+    #[error("no dead end left for the shaft up")]
+    NoShaftFoot,
+    /// A structure could not be joined to the rest.
+    #[error("could not link the {structure} at row {row}, column {col} to the rest of the level")]
+    Unlinked {
+        /// Shape name.
+        structure: String,
+        /// Its centre's row.
+        row: i32,
+        /// Its centre's column.
+        col: i32,
+    },
+    /// An arm of a structure found no route.
+    #[error("could not route an arm of the {structure} at row {row}, column {col}")]
+    Unrouted {
+        /// Shape name.
+        structure: String,
+        /// Its centre's row.
+        row: i32,
+        /// Its centre's column.
+        col: i32,
+    },
+    /// Separate pieces of the level could not be linked.
+    #[error("could not link {pieces} separate pieces of the level into one network")]
+    Pieces {
+        /// How many pieces.
+        pieces: u32,
+    },
+}
+
 /// What a level needs to be built.
 pub struct LevelSpec<'a> {
     /// Rows.
@@ -170,7 +229,7 @@ pub fn build_level(
     descriptor: &dyn RouteDescriptor,
     search: &mut Search,
     rng: &mut WorldRng,
-) -> Result<BuiltLevel, String> {
+) -> Result<BuiltLevel, LevelFailure> {
     let mut lvl = Level::new(spec.rows, spec.cols, spec.exact);
     let landing = spec.landing.map(|(r, c)| {
         let i = r * spec.cols + c;
@@ -186,8 +245,10 @@ pub fn build_level(
     let mut expected = Counts::default();
     for (name, shape) in order {
         let id = placed.len() as u32;
-        let p = place(&mut lvl, name, shape, id, rng)
-            .ok_or_else(|| format!("no free area left for {name} number {}", id + 1))?;
+        let p = place(&mut lvl, name, shape, id, rng).ok_or_else(|| LevelFailure::NoRoom {
+            structure: name.to_string(),
+            number: id + 1,
+        })?;
         let c = structure_counts(shape);
         expected.t_junctions += c.t_junctions;
         expected.intersections += c.intersections;
@@ -232,12 +293,9 @@ pub fn build_level(
 
     // 5. Check what was asked.
     if lvl.has_fused_block() {
-        return Err("two corridors fused side by side".into());
+        return Err(LevelFailure::Fused);
     }
     let got = lvl.counts();
-    let short = |what: &str, want: u32, have: u32| {
-        format!("asked for {want} {what} from its structures, the grid has {have}")
-    };
     for (what, want, have) in [
         ("T-junctions", expected.t_junctions, got.t_junctions),
         ("intersections", expected.intersections, got.intersections),
@@ -249,12 +307,12 @@ pub fn build_level(
             have >= want
         };
         if !ok {
-            return Err(short(what, want, have));
+            return Err(LevelFailure::Counts { what, want, have });
         }
     }
     if let Some(l) = landing {
         if lvl.degree(l) != 1 {
-            return Err("the shaft landing is not a dead end".into());
+            return Err(LevelFailure::LandingNotDeadEnd);
         }
     }
 
@@ -273,7 +331,7 @@ pub fn build_level(
             })
             .collect();
         if candidates.is_empty() {
-            return Err("no dead end left for the shaft up".into());
+            return Err(LevelFailure::NoShaftFoot);
         }
         let i = candidates[rng.below(candidates.len() as u64) as usize];
         Some((i / lvl.cols, i % lvl.cols))
@@ -394,7 +452,7 @@ fn link_structures(
     placed: &[Placed],
     arms: &mut [ArmState],
     landing: Option<usize>,
-) -> Result<(), String> {
+) -> Result<(), LevelFailure> {
     let n = placed.len();
     if n == 0 {
         return Ok(());
@@ -454,10 +512,11 @@ fn link_structures(
         if !done {
             let stuck = linked.iter().position(|l| !l).expect("some unlinked");
             let p = &placed[stuck];
-            return Err(format!(
-                "could not link the {} at row {}, column {} to the rest of the level",
-                p.name, p.centre.0, p.centre.1
-            ));
+            return Err(LevelFailure::Unlinked {
+                structure: p.name.to_string(),
+                row: p.centre.0,
+                col: p.centre.1,
+            });
         }
     }
     Ok(())
@@ -474,7 +533,7 @@ fn route_arm(
     rng: &mut WorldRng,
     p: &Placed,
     arm: &ArmState,
-) -> Result<(), String> {
+) -> Result<(), LevelFailure> {
     let from = arm.from;
     let s = lvl.index(from.0, from.1).expect("footprint is inside");
     let id = arm.structure;
@@ -525,10 +584,11 @@ fn route_arm(
     if lvl.degree(s) <= 1 {
         return Ok(()); // a stub: the footprint cell is the arm's dead end
     }
-    Err(format!(
-        "could not route an arm of the {} at row {}, column {}",
-        p.name, p.centre.0, p.centre.1
-    ))
+    Err(LevelFailure::Unrouted {
+        structure: p.name.to_string(),
+        row: p.centre.0,
+        col: p.centre.1,
+    })
 }
 
 /// A corridor cell within one cell of `target` that an arm may end on (not a structure, not
@@ -579,7 +639,7 @@ fn link_components(
     descriptor: &dyn RouteDescriptor,
     rng: &mut WorldRng,
     landing: Option<usize>,
-) -> Result<(), String> {
+) -> Result<(), LevelFailure> {
     loop {
         let (label, n) = lvl.components();
         if n <= 1 {
@@ -610,10 +670,7 @@ fn link_components(
             }
         }
         if !linked {
-            return Err(format!(
-                "could not link {} separate pieces of the level into one network",
-                n
-            ));
+            return Err(LevelFailure::Pieces { pieces: n });
         }
     }
 }

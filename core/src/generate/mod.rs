@@ -154,7 +154,7 @@ pub fn layout_within(
                     built = Some((b, attempt + 1));
                     break;
                 }
-                Err(why) => last_failure = why,
+                Err(why) => last_failure = why.to_string(),
             }
         }
         let Some((b, used)) = built else {
