@@ -26,18 +26,8 @@ pub(crate) fn push_fixed(buf: &mut Vec<u8>, v: f32) {
 }
 
 /// Appends an unsigned integer in decimal.
-pub(crate) fn push_uint(buf: &mut Vec<u8>, mut v: u64) {
-    let mut digits = [0u8; 20];
-    let mut at = digits.len();
-    loop {
-        at -= 1;
-        digits[at] = b'0' + (v % 10) as u8;
-        v /= 10;
-        if v == 0 {
-            break;
-        }
-    }
-    buf.extend_from_slice(&digits[at..]);
+pub(crate) fn push_uint(buf: &mut Vec<u8>, v: u64) {
+    buf.extend_from_slice(itoa::Buffer::new().format(v).as_bytes());
 }
 
 /// Lines formatted per parallel chunk; chunks are written in order as they are formatted, so
