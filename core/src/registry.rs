@@ -92,6 +92,17 @@ impl<T: ?Sized> Catalogue<T> {
         Ok(())
     }
 
+    /// Adds a built-in component (origin `built-in`): how the workspace's own crates register
+    /// theirs, without wrapping each factory by hand. A taken name is an error.
+    pub fn add(
+        &mut self,
+        name: &str,
+        summary: &str,
+        factory: impl Fn(&Params) -> Result<Box<T>, ConfigError> + Send + Sync + 'static,
+    ) -> Result<(), DuplicateName> {
+        self.register(name, "built-in", summary, Arc::new(factory))
+    }
+
     /// The registered names, sorted.
     pub fn names(&self) -> Vec<&str> {
         self.entries.keys().map(String::as_str).collect()

@@ -53,7 +53,7 @@ mod loader;
 pub use loader::{LoadedPlugin, PluginError, check_failures, load, loaded};
 
 /// The plugin API version: bumped whenever the declaration or [`Registrar`] changes.
-pub const API_VERSION: u32 = 3;
+pub const API_VERSION: u32 = 4;
 /// The compiler that built this copy of the crate.
 pub const RUSTC_VERSION: &str = env!("SUBTGRAPH_RUSTC_VERSION");
 /// The version of the subtgraph crates this copy belongs to.
@@ -69,16 +69,59 @@ pub const SYMBOL: &str = "SUBTGRAPH_PLUGIN";
 pub struct PluginDeclaration {
     /// [`API_VERSION`] of the plugin's build. First, so it can be read before anything else.
     pub api_version: u32,
-    /// [`RUSTC_VERSION`] of the plugin's build.
-    pub rustc_version: &'static str,
-    /// [`CRATE_VERSION`] of the plugin's build.
-    pub crate_version: &'static str,
+    /// [`RUSTC_VERSION`] of the plugin's build. Read before the compiler is known to be the
+    /// same, so it is a [`FixedText`], whose layout every compiler agrees on (`&str`'s is not
+    /// guaranteed).
+    pub rustc_version: FixedText,
+    /// [`CRATE_VERSION`] of the plugin's build; a [`FixedText`] for the same reason.
+    pub crate_version: FixedText,
     /// [`ABI_FINGERPRINT`] of the plugin's build.
     pub abi_fingerprint: &'static str,
     /// The plugin's name.
     pub name: &'static str,
     /// Registers the plugin's components; runs the plugin's code under `catch_unwind`.
     pub register: fn(&mut Registrar<'_>) -> Result<(), String>,
+}
+
+/// Text of at most [`FixedText::CAPACITY`] bytes stored inline, with a `#[repr(C)]` layout:
+/// the declaration's version strings are read before the loader knows the plugin was built by
+/// the same compiler, and the layout of `&str` is not guaranteed across compilers.
+#[repr(C)]
+#[derive(Clone, Copy, Debug)]
+pub struct FixedText {
+    len: u32,
+    bytes: [u8; FixedText::CAPACITY],
+}
+
+impl FixedText {
+    /// The longest text a `FixedText` holds, in bytes.
+    pub const CAPACITY: usize = 124;
+
+    /// `text` stored inline; a text longer than [`Self::CAPACITY`] fails to compile in a
+    /// `static` (and panics elsewhere).
+    pub const fn new(text: &str) -> FixedText {
+        let b = text.as_bytes();
+        assert!(
+            b.len() <= Self::CAPACITY,
+            "a FixedText holds at most 124 bytes"
+        );
+        let mut bytes = [0u8; Self::CAPACITY];
+        let mut i = 0;
+        while i < b.len() {
+            bytes[i] = b[i];
+            i += 1;
+        }
+        FixedText {
+            len: b.len() as u32,
+            bytes,
+        }
+    }
+
+    /// The text (bytes that are not UTF-8, from a damaged or foreign library, replaced).
+    pub fn text(&self) -> std::borrow::Cow<'_, str> {
+        let len = (self.len as usize).min(Self::CAPACITY);
+        String::from_utf8_lossy(&self.bytes[..len])
+    }
 }
 
 /// Declares a plugin: `declare_plugin!("name", register_fn)`.
@@ -93,8 +136,8 @@ macro_rules! declare_plugin {
         #[unsafe(no_mangle)]
         pub static SUBTGRAPH_PLUGIN: $crate::PluginDeclaration = $crate::PluginDeclaration {
             api_version: $crate::API_VERSION,
-            rustc_version: $crate::RUSTC_VERSION,
-            crate_version: $crate::CRATE_VERSION,
+            rustc_version: $crate::FixedText::new($crate::RUSTC_VERSION),
+            crate_version: $crate::FixedText::new($crate::CRATE_VERSION),
             abi_fingerprint: $crate::ABI_FINGERPRINT,
             name: $name,
             register: __subtgraph_register,
