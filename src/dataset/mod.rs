@@ -652,6 +652,7 @@ mod tests {
             out: dir.path().join("d"),
             jobs: 1,
             shard: Shard::ALL,
+            max_memory: subtgraph_core::Budget::unlimited(),
         };
         let sources = std::slice::from_ref(&source);
         // This run planned cave-0000; another process then made it.
@@ -666,7 +667,13 @@ mod tests {
         // The same, when it appears while this run generates it (after the check above).
         let mut p = source.pipeline.clone();
         p.world.seed = w.seed;
-        let world = make::generate(&p, &source.registry, &description(&source, w, &opts)).unwrap();
+        let world = make::generate(
+            &p,
+            &source.registry,
+            &description(&source, w, &opts),
+            &opts.max_memory,
+        )
+        .unwrap();
         assert_eq!(
             write_world(&world, &source, w, &opts, false).unwrap(),
             Made::Elsewhere
