@@ -39,6 +39,7 @@ use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::sync::{Arc, Mutex};
 
 use subtgraph_core::World;
+use subtgraph_core::budget::TileTriangles;
 use subtgraph_core::error::ConfigError;
 use subtgraph_core::export::{ExportError, Exporter, WorldWriter};
 use subtgraph_core::mesh::Material;
@@ -46,6 +47,7 @@ use subtgraph_core::params::Params;
 use subtgraph_core::registry::{Catalogue, Registry};
 use subtgraph_core::route::{RouteDescriptor, Segment};
 use subtgraph_core::shape::{Arm, ConstraintShape, Heading, Offset};
+use subtgraph_core::tile::TileKind;
 use subtgraph_core::tileset::{CrossSection, TileContext, TileGeometry, TileSet, TileSetError};
 
 mod loader;
@@ -376,6 +378,7 @@ impl<T: ?Sized> Guarded<T> {
     }
 }
 
+#[deny(clippy::missing_trait_methods)] // a new defaulted method must be forwarded, not skipped
 impl RouteDescriptor for Guarded<dyn RouteDescriptor> {
     fn offset(&self, t: f64, segment: &Segment) -> f64 {
         self.call("RouteDescriptor::offset", || 0.0, |d| d.offset(t, segment))
@@ -388,6 +391,7 @@ impl RouteDescriptor for Guarded<dyn RouteDescriptor> {
     }
 }
 
+#[deny(clippy::missing_trait_methods)] // a new defaulted method must be forwarded, not skipped
 impl ConstraintShape for Guarded<dyn ConstraintShape> {
     fn footprint(&self) -> Vec<Offset> {
         self.call(
@@ -421,6 +425,7 @@ impl ConstraintShape for Guarded<dyn ConstraintShape> {
     }
 }
 
+#[deny(clippy::missing_trait_methods)] // a new defaulted method must be forwarded, not skipped
 impl TileSet for Guarded<dyn TileSet> {
     fn tile(&self, ctx: &TileContext<'_>) -> Result<TileGeometry, TileSetError> {
         self.try_call("TileSet::tile", TileSetError, |t| t.tile(ctx))
@@ -437,11 +442,18 @@ impl TileSet for Guarded<dyn TileSet> {
     fn check(&self, world: &World) -> Result<(), TileSetError> {
         self.try_call("TileSet::check", TileSetError, |t| t.check(world))
     }
+    fn estimate(&self, world: &World, kind: TileKind) -> Option<TileTriangles> {
+        self.call("TileSet::estimate", || None, |t| t.estimate(world, kind))
+    }
+    fn detail_advice(&self) -> Option<String> {
+        self.call("TileSet::detail_advice", || None, |t| t.detail_advice())
+    }
     fn texture_scale(&self) -> f32 {
         self.call("TileSet::texture_scale", || 4.0, |t| t.texture_scale())
     }
 }
 
+#[deny(clippy::missing_trait_methods)] // a new defaulted method must be forwarded, not skipped
 impl Exporter for Guarded<dyn Exporter> {
     fn export(&self, world: &World, out: &mut dyn WorldWriter) -> Result<(), ExportError> {
         self.try_call("Exporter::export", ExportError::Unsupported, |e| {
