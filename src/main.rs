@@ -7,7 +7,7 @@ use std::time::Instant;
 use anyhow::{Context, Result, anyhow, bail};
 use clap::{Parser, Subcommand};
 
-use subtgraph::core::{Pipeline, World, generate, import, npy};
+use subtgraph::core::{Pipeline, World, import, npy};
 use subtgraph::presets;
 
 /// Procedural subterranean worlds with controlled topology, for robot simulation.
@@ -147,7 +147,9 @@ enum Command {
         #[arg(long, default_value = "common", value_name = "common|pad")]
         crop: String,
     },
-    /// Check a pipeline file: syntax, keys, component names, and that its world can be made.
+    /// Check a pipeline file: syntax, keys, component names, that its layout can be made and
+    /// that the tile set can build it. No mesh is made (`generate` makes it), so this is quick
+    /// even for large worlds.
     Validate {
         /// The pipeline TOML file.
         pipeline: PathBuf,
@@ -189,6 +191,26 @@ enum PluginsCommand {
 }
 
 use subtgraph::make::{self, registry_with};
+
+/// The layout of a pipeline's world, checked by its tile set (passages that fit the tiles and
+/// the levels), without meshing.
+fn validate_layout(
+    p: &Pipeline,
+    registry: &subtgraph::core::Registry,
+) -> Result<World, subtgraph::core::Error> {
+    let world = subtgraph::core::layout(p, registry)?;
+    if let Some(spec) = &p.tileset {
+        let tileset = registry.tilesets.build(spec)?;
+        tileset
+            .check(&world)
+            .map_err(|e| subtgraph::core::Error::Component {
+                component: "tile set",
+                name: spec.type_name.clone(),
+                message: e.0,
+            })?;
+    }
+    Ok(world)
+}
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
@@ -390,7 +412,7 @@ fn run(cli: Cli) -> Result<()> {
         Command::Validate { pipeline, plugins } => {
             let (p, _) = load_pipeline(Some(&pipeline), None)?;
             let registry = registry_with(&p, &plugins)?;
-            let world = match generate(&p, &registry) {
+            let world = match validate_layout(&p, &registry) {
                 Ok(w) => w,
                 Err(e @ subtgraph::core::Error::Config(_)) => return Err(e.into()),
                 Err(e) => {

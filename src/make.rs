@@ -68,14 +68,14 @@ pub fn exporters_and_skipped(
     let mut out = Vec::new();
     let mut skipped = Vec::new();
     for spec in &p.export {
-        let exporter = registry.exporters.build(spec).map_err(|e| {
-            let known = registry.exporters.names().join(", ");
-            if e.message.contains("unknown exporter") {
-                anyhow!("{e} (formats: {known})")
-            } else {
-                anyhow!(e)
-            }
-        })?;
+        let exporter = match registry.exporters.get(&spec.type_name) {
+            Ok(entry) => (entry.factory)(&spec.params)?,
+            Err(unknown) => bail!(
+                "{} (formats: {})",
+                unknown.at(&spec.params),
+                unknown.known.join(", ")
+            ),
+        };
         if exporter.needs_geometry() && p.tileset.is_none() {
             if no_mesh {
                 skipped.push(spec.type_name.clone());

@@ -338,7 +338,9 @@ fn worlds_too_large_for_the_memory_budget_are_refused_before_they_are_made() {
         arg(&tmp.path().join("d")),
     ]);
     assert!(
-        err.contains("--max-memory allows (75 MB, each world's share of 150 MB over dataset --jobs 2)"),
+        err.contains(
+            "--max-memory allows (75 MB, each world's share of 150 MB over dataset --jobs 2)"
+        ),
         "{err}"
     );
     // Sizes that are not sizes.

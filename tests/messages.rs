@@ -187,9 +187,20 @@ fn reached_by(file: &str, src: &str, pos: usize) -> Vec<&'static str> {
         // is in the way (src/dataset/mod.rs, tested in tests/dataset.rs), so the folder
         // writer's messages about --force only reach generate.
         f if f.starts_with("src/folder") => vec!["generate"],
+        // A dataset's per-world share of the memory budget: only `dataset` has --jobs.
+        "src/memory.rs"
+            if src.find("\npub fn per_world(").is_some_and(|start| {
+                let end = src[start + 1..]
+                    .find("\n}")
+                    .map_or(src.len(), |n| start + 1 + n);
+                (start..end).contains(&pos)
+            }) =>
+        {
+            vec!["dataset"]
+        }
         f if f.starts_with("src/") => vec!["generate", "dataset"],
-        // Writing files (the exporters' and the core's export errors) and meshing within a
-        // memory budget happen only in generate and dataset.
+        // Meshing happens only in generate and dataset (validate makes no mesh), and so does
+        // writing files (the exporters' and the core's export errors).
         f if f.starts_with("exporters/")
             || f.starts_with("tilesets/")
             || f == "core/src/export.rs"

@@ -304,3 +304,25 @@ fn a_panic_inside_a_plugin_is_an_error_naming_it_not_an_abort() {
         "{err}"
     );
 }
+
+#[test]
+fn a_plugin_tile_set_estimates_its_meshes_before_any_tile_is_made() {
+    // The loader's wrapper forwards `TileSet::estimate` and `detail_advice` (it once skipped
+    // them, so a plugin's world was measured on its first tiles and the advice lost).
+    let tmp = tempfile::tempdir().unwrap();
+    let p = pipeline(tmp.path(), "");
+    let out = tmp.path().join("w");
+    let o = subtgraph(&[
+        "generate",
+        p.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+        "--max-memory",
+        "1M",
+    ]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(!o.status.success(), "a 1 MB budget was enough");
+    assert!(err.contains("estimated"), "{err}");
+    assert!(err.contains("lower [tileset] resolution"), "{err}");
+    assert!(!out.exists());
+}

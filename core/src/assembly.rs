@@ -14,7 +14,7 @@ use crate::grid::Cell;
 use crate::mesh::{Material, Mesh};
 use crate::rng::derive_seed;
 use crate::tile::TileKind;
-use crate::tileset::{TileContext, TileGeometry, TileSet, TileSetError};
+use crate::tileset::{Seams, TileContext, TileGeometry, TileSet, TileSetError};
 use crate::world::World;
 
 /// Where one tile's triangles are in the world meshes.
@@ -160,12 +160,13 @@ pub fn assemble_within(
             let start = out.visual.triangle_count();
             let collision_start = out.collision.triangle_count();
             match (&mut seams, &g.seams) {
-                (Some((vs, cs)), Some((v, c))) => {
+                (Some((vs, cs)), Seams::Listed { visual, collision }) => {
                     let vb = out.visual.positions.len() as u32;
                     let cb = out.collision.positions.len() as u32;
-                    vs.extend(v.iter().map(|i| i + vb));
-                    cs.extend(c.iter().map(|i| i + cb));
+                    vs.extend(visual.iter().map(|i| i + vb));
+                    cs.extend(collision.iter().map(|i| i + cb));
                 }
+                (_, Seams::None) => {}
                 _ => seams = None,
             }
             out.visual.append(&g.visual);

@@ -37,6 +37,7 @@ pub mod shape;
 pub mod shapes;
 pub mod tile;
 pub mod tileset;
+pub mod topology;
 pub mod vec3;
 pub mod world;
 

@@ -306,32 +306,11 @@ impl Mesh {
     }
 }
 
-/// A fast non-cryptographic hash for vertex keys (positions are not adversarial input).
-#[derive(Default, Clone, Copy)]
-pub struct FastHash(u64);
-
-impl std::hash::Hasher for FastHash {
-    fn finish(&self) -> u64 {
-        self.0
-    }
-    fn write(&mut self, bytes: &[u8]) {
-        for b in bytes {
-            self.write_u64(u64::from(*b));
-        }
-    }
-    fn write_u32(&mut self, v: u32) {
-        self.write_u64(u64::from(v));
-    }
-    fn write_u64(&mut self, v: u64) {
-        self.0 = (self.0.rotate_left(5) ^ v).wrapping_mul(0x51_7c_c1_b7_27_22_0a_95);
-    }
-    fn write_usize(&mut self, v: usize) {
-        self.write_u64(v as u64);
-    }
-}
-
-/// Builds [`FastHash`]ers, for hash maps keyed by vertex positions or lattice cells.
-pub type BuildFastHash = std::hash::BuildHasherDefault<FastHash>;
+/// The hasher for hash maps keyed by vertex positions or lattice cells: `rustc-hash`'s Fx
+/// hash, fast and non-cryptographic (positions are not adversarial input). Every map keyed
+/// this way is only probed and filled, never iterated, so the hash function cannot change an
+/// output.
+pub type BuildFastHash = rustc_hash::FxBuildHasher;
 
 #[cfg(test)]
 mod tests {

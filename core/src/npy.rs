@@ -61,16 +61,71 @@ struct Header {
     size: usize,
 }
 
+/// What is wrong with a `.npy` file; every message says what to change or what is corrupt.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[non_exhaustive]
+pub enum NpyError {
+    /// No `\x93NUMPY` magic.
+    #[error("not a .npy file (no \\x93NUMPY magic); save the array with numpy.save")]
+    NotNpy,
+    /// The header ends before it should.
+    #[error("truncated .npy header")]
+    Truncated,
+    /// A format version other than 1, 2 or 3.
+    #[error("unsupported .npy version {0}")]
+    Version(u8),
+    /// The header is not UTF-8 text.
+    #[error("the .npy header is not text")]
+    NotText,
+    /// The header lacks a key (`descr` or `shape`).
+    #[error("the .npy header has no '{0}'")]
+    Missing(&'static str),
+    /// A dimension is not a whole number (the shape text, cut to a readable length).
+    #[error("bad shape {0}: the dimensions must be whole numbers")]
+    BadShape(String),
+    /// The shape's product overflows.
+    #[error("shape {0} has more elements than any file can hold; the header is corrupt")]
+    TooManyElements(String),
+    /// A dtype this reader does not decode (cut to a readable length).
+    #[error("unsupported dtype '{0}'")]
+    Dtype(String),
+    /// A dtype of a kind or size that is not integer, boolean or float.
+    #[error("unsupported dtype '{0}': use an integer, boolean or float array")]
+    DtypeKind(String),
+    /// The shape times the value size overflows.
+    #[error("shape {shape} with {size}-byte values is larger than any file can hold")]
+    TooLarge {
+        /// The shape text.
+        shape: String,
+        /// Bytes per value.
+        size: usize,
+    },
+    /// Fewer data bytes than the header promises.
+    #[error(
+        "the file holds {have} bytes of data, the header promises {promised} ({count} values of {size} bytes)"
+    )]
+    Short {
+        /// Data bytes present.
+        have: usize,
+        /// Data bytes promised.
+        promised: usize,
+        /// Values promised.
+        count: usize,
+        /// Bytes per value.
+        size: usize,
+    },
+}
+
 /// The shape a `.npy` file declares, read from its header alone (no values decoded; the dtype
 /// and that the file holds the bytes the shape needs are checked), so a caller can size the
 /// work before decoding. Errors as [`decode`]'s.
-pub fn shape(bytes: &[u8]) -> Result<Vec<usize>, String> {
+pub fn shape(bytes: &[u8]) -> Result<Vec<usize>, NpyError> {
     header(bytes).map(|h| h.shape)
 }
 
-fn header(bytes: &[u8]) -> Result<Header, String> {
+fn header(bytes: &[u8]) -> Result<Header, NpyError> {
     if bytes.len() < 10 || &bytes[..6] != b"\x93NUMPY" {
-        return Err("not a .npy file (no \\x93NUMPY magic); save the array with numpy.save".into());
+        return Err(NpyError::NotNpy);
     }
     let major = bytes[6];
     let (header_len, start) = match major {
@@ -80,84 +135,71 @@ fn header(bytes: &[u8]) -> Result<Header, String> {
         ),
         2 | 3 => {
             if bytes.len() < 12 {
-                return Err("truncated .npy header".into());
+                return Err(NpyError::Truncated);
             }
             (
                 u32::from_le_bytes([bytes[8], bytes[9], bytes[10], bytes[11]]) as usize,
                 12,
             )
         }
-        v => return Err(format!("unsupported .npy version {v}")),
+        v => return Err(NpyError::Version(v)),
     };
     let header = start
         .checked_add(header_len)
         .and_then(|end| bytes.get(start..end))
-        .ok_or("truncated .npy header")?;
-    let header = std::str::from_utf8(header).map_err(|_| "the .npy header is not text")?;
+        .ok_or(NpyError::Truncated)?;
+    let header = std::str::from_utf8(header).map_err(|_| NpyError::NotText)?;
     let dtype = dict_value(header, "descr")
         .map(|v| v.trim_matches(|c| c == '\'' || c == '"').to_owned())
-        .ok_or("the .npy header has no 'descr'")?;
+        .ok_or(NpyError::Missing("descr"))?;
     let fortran = dict_value(header, "fortran_order").is_some_and(|v| v.trim() == "True");
-    let shape_text = dict_value(header, "shape").ok_or("the .npy header has no 'shape'")?;
+    let shape_text = dict_value(header, "shape").ok_or(NpyError::Missing("shape"))?;
     let shape: Vec<usize> = shape_text
         .trim_matches(|c| c == '(' || c == ')')
         .split(',')
         .map(str::trim)
         .filter(|s| !s.is_empty())
         .map(|s| {
-            s.parse::<usize>().map_err(|_| {
-                format!(
-                    "bad shape {}: the dimensions must be whole numbers",
-                    crate::error::excerpt(shape_text)
-                )
-            })
+            s.parse::<usize>()
+                .map_err(|_| NpyError::BadShape(crate::error::excerpt(shape_text).into_owned()))
         })
         .collect::<Result<_, _>>()?;
     let count = shape
         .iter()
         .try_fold(1usize, |n, &d| n.checked_mul(d))
-        .ok_or_else(|| {
-            format!(
-                "shape {} has more elements than any file can hold; the header is corrupt",
-                crate::error::excerpt(shape_text)
-            )
-        })?;
+        .ok_or_else(|| NpyError::TooManyElements(crate::error::excerpt(shape_text).into_owned()))?;
     let data = &bytes[start + header_len..];
     let (endian, kind, size) = {
         let b = dtype.as_bytes();
         if b.len() < 3 {
-            return Err(format!(
-                "unsupported dtype '{}'",
-                crate::error::excerpt(&dtype)
-            ));
+            return Err(NpyError::Dtype(crate::error::excerpt(&dtype).into_owned()));
         }
         let size: usize = dtype
             .get(2..)
             .unwrap_or_default()
             .parse()
-            .map_err(|_| format!("unsupported dtype '{}'", crate::error::excerpt(&dtype)))?;
+            .map_err(|_| NpyError::Dtype(crate::error::excerpt(&dtype).into_owned()))?;
         (b[0], b[1], size)
     };
     if !matches!(
         (kind, size),
         (b'u' | b'i', 1 | 2 | 4 | 8) | (b'b', 1) | (b'f', 4 | 8)
     ) {
-        return Err(format!(
-            "unsupported dtype '{}': use an integer, boolean or float array",
-            crate::error::excerpt(&dtype)
+        return Err(NpyError::DtypeKind(
+            crate::error::excerpt(&dtype).into_owned(),
         ));
     }
-    let promised = count.checked_mul(size).ok_or_else(|| {
-        format!(
-            "shape {} with {size}-byte values is larger than any file can hold",
-            crate::error::excerpt(shape_text)
-        )
+    let promised = count.checked_mul(size).ok_or_else(|| NpyError::TooLarge {
+        shape: crate::error::excerpt(shape_text).into_owned(),
+        size,
     })?;
     if data.len() < promised {
-        return Err(format!(
-            "the file holds {} bytes of data, the header promises {promised} ({count} values of {size} bytes)",
-            data.len(),
-        ));
+        return Err(NpyError::Short {
+            have: data.len(),
+            promised,
+            count,
+            size,
+        });
     }
     Ok(Header {
         shape,
@@ -172,7 +214,7 @@ fn header(bytes: &[u8]) -> Result<Header, String> {
 }
 
 /// Decodes a `.npy` file. The error says what is wrong with it.
-pub fn decode(bytes: &[u8]) -> Result<NpyArray, String> {
+pub fn decode(bytes: &[u8]) -> Result<NpyArray, NpyError> {
     let Header {
         shape,
         count,
@@ -292,10 +334,19 @@ mod tests {
 
     #[test]
     fn refuses_what_it_cannot_read() {
-        assert!(decode(b"hello world").unwrap_err().contains("magic"));
-        let e = decode(&with_header("<c16", false, "(1,)", &[0; 16])).unwrap_err();
+        assert!(
+            decode(b"hello world")
+                .unwrap_err()
+                .to_string()
+                .contains("magic")
+        );
+        let e = decode(&with_header("<c16", false, "(1,)", &[0; 16]))
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("unsupported dtype"), "{e}");
-        let e = decode(&with_header("<i8", false, "(4,)", &[0; 16])).unwrap_err();
+        let e = decode(&with_header("<i8", false, "(4,)", &[0; 16]))
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("header promises"), "{e}");
     }
 
@@ -309,7 +360,8 @@ mod tests {
             "(4611686018427388004, 4)",
             &[1; 400],
         ))
-        .unwrap_err();
+        .unwrap_err()
+        .to_string();
         assert!(e.contains("more elements than any file can hold"), "{e}");
         // 2^62 * 4 * 4 wraps to 0: not an "empty grid".
         let e = decode(&with_header(
@@ -318,7 +370,8 @@ mod tests {
             "(4611686018427387904, 4, 4)",
             &[],
         ))
-        .unwrap_err();
+        .unwrap_err()
+        .to_string();
         assert!(e.contains("more elements"), "{e}");
         // The element count fits, the bytes do not.
         let e = decode(&with_header(
@@ -327,7 +380,8 @@ mod tests {
             "(4611686018427387904,)",
             &[0; 8],
         ))
-        .unwrap_err();
+        .unwrap_err()
+        .to_string();
         assert!(e.contains("larger than any file can hold"), "{e}");
         // Fortran order with an overflowing shape.
         let e = decode(&with_header(
@@ -336,20 +390,25 @@ mod tests {
             "(4294967296, 4294967296, 2)",
             &[0; 16],
         ))
-        .unwrap_err();
+        .unwrap_err()
+        .to_string();
         assert!(e.contains("more elements"), "{e}");
         // A dtype with a multibyte character is an error, not a panic.
-        let e = decode(&with_header("<\u{e9}8", false, "(1,)", &[0; 8])).unwrap_err();
+        let e = decode(&with_header("<\u{e9}8", false, "(1,)", &[0; 8]))
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("unsupported dtype"), "{e}");
         // Negative and non-numeric dimensions.
         for shape in ["(-1, 4)", "(4, x)"] {
-            let e = decode(&with_header("|u1", false, shape, &[0; 4])).unwrap_err();
+            let e = decode(&with_header("|u1", false, shape, &[0; 4]))
+                .unwrap_err()
+                .to_string();
             assert!(e.contains("bad shape"), "{shape}: {e}");
         }
         // A version-2 header whose length runs past the file.
         let mut v2 = b"\x93NUMPY\x02\x00".to_vec();
         v2.extend_from_slice(&u32::MAX.to_le_bytes());
         v2.extend_from_slice(b"{}");
-        assert!(decode(&v2).unwrap_err().contains("truncated"));
+        assert!(decode(&v2).unwrap_err().to_string().contains("truncated"));
     }
 }

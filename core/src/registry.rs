@@ -92,6 +92,17 @@ impl<T: ?Sized> Catalogue<T> {
         Ok(())
     }
 
+    /// Adds a built-in component (origin `built-in`): how the workspace's own crates register
+    /// theirs, without wrapping each factory by hand. A taken name is an error.
+    pub fn add(
+        &mut self,
+        name: &str,
+        summary: &str,
+        factory: impl Fn(&Params) -> Result<Box<T>, ConfigError> + Send + Sync + 'static,
+    ) -> Result<(), DuplicateName> {
+        self.register(name, "built-in", summary, Arc::new(factory))
+    }
+
     /// The registered names, sorted.
     pub fn names(&self) -> Vec<&str> {
         self.entries.keys().map(String::as_str).collect()
@@ -107,26 +118,51 @@ impl<T: ?Sized> Catalogue<T> {
         self.entries.contains_key(name)
     }
 
+    /// The entry registered under `name`, or an [`UnknownName`] listing the known ones.
+    pub fn get(&self, name: &str) -> Result<&Entry<T>, UnknownName> {
+        self.entries.get(name).ok_or_else(|| UnknownName {
+            kind: self.kind,
+            name: name.to_owned(),
+            known: self.entries.keys().cloned().collect(),
+        })
+    }
+
     /// Builds the component a spec names. An unknown name lists the known ones.
     pub fn build(&self, spec: &ComponentSpec) -> Result<Box<T>, ConfigError> {
-        match self.entries.get(&spec.type_name) {
-            Some(e) => (e.factory)(&spec.params),
-            None => {
-                let known = self.names();
-                let known = if known.is_empty() {
-                    "none are registered yet".to_owned()
-                } else {
-                    format!("known: {}", known.join(", "))
-                };
-                Err(spec.params.error(
-                    "type",
-                    format!(
-                        "unknown {} '{}' ({known}); check the spelling, or load the plugin that provides it",
-                        self.kind, spec.type_name
-                    ),
-                ))
-            }
+        match self.get(&spec.type_name) {
+            Ok(e) => (e.factory)(&spec.params),
+            Err(unknown) => Err(unknown.at(&spec.params)),
         }
+    }
+}
+
+/// A `type` name no component of its kind is registered under.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error(
+    "unknown {kind} '{name}' ({}); check the spelling, or load the plugin that provides it",
+    known_list(.known)
+)]
+pub struct UnknownName {
+    /// Component kind.
+    pub kind: &'static str,
+    /// The name asked for.
+    pub name: String,
+    /// The registered names, sorted.
+    pub known: Vec<String>,
+}
+
+fn known_list(known: &[String]) -> String {
+    if known.is_empty() {
+        "none are registered yet".to_owned()
+    } else {
+        format!("known: {}", known.join(", "))
+    }
+}
+
+impl UnknownName {
+    /// The error at the `type` key of the table that named it.
+    pub fn at(&self, params: &Params) -> ConfigError {
+        params.error("type", self.to_string())
     }
 }
 

@@ -50,10 +50,27 @@ pub struct TileGeometry {
     pub visual: Mesh,
     /// What physics collides with: lighter, same passages.
     pub collision: Mesh,
-    /// The vertices of `visual` and `collision` that may coincide with a neighbour's (those
-    /// on the tile's boundary), when the tile set knows them; assembly then welds only those.
-    /// `None` welds every vertex.
-    pub seams: Option<(Vec<u32>, Vec<u32>)>,
+    /// Which vertices assembly welds to a neighbour's.
+    pub seams: Seams,
+}
+
+/// Which vertices of a tile may coincide with a neighbour's, so that assembly welds them.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub enum Seams {
+    /// The tile set does not know: every vertex of the world that coincides with another is
+    /// welded (the safe default, and the slowest).
+    #[default]
+    All,
+    /// None: the tile's meshes are whole and share no vertex with a neighbour.
+    None,
+    /// Only these vertices (those on the tile's boundary), by index into `visual` and
+    /// `collision`.
+    Listed {
+        /// Indices into the visual mesh's positions.
+        visual: Vec<u32>,
+        /// Indices into the collision mesh's positions.
+        collision: Vec<u32>,
+    },
 }
 
 /// The cross-section at a tile opening, metres.
@@ -81,7 +98,7 @@ pub struct TileSetError(pub String);
 ///
 /// ```
 /// use subtgraph_core::mesh::Mesh;
-/// use subtgraph_core::tileset::{TileContext, TileGeometry, TileSet, TileSetError};
+/// use subtgraph_core::tileset::{Seams, TileContext, TileGeometry, TileSet, TileSetError};
 ///
 /// struct FloorPlates;
 ///
@@ -94,7 +111,7 @@ pub struct TileSetError(pub String);
 ///             triangles: vec![[0, 1, 2], [0, 2, 3]],
 ///             ..Mesh::default()
 ///         };
-///         Ok(TileGeometry { visual: plate.clone(), collision: plate, seams: None })
+///         Ok(TileGeometry { visual: plate.clone(), collision: plate, seams: Seams::All })
 ///     }
 /// }
 /// ```

@@ -9,6 +9,7 @@ use crate::config::{Pipeline, Resolved};
 use crate::graph::TopologyGraph;
 use crate::grid::{Cell, Direction, Grid3, Occupancy};
 use crate::tile::{Tile, TileKind, classify_cell};
+use crate::topology;
 
 /// A vertical shaft from a dead end of one level to a dead end of the level above.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
@@ -19,18 +20,7 @@ pub struct Shaft {
     pub landing: Cell,
 }
 
-/// Topology counts of one level.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
-pub struct Counts {
-    /// Tiles with three openings.
-    pub t_junctions: u32,
-    /// Tiles with four openings.
-    pub intersections: u32,
-    /// Independent cycles (edges - cells + components, over 4-adjacency).
-    pub loops: u32,
-    /// Tiles with one opening (shaft feet and landings included).
-    pub dead_ends: u32,
-}
+pub use crate::topology::Counts;
 
 /// What one level asked for and what it has.
 #[derive(Clone, Debug, PartialEq, Serialize)]
@@ -205,73 +195,39 @@ impl World {
 }
 
 /// Counts one level: junctions, intersections, dead ends, independent cycles, cells and
-/// 4-connected components.
+/// 4-connected components, through [`crate::topology`] as the generator does. A shaft's foot
+/// or landing is reported as a shaft, not as a junction, when it has three or four openings
+/// (only imported grids place shafts there).
 fn count_level(occ: &Occupancy, tiles: &Grid3<Option<Tile>>, level: usize) -> (Counts, u32, u32) {
-    let mut counts = Counts::default();
-    let mut cells = 0u32;
-    let mut edges = 0u32;
+    let view = topology::level(occ, level);
+    let mut counts = view.counts();
     for c in occ.level_cells(level) {
         let Some(t) = tiles.get(c) else { continue };
-        cells += 1;
-        match t.kind {
-            TileKind::TJunction => counts.t_junctions += 1,
-            TileKind::Intersection => counts.intersections += 1,
-            TileKind::DeadEnd | TileKind::ShaftUp | TileKind::ShaftLanding => {
-                counts.dead_ends += u32::from(t.openings.count_ones() == 1)
+        if matches!(t.kind, TileKind::ShaftUp | TileKind::ShaftLanding) {
+            match t.openings.count_ones() {
+                3 => counts.t_junctions -= 1,
+                4 => counts.intersections -= 1,
+                _ => {}
             }
-            _ => {}
         }
-        // Count each edge once: toward east and south.
-        edges += u32::from(t.openings & Direction::East.bit() != 0);
-        edges += u32::from(t.openings & Direction::South.bit() != 0);
     }
-    let components = level_components(occ, level);
-    counts.loops = (edges + components).saturating_sub(cells);
-    (counts, cells, components)
+    (counts, view.cell_count(), view.component_count())
 }
 
 /// Number of 4-connected pieces of occupied cells on one level.
 pub fn level_components(occ: &Occupancy, level: usize) -> u32 {
-    let mut seen = vec![false; occ.rows() * occ.cols()];
-    let idx = |c: Cell| c.row * occ.cols() + c.col;
-    let mut components = 0;
-    let mut stack = Vec::new();
-    for c in occ.level_cells(level) {
-        if !*occ.get(c) || seen[idx(c)] {
-            continue;
-        }
-        components += 1;
-        seen[idx(c)] = true;
-        stack.push(c);
-        while let Some(c) = stack.pop() {
-            for d in Direction::ALL {
-                if let Some(n) = occ.neighbour(c, d) {
-                    if *occ.get(n) && !seen[idx(n)] {
-                        seen[idx(n)] = true;
-                        stack.push(n);
-                    }
-                }
-            }
-        }
-    }
-    components
+    topology::level(occ, level).component_count()
 }
 
 /// The top-left cells of 2 x 2 blocks of occupied cells: side-by-side corridors fused into a
 /// ladder of junctions, which the generator never makes.
 pub fn fused_blocks(occ: &Occupancy) -> Vec<Cell> {
-    let mut out = Vec::new();
-    for l in 0..occ.levels() {
-        for r in 0..occ.rows().saturating_sub(1) {
-            for c in 0..occ.cols().saturating_sub(1) {
-                let all = [(0, 0), (0, 1), (1, 0), (1, 1)]
-                    .iter()
-                    .all(|&(dr, dc)| *occ.get(Cell::new(l, r + dr, c + dc)));
-                if all {
-                    out.push(Cell::new(l, r, c));
-                }
-            }
-        }
-    }
-    out
+    (0..occ.levels())
+        .flat_map(|l| {
+            topology::level(occ, l)
+                .fused_blocks()
+                .map(move |(r, c)| Cell::new(l, r, c))
+                .collect::<Vec<_>>()
+        })
+        .collect()
 }

@@ -6,8 +6,6 @@
 //! whole number of half-waves. The amplitude defaults to the original's `min(rows, cols) / 20`
 //! cells and can be set with `amplitude` (in cells).
 
-use std::sync::Arc;
-
 use subtgraph_core::registry::{DuplicateName, Registry};
 use subtgraph_core::route::RouteDescriptor;
 
@@ -24,29 +22,25 @@ pub use sine::Sine;
 /// Adds the built-in route descriptors to a registry.
 pub fn register(registry: &mut Registry) -> Result<(), DuplicateName> {
     let r = &mut registry.route_descriptors;
-    r.register(
+    r.add(
         "linear",
-        "built-in",
         "straight corridors (0 harmonics): operational mines",
-        Arc::new(|p| Ok(Box::new(Linear::from_params(p)?) as Box<dyn RouteDescriptor>)),
+        |p| Ok(Box::new(Linear::from_params(p)?) as Box<dyn RouteDescriptor>),
     )?;
-    r.register(
+    r.add(
         "parabolic",
-        "built-in",
         "one wide bend per corridor (1 harmonic): natural caves",
-        Arc::new(|p| Ok(Box::new(Parabolic::from_params(p)?) as Box<dyn RouteDescriptor>)),
+        |p| Ok(Box::new(Parabolic::from_params(p)?) as Box<dyn RouteDescriptor>),
     )?;
-    r.register(
+    r.add(
         "sine",
-        "built-in",
         "a full wave per corridor (2 harmonics): lava tubes",
-        Arc::new(|p| Ok(Box::new(Sine::from_params(p)?) as Box<dyn RouteDescriptor>)),
+        |p| Ok(Box::new(Sine::from_params(p)?) as Box<dyn RouteDescriptor>),
     )?;
-    r.register(
+    r.add(
         "harmonic",
-        "built-in",
         "`harmonics` half-waves of `amplitude` cells per corridor",
-        Arc::new(|p| Ok(Box::new(Harmonic::from_params(p)?) as Box<dyn RouteDescriptor>)),
+        |p| Ok(Box::new(Harmonic::from_params(p)?) as Box<dyn RouteDescriptor>),
     )?;
     Ok(())
 }

@@ -13,8 +13,6 @@
 //! The `[[export]]` exporters (one file each) register in [`register`]. Those that write
 //! geometry for simulators cut large worlds into [`parts`] and share per-part meshes.
 
-use std::sync::Arc;
-
 use subtgraph_core::World;
 use subtgraph_core::export::{ExportError, Exporter, WorldWriter};
 use subtgraph_core::registry::{DuplicateName, Registry};
@@ -30,6 +28,7 @@ mod obj;
 mod occupancy_npy;
 pub mod parts;
 mod sdf;
+mod text;
 mod topology_json;
 mod urdf;
 mod usd;
@@ -54,92 +53,80 @@ pub use world_toml::{WorldToml, world_toml_text};
 /// Adds the built-in `[[export]]` exporters to a registry.
 pub fn register(registry: &mut Registry) -> Result<(), DuplicateName> {
     let e = &mut registry.exporters;
-    e.register(
+    e.add(
         "obj",
-        "built-in",
         "Wavefront OBJ + MTL, visual and collision; `split` adds one OBJ pair per part",
-        Arc::new(|p| Ok(Box::new(Obj::from_params(p)?) as Box<dyn Exporter>)),
+        |p| Ok(Box::new(Obj::from_params(p)?) as Box<dyn Exporter>),
     )?;
-    e.register(
+    e.add(
         "graph",
-        "built-in",
         "ground truth: the topology graph as ground_truth/graph.json and graph.graphml (networkx)",
-        Arc::new(|p| {
+        |p| {
             GroundTruthSettings::from_params(p, &[])?;
             Ok(Box::new(GraphFiles) as Box<dyn Exporter>)
-        }),
+        },
     )?;
-    e.register(
+    e.add(
         "ros-map",
-        "built-in",
         "ground truth: a ROS map_server occupancy map per level (ground_truth/maps/level-N.pgm + .yaml); `resolution`, `height`",
-        Arc::new(|p| {
+        |p| {
             let s = GroundTruthSettings::from_params(p, &RosMap::KEYS)?;
             Ok(Box::new(RosMap::from_settings(&s)) as Box<dyn Exporter>)
-        }),
+        },
     )?;
-    e.register(
+    e.add(
         "free-space",
-        "built-in",
         "ground truth: the 3D free space as a bit-packed voxel grid (ground_truth/free_space.npy + .json); `voxel`",
-        Arc::new(|p| {
+        |p| {
             let s = GroundTruthSettings::from_params(p, &FreeSpace::KEYS)?;
             Ok(Box::new(FreeSpace::from_settings(&s)) as Box<dyn Exporter>)
-        }),
+        },
     )?;
-    e.register(
+    e.add(
         "semantic-labels",
-        "built-in",
         "ground truth: every tile's kind, rotation, openings and position (ground_truth/semantic_labels.json + .csv)",
-        Arc::new(|p| {
+        |p| {
             GroundTruthSettings::from_params(p, &[])?;
             Ok(Box::new(SemanticLabels) as Box<dyn Exporter>)
-        }),
+        },
     )?;
-    e.register(
+    e.add(
         "spawn-poses",
-        "built-in",
         "ground truth: spawn and goal poses for several robots (ground_truth/spawn_poses.json); `robots`, `clearance`, `spacing`",
-        Arc::new(|p| {
+        |p| {
             let s = GroundTruthSettings::from_params(p, &SpawnPoses::KEYS)?;
             Ok(Box::new(SpawnPoses::from_settings(&s)) as Box<dyn Exporter>)
-        }),
+        },
     )?;
-    e.register(
+    e.add(
         "ground-truth",
-        "built-in",
         "ground truth: graph, ros-map, free-space, semantic-labels and spawn-poses with their keys",
-        Arc::new(|p| Ok(Box::new(GroundTruth::from_params(p)?) as Box<dyn Exporter>)),
+        |p| Ok(Box::new(GroundTruth::from_params(p)?) as Box<dyn Exporter>),
     )?;
-    e.register(
+    e.add(
         "mjcf",
-        "built-in",
         "MuJoCo MJCF: mujoco/world.xml including a file per part; collision as convex slabs in the rock (`tolerance`, `thickness`)",
-        Arc::new(|p| Ok(Box::new(Mjcf::from_params(p)?) as Box<dyn Exporter>)),
+        |p| Ok(Box::new(Mjcf::from_params(p)?) as Box<dyn Exporter>),
     )?;
-    e.register(
+    e.add(
         "urdf",
-        "built-in",
         "URDF for PyBullet: urdf/world.urdf, one static link, concave collision meshes per part",
-        Arc::new(|p| Ok(Box::new(Urdf::from_params(p)?) as Box<dyn Exporter>)),
+        |p| Ok(Box::new(Urdf::from_params(p)?) as Box<dyn Exporter>),
     )?;
-    e.register(
+    e.add(
         "sdf",
-        "built-in",
         "Gazebo SDFormat 1.9 world (gz-sim): a static model per part, visual and collision meshes, cave lighting",
-        Arc::new(|p| Ok(Box::new(Sdf::from_params(p)?) as Box<dyn Exporter>)),
+        |p| Ok(Box::new(Sdf::from_params(p)?) as Box<dyn Exporter>),
     )?;
-    e.register(
+    e.add(
         "usd",
-        "built-in",
         "USD (Isaac Sim, Omniverse): usd/world.usda with a layer per part, UsdPhysics triangle-mesh colliders, repeated tiles instanced",
-        Arc::new(|p| Ok(Box::new(Usd::from_params(p)?) as Box<dyn Exporter>)),
+        |p| Ok(Box::new(Usd::from_params(p)?) as Box<dyn Exporter>),
     )?;
-    e.register(
+    e.add(
         "gltf",
-        "built-in",
         "binary glTF 2.0 (Blender, Unity, web viewers): mesh/world.glb, a node per part, Y up",
-        Arc::new(|p| Ok(Box::new(Gltf::from_params(p)?) as Box<dyn Exporter>)),
+        |p| Ok(Box::new(Gltf::from_params(p)?) as Box<dyn Exporter>),
     )?;
     Ok(())
 }

@@ -43,8 +43,8 @@ use subtgraph_core::params::Params;
 
 use crate::convex_pieces::{Piece, PieceSettings, convex_pieces};
 use crate::heightfields::{TileField, tile_fields};
-use crate::obj::{push_fixed, push_uint, write_lines};
 use crate::parts::{Part, Split, parts};
+use crate::text::{push_fixed, push_uint, write_lines, xml_escape};
 
 /// What MuJoCo collides with.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -175,14 +175,6 @@ fn push_colour(buf: &mut Vec<u8>, c: [f32; 3], alpha: f32) {
         buf.push(b' ');
     }
     buf.pop();
-}
-
-/// Escapes text for an XML attribute (names come from tile sets and part names).
-pub(crate) fn xml_escape(s: &str) -> String {
-    s.replace('&', "&amp;")
-        .replace('<', "&lt;")
-        .replace('>', "&gt;")
-        .replace('"', "&quot;")
 }
 
 /// The name of slab `i` of a part: the asset and the geom that uses it must agree.

@@ -22,7 +22,7 @@ use subtgraph_core::export::{ExportError, WorldWriter, stream_file, write_file};
 use subtgraph_core::mesh::Mesh;
 use subtgraph_core::params::Params;
 
-use crate::obj::{mtl, write_obj};
+use crate::text::{mtl, write_obj};
 
 /// How a world is cut into parts.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -31,8 +31,8 @@ use subtgraph_core::export::{ExportError, Exporter, WorldWriter, write_file};
 use subtgraph_core::graph::EdgeKind;
 use subtgraph_core::params::Params;
 
-use crate::obj::push_fixed;
 use crate::parts::{Split, parts, write_part_meshes};
+use crate::text::{push_fixed, xml_escape};
 
 /// How the world is lit.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -217,8 +217,8 @@ impl Exporter for Sdf {
             let _ = write!(
                 s,
                 "    <model name=\"subt-{name}\">\n      <static>true</static>\n      <link name=\"link\">\n        <visual name=\"visual\">\n          <geometry>\n            <mesh>\n              <uri>../{visual}</uri>\n            </mesh>\n          </geometry>\n",
-                name = f.name,
-                visual = f.visual,
+                name = xml_escape(&f.name),
+                visual = xml_escape(&f.visual),
             );
             if let Some([r, g, b]) = single {
                 let _ = write!(
@@ -229,7 +229,7 @@ impl Exporter for Sdf {
             let _ = write!(
                 s,
                 "        </visual>\n        <collision name=\"collision\">\n          <geometry>\n            <mesh>\n              <uri>../{collision}</uri>\n            </mesh>\n          </geometry>\n        </collision>\n      </link>\n    </model>\n",
-                collision = f.collision,
+                collision = xml_escape(&f.collision),
             );
         }
         s.push_str("  </world>\n</sdf>\n");

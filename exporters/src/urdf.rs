@@ -19,8 +19,9 @@ use subtgraph_core::error::ConfigError;
 use subtgraph_core::export::{ExportError, Exporter, WorldWriter, write_file};
 use subtgraph_core::params::Params;
 
-use crate::mjcf::{part_colour, xml_escape};
+use crate::mjcf::part_colour;
 use crate::parts::{Split, parts, write_part_meshes};
+use crate::text::xml_escape;
 
 /// Writes the world as a URDF with one static link.
 #[derive(Clone, Copy, Debug, PartialEq)]

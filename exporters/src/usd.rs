@@ -36,8 +36,8 @@ use subtgraph_core::mesh::Mesh;
 use subtgraph_core::params::Params;
 
 use crate::instances::{Instances, find_instances};
-use crate::obj::{push_fixed, push_uint, write_lines};
 use crate::parts::{Split, parts};
+use crate::text::{push_fixed, push_uint, write_lines};
 
 /// Writes the world as USD layers.
 #[derive(Clone, Copy, Debug)]

@@ -39,6 +39,7 @@ use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::sync::{Arc, Mutex};
 
 use subtgraph_core::World;
+use subtgraph_core::budget::TileTriangles;
 use subtgraph_core::error::ConfigError;
 use subtgraph_core::export::{ExportError, Exporter, WorldWriter};
 use subtgraph_core::mesh::Material;
@@ -46,6 +47,7 @@ use subtgraph_core::params::Params;
 use subtgraph_core::registry::{Catalogue, Registry};
 use subtgraph_core::route::{RouteDescriptor, Segment};
 use subtgraph_core::shape::{Arm, ConstraintShape, Heading, Offset};
+use subtgraph_core::tile::TileKind;
 use subtgraph_core::tileset::{CrossSection, TileContext, TileGeometry, TileSet, TileSetError};
 
 mod loader;
@@ -53,7 +55,7 @@ mod loader;
 pub use loader::{LoadedPlugin, PluginError, check_failures, load, loaded};
 
 /// The plugin API version: bumped whenever the declaration or [`Registrar`] changes.
-pub const API_VERSION: u32 = 3;
+pub const API_VERSION: u32 = 4;
 /// The compiler that built this copy of the crate.
 pub const RUSTC_VERSION: &str = env!("SUBTGRAPH_RUSTC_VERSION");
 /// The version of the subtgraph crates this copy belongs to.
@@ -69,16 +71,59 @@ pub const SYMBOL: &str = "SUBTGRAPH_PLUGIN";
 pub struct PluginDeclaration {
     /// [`API_VERSION`] of the plugin's build. First, so it can be read before anything else.
     pub api_version: u32,
-    /// [`RUSTC_VERSION`] of the plugin's build.
-    pub rustc_version: &'static str,
-    /// [`CRATE_VERSION`] of the plugin's build.
-    pub crate_version: &'static str,
+    /// [`RUSTC_VERSION`] of the plugin's build. Read before the compiler is known to be the
+    /// same, so it is a [`FixedText`], whose layout every compiler agrees on (`&str`'s is not
+    /// guaranteed).
+    pub rustc_version: FixedText,
+    /// [`CRATE_VERSION`] of the plugin's build; a [`FixedText`] for the same reason.
+    pub crate_version: FixedText,
     /// [`ABI_FINGERPRINT`] of the plugin's build.
     pub abi_fingerprint: &'static str,
     /// The plugin's name.
     pub name: &'static str,
     /// Registers the plugin's components; runs the plugin's code under `catch_unwind`.
     pub register: fn(&mut Registrar<'_>) -> Result<(), String>,
+}
+
+/// Text of at most [`FixedText::CAPACITY`] bytes stored inline, with a `#[repr(C)]` layout:
+/// the declaration's version strings are read before the loader knows the plugin was built by
+/// the same compiler, and the layout of `&str` is not guaranteed across compilers.
+#[repr(C)]
+#[derive(Clone, Copy, Debug)]
+pub struct FixedText {
+    len: u32,
+    bytes: [u8; FixedText::CAPACITY],
+}
+
+impl FixedText {
+    /// The longest text a `FixedText` holds, in bytes.
+    pub const CAPACITY: usize = 124;
+
+    /// `text` stored inline; a text longer than [`Self::CAPACITY`] fails to compile in a
+    /// `static` (and panics elsewhere).
+    pub const fn new(text: &str) -> FixedText {
+        let b = text.as_bytes();
+        assert!(
+            b.len() <= Self::CAPACITY,
+            "a FixedText holds at most 124 bytes"
+        );
+        let mut bytes = [0u8; Self::CAPACITY];
+        let mut i = 0;
+        while i < b.len() {
+            bytes[i] = b[i];
+            i += 1;
+        }
+        FixedText {
+            len: b.len() as u32,
+            bytes,
+        }
+    }
+
+    /// The text (bytes that are not UTF-8, from a damaged or foreign library, replaced).
+    pub fn text(&self) -> std::borrow::Cow<'_, str> {
+        let len = (self.len as usize).min(Self::CAPACITY);
+        String::from_utf8_lossy(&self.bytes[..len])
+    }
 }
 
 /// Declares a plugin: `declare_plugin!("name", register_fn)`.
@@ -93,8 +138,8 @@ macro_rules! declare_plugin {
         #[unsafe(no_mangle)]
         pub static SUBTGRAPH_PLUGIN: $crate::PluginDeclaration = $crate::PluginDeclaration {
             api_version: $crate::API_VERSION,
-            rustc_version: $crate::RUSTC_VERSION,
-            crate_version: $crate::CRATE_VERSION,
+            rustc_version: $crate::FixedText::new($crate::RUSTC_VERSION),
+            crate_version: $crate::FixedText::new($crate::CRATE_VERSION),
             abi_fingerprint: $crate::ABI_FINGERPRINT,
             name: $name,
             register: __subtgraph_register,
@@ -333,6 +378,7 @@ impl<T: ?Sized> Guarded<T> {
     }
 }
 
+#[deny(clippy::missing_trait_methods)] // a new defaulted method must be forwarded, not skipped
 impl RouteDescriptor for Guarded<dyn RouteDescriptor> {
     fn offset(&self, t: f64, segment: &Segment) -> f64 {
         self.call("RouteDescriptor::offset", || 0.0, |d| d.offset(t, segment))
@@ -345,6 +391,7 @@ impl RouteDescriptor for Guarded<dyn RouteDescriptor> {
     }
 }
 
+#[deny(clippy::missing_trait_methods)] // a new defaulted method must be forwarded, not skipped
 impl ConstraintShape for Guarded<dyn ConstraintShape> {
     fn footprint(&self) -> Vec<Offset> {
         self.call(
@@ -378,6 +425,7 @@ impl ConstraintShape for Guarded<dyn ConstraintShape> {
     }
 }
 
+#[deny(clippy::missing_trait_methods)] // a new defaulted method must be forwarded, not skipped
 impl TileSet for Guarded<dyn TileSet> {
     fn tile(&self, ctx: &TileContext<'_>) -> Result<TileGeometry, TileSetError> {
         self.try_call("TileSet::tile", TileSetError, |t| t.tile(ctx))
@@ -394,11 +442,18 @@ impl TileSet for Guarded<dyn TileSet> {
     fn check(&self, world: &World) -> Result<(), TileSetError> {
         self.try_call("TileSet::check", TileSetError, |t| t.check(world))
     }
+    fn estimate(&self, world: &World, kind: TileKind) -> Option<TileTriangles> {
+        self.call("TileSet::estimate", || None, |t| t.estimate(world, kind))
+    }
+    fn detail_advice(&self) -> Option<String> {
+        self.call("TileSet::detail_advice", || None, |t| t.detail_advice())
+    }
     fn texture_scale(&self) -> f32 {
         self.call("TileSet::texture_scale", || 4.0, |t| t.texture_scale())
     }
 }
 
+#[deny(clippy::missing_trait_methods)] // a new defaulted method must be forwarded, not skipped
 impl Exporter for Guarded<dyn Exporter> {
     fn export(&self, world: &World, out: &mut dyn WorldWriter) -> Result<(), ExportError> {
         self.try_call("Exporter::export", ExportError::Unsupported, |e| {

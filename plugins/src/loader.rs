@@ -188,11 +188,11 @@ pub fn load(path: &Path, registry: &mut Registry) -> Result<LoadedPlugin, Plugin
     // SAFETY: same API version, so the declaration has this layout; it is a static in the
     // library, which stays loaded.
     let decl: &PluginDeclaration = unsafe { &*decl };
-    if decl.rustc_version != RUSTC_VERSION || decl.crate_version != CRATE_VERSION {
+    if decl.rustc_version.text() != RUSTC_VERSION || decl.crate_version.text() != CRATE_VERSION {
         return Err(PluginError::Build {
             path: path.to_owned(),
-            found_rustc: decl.rustc_version.to_owned(),
-            found_version: decl.crate_version.to_owned(),
+            found_rustc: decl.rustc_version.text().into_owned(),
+            found_version: decl.crate_version.text().into_owned(),
         });
     }
     if decl.abi_fingerprint != ABI_FINGERPRINT {

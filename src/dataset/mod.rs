@@ -667,12 +667,11 @@ mod tests {
         // The same, when it appears while this run generates it (after the check above).
         let mut p = source.pipeline.clone();
         p.world.seed = w.seed;
-        let budget = subtgraph_core::Budget::unlimited();
         let world = make::generate(
             &p,
             &source.registry,
             &description(&source, w, &opts),
-            &budget,
+            &opts.max_memory,
         )
         .unwrap();
         assert_eq!(

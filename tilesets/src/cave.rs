@@ -29,20 +29,8 @@ pub fn from_params(p: &Params) -> Result<Procedural, ConfigError> {
             profile: Box::new(Gallery),
             width: 0.34,
             height: 0.30,
-            shape: Passage {
-                width: 0.0,
-                height: 0.0,
-                width_variation: 0.22,
-                height_variation: 0.2,
-                variation_scale: 0.9,
-                roughness: 0.09,
-                roughness_scale: 0.45,
-                floor_roughness: 0.03,
-                rocks: 0.0,
-                rock_size: 0.12,
-                shaft_radius: 0.3,
-                striations: true,
-            },
+            // The default passage is the cave's.
+            shape: Passage::default(),
             materials: vec![
                 Material::coloured("cave-wall", [0.46, 0.40, 0.33]),
                 Material::coloured("cave-floor", [0.36, 0.31, 0.26]),

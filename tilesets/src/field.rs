@@ -63,6 +63,28 @@ pub struct Passage {
     pub striations: bool,
 }
 
+impl Default for Passage {
+    /// The cave's passage: moderate width and height changes, rough walls, a little floor
+    /// rubble, striations. A procedural tile set states only what differs (`..Passage::default()`);
+    /// `width` and `height` are 0, taken from the tile set's style and parameters.
+    fn default() -> Self {
+        Passage {
+            width: 0.0,
+            height: 0.0,
+            width_variation: 0.22,
+            height_variation: 0.2,
+            variation_scale: 0.9,
+            roughness: 0.09,
+            roughness_scale: 0.45,
+            floor_roughness: 0.03,
+            rocks: 0.0,
+            rock_size: 0.12,
+            shaft_radius: 0.3,
+            striations: true,
+        }
+    }
+}
+
 /// A passage contribution, with the box it acts in.
 #[derive(Clone, Debug)]
 enum Feature {

@@ -16,8 +16,6 @@
 //!
 //! [`mesh_files`] places meshes of your own (the DARPA SubT tiles, scans) from a manifest.
 
-use std::sync::Arc;
-
 use subtgraph_core::registry::{DuplicateName, Registry};
 use subtgraph_core::tileset::TileSet;
 
@@ -33,29 +31,25 @@ pub mod procedural;
 /// Adds the built-in tile sets to a registry.
 pub fn register(registry: &mut Registry) -> Result<(), DuplicateName> {
     let t = &mut registry.tilesets;
-    t.register(
+    t.add(
         "mine",
-        "built-in",
         "operational drifts: flat floor, straight walls, arched back",
-        Arc::new(|p| Ok(Box::new(mine::from_params(p)?) as Box<dyn TileSet>)),
+        |p| Ok(Box::new(mine::from_params(p)?) as Box<dyn TileSet>),
     )?;
-    t.register(
+    t.add(
         "cave",
-        "built-in",
         "natural cave: rough irregular walls, rubble and rock piles",
-        Arc::new(|p| Ok(Box::new(cave::from_params(p)?) as Box<dyn TileSet>)),
+        |p| Ok(Box::new(cave::from_params(p)?) as Box<dyn TileSet>),
     )?;
-    t.register(
+    t.add(
         "lava-tube",
-        "built-in",
         "wide smooth elliptical tube, flat floor, side benches",
-        Arc::new(|p| Ok(Box::new(lava_tube::from_params(p)?) as Box<dyn TileSet>)),
+        |p| Ok(Box::new(lava_tube::from_params(p)?) as Box<dyn TileSet>),
     )?;
-    t.register(
+    t.add(
         "mesh-files",
-        "built-in",
         "your own tile meshes (OBJ, Collada, STL, glTF) mapped to tile kinds by a manifest",
-        Arc::new(|p| Ok(Box::new(mesh_files::MeshFiles::from_params(p)?) as Box<dyn TileSet>)),
+        |p| Ok(Box::new(mesh_files::MeshFiles::from_params(p)?) as Box<dyn TileSet>),
     )?;
     Ok(())
 }

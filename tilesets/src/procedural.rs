@@ -9,7 +9,9 @@ use subtgraph_core::error::ConfigError;
 use subtgraph_core::mesh::Material;
 use subtgraph_core::params::Params;
 use subtgraph_core::tile::TileKind;
-use subtgraph_core::tileset::{CrossSection, TileContext, TileGeometry, TileSet, TileSetError};
+use subtgraph_core::tileset::{
+    CrossSection, Seams, TileContext, TileGeometry, TileSet, TileSetError,
+};
 
 use crate::field::{Column, Levels, LocalField, Passage, Profile, material};
 use crate::marching::{Block, polygonise_columns};
@@ -228,7 +230,10 @@ impl TileSet for Procedural {
         Ok(TileGeometry {
             visual,
             collision,
-            seams: Some((visual_seam, collision_seam)),
+            seams: Seams::Listed {
+                visual: visual_seam,
+                collision: collision_seam,
+            },
         })
     }
 

@@ -4,7 +4,7 @@
 use crate::rng::WorldRng;
 use crate::route::{RouteDescriptor, Segment};
 use crate::shape::{ConstraintShape, Heading, rotate_offset};
-use crate::world::Counts;
+use crate::topology::{self, Counts, GridView};
 
 use super::search::Search;
 
@@ -53,25 +53,26 @@ impl Level {
         }
     }
 
+    /// The level's cells as a topology view.
+    pub fn view(&self) -> GridView<'_> {
+        GridView::new(self.rows, self.cols, &self.occ)
+    }
+
     /// The index of `(row, col)` if inside the level.
     pub fn index(&self, r: i32, c: i32) -> Option<usize> {
-        (r >= 0 && c >= 0 && (r as usize) < self.rows && (c as usize) < self.cols)
-            .then(|| r as usize * self.cols + c as usize)
+        topology::index(self.rows, self.cols, r, c)
     }
 
     fn rc(&self, i: usize) -> (i32, i32) {
         ((i / self.cols) as i32, (i % self.cols) as i32)
     }
 
-    fn neighbours(&self, i: usize) -> impl Iterator<Item = usize> + '_ {
-        let (r, c) = self.rc(i);
-        [(0, 1), (-1, 0), (0, -1), (1, 0)]
-            .into_iter()
-            .filter_map(move |(dr, dc)| self.index(r + dr, c + dc))
+    fn neighbours(&self, i: usize) -> impl Iterator<Item = usize> + use<> {
+        topology::neighbours(self.rows, self.cols, i)
     }
 
     fn degree(&self, i: usize) -> usize {
-        self.neighbours(i).filter(|&n| self.occ[n]).count()
+        self.view().degree(i)
     }
 
     /// Whether a route from `s` to `g` owned by `owner` may pass through cell `v`: free, not
@@ -93,62 +94,17 @@ impl Level {
 
     /// 4-connected components: a label per cell (`u32::MAX` for empty) and their number.
     fn components(&self) -> (Vec<u32>, u32) {
-        let mut label = vec![u32::MAX; self.occ.len()];
-        let mut n = 0;
-        let mut stack = Vec::new();
-        for i in 0..self.occ.len() {
-            if !self.occ[i] || label[i] != u32::MAX {
-                continue;
-            }
-            label[i] = n;
-            stack.push(i);
-            while let Some(u) = stack.pop() {
-                for v in self.neighbours(u) {
-                    if self.occ[v] && label[v] == u32::MAX {
-                        label[v] = n;
-                        stack.push(v);
-                    }
-                }
-            }
-            n += 1;
-        }
-        (label, n)
+        self.view().components()
     }
 
     /// Junction, intersection, dead-end and cycle counts of the level.
     pub fn counts(&self) -> Counts {
-        let mut c = Counts::default();
-        let (mut cells, mut edges) = (0u32, 0u32);
-        for i in 0..self.occ.len() {
-            if !self.occ[i] {
-                continue;
-            }
-            cells += 1;
-            let (r, col) = self.rc(i);
-            edges += u32::from(self.index(r, col + 1).is_some_and(|j| self.occ[j]));
-            edges += u32::from(self.index(r + 1, col).is_some_and(|j| self.occ[j]));
-            match self.degree(i) {
-                1 => c.dead_ends += 1,
-                3 => c.t_junctions += 1,
-                4 => c.intersections += 1,
-                _ => {}
-            }
-        }
-        c.loops = (edges + self.components().1).saturating_sub(cells);
-        c
+        self.view().counts()
     }
 
     /// Whether any 2 x 2 block is fully occupied (corridors fused side by side).
     fn has_fused_block(&self) -> bool {
-        (0..self.rows.saturating_sub(1)).any(|r| {
-            (0..self.cols.saturating_sub(1)).any(|c| {
-                let i = r * self.cols + c;
-                self.occ[i]
-                    && self.occ[i + 1]
-                    && self.occ[i + self.cols]
-                    && self.occ[i + self.cols + 1]
-            })
-        })
+        self.view().has_fused_block()
     }
 
     fn clamp_inside(&self, [r, c]: [i32; 2]) -> (i32, i32) {
@@ -180,6 +136,65 @@ pub fn structure_counts(shape: &dyn ConstraintShape) -> Counts {
     }
     c.loops = (edges / 2 + 1).saturating_sub(cells.len()) as u32;
     c
+}
+
+/// Why one attempt at a level failed; the generator retries with a derived seed and reports
+/// the last one in [`crate::Error::Unsatisfiable`].
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+pub enum LevelFailure {
+    /// A structure found no free area.
+    #[error("no free area left for {structure} number {number}")]
+    NoRoom {
+        /// Shape name.
+        structure: String,
+        /// 1-based count of that structure on the level.
+        number: u32,
+    },
+    /// Two corridors ran side by side into a 2 x 2 block.
+    #[error("two corridors fused side by side")]
+    Fused,
+    /// The grid does not have the junctions or loops the structures bring.
+    #[error("asked for {want} {what} from its structures, the grid has {have}")]
+    Counts {
+        /// `T-junctions`, `intersections` or `loops`.
+        what: &'static str,
+        /// Asked for.
+        want: u32,
+        /// On the grid.
+        have: u32,
+    },
+    /// The landing of the shaft from below ended up with more than one opening.
+    #[error("the shaft landing is not a dead end")]
+    LandingNotDeadEnd,
+    /// No dead end away from the border is left for the shaft up.
+    #[error("no dead end left for the shaft up")]
+    NoShaftFoot,
+    /// A structure could not be joined to the rest.
+    #[error("could not link the {structure} at row {row}, column {col} to the rest of the level")]
+    Unlinked {
+        /// Shape name.
+        structure: String,
+        /// Its centre's row.
+        row: i32,
+        /// Its centre's column.
+        col: i32,
+    },
+    /// An arm of a structure found no route.
+    #[error("could not route an arm of the {structure} at row {row}, column {col}")]
+    Unrouted {
+        /// Shape name.
+        structure: String,
+        /// Its centre's row.
+        row: i32,
+        /// Its centre's column.
+        col: i32,
+    },
+    /// Separate pieces of the level could not be linked.
+    #[error("could not link {pieces} separate pieces of the level into one network")]
+    Pieces {
+        /// How many pieces.
+        pieces: u32,
+    },
 }
 
 /// What a level needs to be built.
@@ -214,7 +229,7 @@ pub fn build_level(
     descriptor: &dyn RouteDescriptor,
     search: &mut Search,
     rng: &mut WorldRng,
-) -> Result<BuiltLevel, String> {
+) -> Result<BuiltLevel, LevelFailure> {
     let mut lvl = Level::new(spec.rows, spec.cols, spec.exact);
     let landing = spec.landing.map(|(r, c)| {
         let i = r * spec.cols + c;
@@ -230,8 +245,10 @@ pub fn build_level(
     let mut expected = Counts::default();
     for (name, shape) in order {
         let id = placed.len() as u32;
-        let p = place(&mut lvl, name, shape, id, rng)
-            .ok_or_else(|| format!("no free area left for {name} number {}", id + 1))?;
+        let p = place(&mut lvl, name, shape, id, rng).ok_or_else(|| LevelFailure::NoRoom {
+            structure: name.to_string(),
+            number: id + 1,
+        })?;
         let c = structure_counts(shape);
         expected.t_junctions += c.t_junctions;
         expected.intersections += c.intersections;
@@ -276,12 +293,9 @@ pub fn build_level(
 
     // 5. Check what was asked.
     if lvl.has_fused_block() {
-        return Err("two corridors fused side by side".into());
+        return Err(LevelFailure::Fused);
     }
     let got = lvl.counts();
-    let short = |what: &str, want: u32, have: u32| {
-        format!("asked for {want} {what} from its structures, the grid has {have}")
-    };
     for (what, want, have) in [
         ("T-junctions", expected.t_junctions, got.t_junctions),
         ("intersections", expected.intersections, got.intersections),
@@ -293,12 +307,12 @@ pub fn build_level(
             have >= want
         };
         if !ok {
-            return Err(short(what, want, have));
+            return Err(LevelFailure::Counts { what, want, have });
         }
     }
     if let Some(l) = landing {
         if lvl.degree(l) != 1 {
-            return Err("the shaft landing is not a dead end".into());
+            return Err(LevelFailure::LandingNotDeadEnd);
         }
     }
 
@@ -317,7 +331,7 @@ pub fn build_level(
             })
             .collect();
         if candidates.is_empty() {
-            return Err("no dead end left for the shaft up".into());
+            return Err(LevelFailure::NoShaftFoot);
         }
         let i = candidates[rng.below(candidates.len() as u64) as usize];
         Some((i / lvl.cols, i % lvl.cols))
@@ -438,7 +452,7 @@ fn link_structures(
     placed: &[Placed],
     arms: &mut [ArmState],
     landing: Option<usize>,
-) -> Result<(), String> {
+) -> Result<(), LevelFailure> {
     let n = placed.len();
     if n == 0 {
         return Ok(());
@@ -478,7 +492,9 @@ fn link_structures(
             let g = lvl.index(arms[b].from.0, arms[b].from.1).expect("inside");
             let seg = segment(lvl, lvl.rc(s), arms[b].from, rng);
             let guide = descriptor.guide(&seg);
-            if let Some(path) = search.route(lvl, s, g, &guide, [owner_a, arms[b].structure]) {
+            if let Some(path) = search.route([lvl.rows, lvl.cols], s, g, &guide, |v| {
+                lvl.route_may_use(v, s, g, [owner_a, arms[b].structure])
+            }) {
                 if path.is_empty() {
                     continue; // two arms touching directly would fuse their structures
                 }
@@ -496,10 +512,11 @@ fn link_structures(
         if !done {
             let stuck = linked.iter().position(|l| !l).expect("some unlinked");
             let p = &placed[stuck];
-            return Err(format!(
-                "could not link the {} at row {}, column {} to the rest of the level",
-                p.name, p.centre.0, p.centre.1
-            ));
+            return Err(LevelFailure::Unlinked {
+                structure: p.name.to_string(),
+                row: p.centre.0,
+                col: p.centre.1,
+            });
         }
     }
     Ok(())
@@ -516,7 +533,7 @@ fn route_arm(
     rng: &mut WorldRng,
     p: &Placed,
     arm: &ArmState,
-) -> Result<(), String> {
+) -> Result<(), LevelFailure> {
     let from = arm.from;
     let s = lvl.index(from.0, from.1).expect("footprint is inside");
     let id = arm.structure;
@@ -554,7 +571,9 @@ fn route_arm(
         };
         let seg = segment(lvl, from, lvl.rc(g), rng);
         let guide = descriptor.guide(&seg);
-        if let Some(mut path) = search.route(lvl, s, g, &guide, [id, NONE]) {
+        if let Some(mut path) = search.route([lvl.rows, lvl.cols], s, g, &guide, |v| {
+            lvl.route_may_use(v, s, g, [id, NONE])
+        }) {
             if !lvl.occ[g] {
                 path.push(g);
             }
@@ -565,10 +584,11 @@ fn route_arm(
     if lvl.degree(s) <= 1 {
         return Ok(()); // a stub: the footprint cell is the arm's dead end
     }
-    Err(format!(
-        "could not route an arm of the {} at row {}, column {}",
-        p.name, p.centre.0, p.centre.1
-    ))
+    Err(LevelFailure::Unrouted {
+        structure: p.name.to_string(),
+        row: p.centre.0,
+        col: p.centre.1,
+    })
 }
 
 /// A corridor cell within one cell of `target` that an arm may end on (not a structure, not
@@ -619,7 +639,7 @@ fn link_components(
     descriptor: &dyn RouteDescriptor,
     rng: &mut WorldRng,
     landing: Option<usize>,
-) -> Result<(), String> {
+) -> Result<(), LevelFailure> {
     loop {
         let (label, n) = lvl.components();
         if n <= 1 {
@@ -637,7 +657,9 @@ fn link_components(
             for &(_, a, b) in pairs.iter().take(24) {
                 let seg = segment(lvl, lvl.rc(a), lvl.rc(b), rng);
                 let guide = descriptor.guide(&seg);
-                if let Some(path) = search.route(lvl, a, b, &guide, [NONE; 2]) {
+                if let Some(path) = search.route([lvl.rows, lvl.cols], a, b, &guide, |v| {
+                    lvl.route_may_use(v, a, b, [NONE; 2])
+                }) {
                     lvl.commit(&path);
                     linked = true;
                     break;
@@ -648,10 +670,7 @@ fn link_components(
             }
         }
         if !linked {
-            return Err(format!(
-                "could not link {} separate pieces of the level into one network",
-                n
-            ));
+            return Err(LevelFailure::Pieces { pieces: n });
         }
     }
 }

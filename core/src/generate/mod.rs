@@ -23,6 +23,7 @@ use crate::grid::{Cell, Grid3};
 use crate::registry::Registry;
 use crate::rng::WorldRng;
 use crate::shape::ConstraintShape;
+use crate::tileset::TileSet;
 use crate::world::{Counts, Shaft, World};
 
 pub use level::structure_counts;
@@ -41,11 +42,9 @@ pub fn generate_within(
     registry: &Registry,
     budget: &Budget,
 ) -> Result<World, Error> {
-    let tileset = match &pipeline.tileset {
-        Some(t) => Some(registry.tilesets.build(t)?),
-        None => None,
-    };
-    let mut world = layout_within(pipeline, registry, budget)?;
+    // The tile set is built once, by the layout's check of the pipeline's components (a
+    // mesh-files tile set reads every mesh file when it is built).
+    let (mut world, tileset) = layout_and_tileset(pipeline, registry, budget)?;
     if let Some(tileset) = tileset {
         let name = pipeline
             .tileset
@@ -77,6 +76,16 @@ pub fn layout_within(
     registry: &Registry,
     budget: &Budget,
 ) -> Result<World, Error> {
+    layout_and_tileset(pipeline, registry, budget).map(|(world, _)| world)
+}
+
+/// [`layout_within`], also returning the pipeline's tile set, which checking the pipeline's
+/// components builds anyway.
+fn layout_and_tileset(
+    pipeline: &Pipeline,
+    registry: &Registry,
+    budget: &Budget,
+) -> Result<(World, Option<Box<dyn TileSet>>), Error> {
     let (resolved_pipeline, resolved) = pipeline.resolve()?;
     budget
         .check(
@@ -89,9 +98,10 @@ pub fn layout_within(
         )
         .map_err(Error::TooLarge)?;
     let descriptor = registry.route_descriptors.build(&pipeline.route)?;
-    if let Some(t) = &pipeline.tileset {
-        registry.tilesets.build(t)?;
-    }
+    let tileset = match &pipeline.tileset {
+        Some(t) => Some(registry.tilesets.build(t)?),
+        None => None,
+    };
     for e in &pipeline.export {
         registry.exporters.build(e)?;
     }
@@ -154,7 +164,7 @@ pub fn layout_within(
                     built = Some((b, attempt + 1));
                     break;
                 }
-                Err(why) => last_failure = why,
+                Err(why) => last_failure = why.to_string(),
             }
         }
         let Some((b, used)) = built else {
@@ -192,7 +202,7 @@ pub fn layout_within(
         .iter()
         .map(|l| l.iter().cloned().collect())
         .collect();
-    Ok(World::assemble(
+    let world = World::assemble(
         resolved_pipeline,
         resolved,
         occupancy,
@@ -200,5 +210,6 @@ pub fn layout_within(
         requested,
         expected,
         attempts_used,
-    ))
+    );
+    Ok((world, tileset))
 }

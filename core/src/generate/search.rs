@@ -14,7 +14,7 @@
 use std::cmp::Reverse;
 use std::collections::BinaryHeap;
 
-use super::level::Level;
+use crate::topology;
 
 /// Cost of stepping onto a cell off the guide.
 pub const DETOUR_COST: u32 = 6;
@@ -43,16 +43,16 @@ impl Search {
         }
     }
 
-    /// The cheapest path from `s` to `g` whose inner cells are allowed by `level` for a route
-    /// owned by `owners` (whose reserved cells it may use). Returns the inner cells (neither `s` nor `g`), in order, or `None`
-    /// when `g` cannot be reached.
+    /// The cheapest path from `s` to `g` on a `rows x cols` grid (row-major indices) whose
+    /// inner cells all satisfy `may_use`. Returns the inner cells (neither `s` nor `g`), in
+    /// order, or `None` when `g` cannot be reached.
     pub fn route(
         &mut self,
-        level: &Level,
+        [rows, cols]: [usize; 2],
         s: usize,
         g: usize,
         guide: &[[i32; 2]],
-        owners: [u32; 2],
+        may_use: impl Fn(usize) -> bool,
     ) -> Option<Vec<usize>> {
         self.stamp = self.stamp.wrapping_add(1);
         if self.stamp == 0 {
@@ -62,13 +62,13 @@ impl Search {
         }
         let stamp = self.stamp;
         for &[r, c] in guide {
-            if let Some(i) = level.index(r, c) {
+            if let Some(i) = topology::index(rows, cols, r, c) {
                 self.guide[i] = stamp;
             }
         }
-        let (gr, gc) = ((g / level.cols) as i32, (g % level.cols) as i32);
+        let (gr, gc) = ((g / cols) as i32, (g % cols) as i32);
         let h = |i: usize| {
-            let (r, c) = ((i / level.cols) as i32, (i % level.cols) as i32);
+            let (r, c) = ((i / cols) as i32, (i % cols) as i32);
             ((r - gr).abs() + (c - gc).abs()) as u32
         };
         self.heap.clear();
@@ -91,12 +91,12 @@ impl Search {
                 path.reverse();
                 return Some(path);
             }
-            let (ur, uc) = ((u / level.cols) as i32, (u % level.cols) as i32);
+            let (ur, uc) = ((u / cols) as i32, (u % cols) as i32);
             for (dr, dc) in [(0, 1), (-1, 0), (0, -1), (1, 0)] {
-                let Some(v) = level.index(ur + dr, uc + dc) else {
+                let Some(v) = topology::index(rows, cols, ur + dr, uc + dc) else {
                     continue;
                 };
-                if v != g && !level.route_may_use(v, s, g, owners) {
+                if v != g && !may_use(v) {
                     continue;
                 }
                 let step = if self.guide[v] == stamp {

@@ -12,7 +12,7 @@ use subtgraph_core::export::{ExportError, Exporter, WorldWriter, write_file};
 use subtgraph_core::graph::EdgeKind;
 
 use super::FRAME;
-use crate::obj::{push_fixed, push_uint};
+use crate::text::{push_fixed, push_uint};
 
 /// Writes `ground_truth/graph.json` and `ground_truth/graph.graphml`.
 #[derive(Clone, Copy, Debug, Default)]

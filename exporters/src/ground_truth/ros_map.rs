@@ -21,7 +21,7 @@ use subtgraph_core::export::{ExportError, Exporter, WorldWriter, write_file};
 
 use super::inside::{Columns, Passages};
 use super::{FRAME, Settings, extent};
-use crate::obj::push_uint;
+use crate::text::push_uint;
 
 /// The most pixels a level's map may have at the default resolution.
 const DEFAULT_PIXELS: f64 = 25e6;

@@ -14,7 +14,7 @@ use subtgraph_core::export::{ExportError, Exporter, WorldWriter, write_file};
 use subtgraph_core::grid::Direction;
 
 use super::FRAME;
-use crate::obj::{push_fixed, push_uint};
+use crate::text::{push_fixed, push_uint};
 
 /// Writes `ground_truth/semantic_labels.json` and `.csv`.
 #[derive(Clone, Copy, Debug, Default)]

@@ -45,7 +45,7 @@ use subtgraph_core::mesh::{Material, Mesh};
 use subtgraph_core::params::Params;
 use subtgraph_core::rng::WorldRng;
 use subtgraph_core::tile::TileKind;
-use subtgraph_core::tileset::{TileContext, TileGeometry, TileSet, TileSetError};
+use subtgraph_core::tileset::{Seams, TileContext, TileGeometry, TileSet, TileSetError};
 
 pub use load::{Part, load};
 
@@ -627,7 +627,7 @@ impl TileSet for MeshFiles {
             visual,
             collision,
             // Mesh tiles are not designed to weld: nothing to merge.
-            seams: Some((Vec::new(), Vec::new())),
+            seams: Seams::None,
         })
     }
 

@@ -35,19 +35,16 @@ fn register(r: &mut subtgraph_plugins::Registrar<'_>) {
                     profile: Box::new(Keyhole),
                     width: 0.3,
                     height: 0.34,
+                    // Only what differs from the default (the cave's) passage.
                     shape: Passage {
-                        width: 0.0,
-                        height: 0.0,
                         width_variation: 0.1,
                         height_variation: 0.08,
                         variation_scale: 1.5,
                         roughness: 0.02,
                         roughness_scale: 0.8,
                         floor_roughness: 0.0,
-                        rocks: 0.0,
                         rock_size: 0.1,
-                        shaft_radius: 0.3,
-                        striations: true,
+                        ..Passage::default()
                     },
                     materials: vec![
                         Material::coloured("ice-wall", [0.70, 0.85, 0.95]),

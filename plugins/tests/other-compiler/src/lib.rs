@@ -9,8 +9,8 @@ fn register(_: &mut subtgraph_plugins::Registrar<'_>) -> Result<(), String> {
 pub static SUBTGRAPH_PLUGIN: subtgraph_plugins::PluginDeclaration =
     subtgraph_plugins::PluginDeclaration {
         api_version: subtgraph_plugins::API_VERSION,
-        rustc_version: "rustc 1.0.0 (a28ed8e2a 2015-05-13)",
-        crate_version: subtgraph_plugins::CRATE_VERSION,
+        rustc_version: subtgraph_plugins::FixedText::new("rustc 1.0.0 (a28ed8e2a 2015-05-13)"),
+        crate_version: subtgraph_plugins::FixedText::new(subtgraph_plugins::CRATE_VERSION),
         abi_fingerprint: subtgraph_plugins::ABI_FINGERPRINT,
         name: "other-compiler",
         register,

@@ -10,8 +10,8 @@ fn register(_: &mut subtgraph_plugins::Registrar<'_>) -> Result<(), String> {
 pub static SUBTGRAPH_PLUGIN: subtgraph_plugins::PluginDeclaration =
     subtgraph_plugins::PluginDeclaration {
         api_version: subtgraph_plugins::API_VERSION,
-        rustc_version: subtgraph_plugins::RUSTC_VERSION,
-        crate_version: subtgraph_plugins::CRATE_VERSION,
+        rustc_version: subtgraph_plugins::FixedText::new(subtgraph_plugins::RUSTC_VERSION),
+        crate_version: subtgraph_plugins::FixedText::new(subtgraph_plugins::CRATE_VERSION),
         abi_fingerprint: "0000000000000000",
         name: "other-sources",
         register,
