@@ -10,16 +10,7 @@ use common::{arg, ok, subtgraph};
 
 /// A `.npy` file with any header text and data, as a crafted file would be.
 fn npy(descr: &str, shape: &str, data: &[u8]) -> Vec<u8> {
-    let mut h = format!("{{'descr': '{descr}', 'fortran_order': False, 'shape': {shape}, }}");
-    while (10 + h.len() + 1) % 64 != 0 {
-        h.push(' ');
-    }
-    h.push('\n');
-    let mut out = b"\x93NUMPY\x01\x00".to_vec();
-    out.extend_from_slice(&(h.len() as u16).to_le_bytes());
-    out.extend_from_slice(h.as_bytes());
-    out.extend_from_slice(data);
-    out
+    common::npy_bytes(descr, shape, data)
 }
 
 /// Asserts a run failed with a message (exit 1), not a panic (exit 101) or a signal.
