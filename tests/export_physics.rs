@@ -40,6 +40,9 @@ fn a_ball_rests_on_a_corridor_floor_in_mujoco_and_pybullet() {
     // The default collision: a floor and a roof height field per tile, no convex slab.
     let part = std::fs::read_to_string(world.join("mujoco/level-0.xml")).unwrap();
     assert!(part.contains("type=\"hfield\"") && !part.contains("-rock-"));
+    // The visual mesh, in pieces MuJoCo compiles in parallel.
+    assert!(part.contains("mesh=\"level-0-visual-0\""), "visual geom");
+    assert!(world.join("mujoco/meshes/level-0-0.msh").is_file());
     if let Some(out) = read_with_python(&["mujoco", "numpy"], "mujoco_check.py", &[arg(&world)]) {
         assert!(out.contains("OK"), "{out}");
     }
@@ -61,6 +64,29 @@ fn a_ball_rests_on_convex_slabs_in_mujoco() {
     ok(&["generate", arg(&path), "--out", arg(&out)]);
     let part = std::fs::read_to_string(out.join("mujoco/level-0.xml")).unwrap();
     assert!(part.contains("-rock-") && !part.contains("hfield"), "slabs");
+    if let Some(out) = read_with_python(&["mujoco", "numpy"], "mujoco_check.py", &[arg(&out)]) {
+        assert!(out.contains("OK"), "{out}");
+    }
+}
+
+/// `visual = "none"` leaves the visual meshes out (MuJoCo's load is mostly their bounding
+/// volume hierarchies) and the ball still rests on the height fields.
+#[test]
+fn a_ball_rests_in_mujoco_without_visual_meshes() {
+    let tmp = tempfile::tempdir().unwrap();
+    let path = small_cave_pipeline(
+        tmp.path(),
+        1,
+        "[[export]]\ntype = \"mjcf\"\nvisual = \"none\"\n",
+    );
+    let out = tmp.path().join("world");
+    ok(&["generate", arg(&path), "--out", arg(&out)]);
+    let part = std::fs::read_to_string(out.join("mujoco/level-0.xml")).unwrap();
+    assert!(
+        part.contains("type=\"hfield\"") && !part.contains("-visual"),
+        "{part}"
+    );
+    assert!(!out.join("mujoco/meshes").exists(), "no .msh written");
     if let Some(out) = read_with_python(&["mujoco", "numpy"], "mujoco_check.py", &[arg(&out)]) {
         assert!(out.contains("OK"), "{out}");
     }
@@ -147,6 +173,11 @@ fn bad_physics_settings_name_the_key() {
             "heightfields",
         ),
         ("type = \"mjcf\"\nstep = 0", "export[0].step", "step = 0.5"),
+        (
+            "type = \"mjcf\"\nvisual = \"coarse\"",
+            "export[0].visual",
+            "\"none\"",
+        ),
         (
             "type = \"mjcf\"\nthickness = \"deep\"",
             "export[0].thickness",
