@@ -106,15 +106,17 @@ pub fn expected_world_toml(p: &Pipeline, source: &str) -> Result<String> {
 }
 
 /// Generates a world with the pipeline's components (built by [`build`]) within a memory
-/// budget, and records where its pipeline came from.
+/// budget. The pipeline records where it came from before generating (the provenance enters
+/// the world with it, and is not patched in afterwards).
 pub fn generate(
     p: &Pipeline,
     components: &Components,
     source: &str,
     budget: &Budget,
 ) -> Result<World> {
-    let mut world = subtgraph_core::generate_with(p, components, budget)?;
-    world.pipeline.generated = Some(provenance(source));
+    let mut p = p.clone();
+    p.generated = Some(provenance(source));
+    let world = subtgraph_core::generate_with(&p, components, budget)?;
     subtgraph_plugins::check_failures().map_err(|e| anyhow!(e))?;
     Ok(world)
 }
