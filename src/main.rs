@@ -193,19 +193,20 @@ enum PluginsCommand {
 use subtgraph::make::{self, registry_with};
 
 /// The layout of a pipeline's world, checked by its tile set (passages that fit the tiles and
-/// the levels), without meshing.
+/// the levels), without meshing. Every component is built once, exporters included.
 fn validate_layout(
     p: &Pipeline,
     registry: &subtgraph::core::Registry,
 ) -> Result<World, subtgraph::core::Error> {
-    let world = subtgraph::core::layout(p, registry)?;
-    if let Some(spec) = &p.tileset {
-        let tileset = registry.tilesets.build(spec)?;
-        tileset
+    let components = p.build(registry)?;
+    let world =
+        subtgraph::core::layout_with(p, &components, &subtgraph::core::Budget::unlimited())?;
+    if let Some(t) = &components.tileset {
+        t.tileset
             .check(&world)
             .map_err(|e| subtgraph::core::Error::Component {
                 component: "tile set",
-                name: spec.type_name.clone(),
+                name: t.name.clone(),
                 message: e.0,
             })?;
     }
@@ -273,30 +274,29 @@ fn run(cli: Cli) -> Result<()> {
             }
             make::add_formats(&mut p, &format)?;
             let registry = registry_with(&p, &plugins)?;
-            let exporters = make::exporters(&p, &registry, no_mesh)?;
+            let components = make::build(&p, &registry, no_mesh)?;
             let started = Instant::now();
             let world = match occupancy {
                 Some(npy_path) => {
                     let mut world = import_world(&npy_path, &p, &budget)?;
-                    if let Some(spec) = &p.tileset {
-                        let tileset = registry.tilesets.build(spec)?;
+                    if let Some(t) = &components.tileset {
                         world.mesh = Some(
                             subtgraph::core::assembly::assemble_within(
                                 &world,
-                                tileset.as_ref(),
+                                t.tileset.as_ref(),
                                 &budget,
                             )
-                            .map_err(|e| anyhow!("tile set '{}': {e}", spec.type_name))?,
+                            .map_err(|e| anyhow!("tile set '{}': {e}", t.name))?,
                         );
                     }
                     world
                 }
-                None => make::generate(&p, &registry, &source, &budget)?,
+                None => make::generate(&p, &components, &source, &budget)?,
             };
             let generated_in = started.elapsed();
             subtgraph_plugins::check_failures().map_err(|e| anyhow!(e))?;
             let writing = Instant::now();
-            make::write(&world, &exporters, &out, force)?;
+            make::write(&world, &components.exporters, &out, force)?;
             print_summary(&world, &out, generated_in);
             print_written(&out, writing.elapsed());
             Ok(())
@@ -364,7 +364,7 @@ fn run(cli: Cli) -> Result<()> {
                 }
                 make::add_formats(&mut p, &format)?;
                 let registry = registry_with(&p, &plugins)?;
-                let (exporters, skipped) = make::exporters_and_skipped(&p, &registry, no_mesh)?;
+                let (components, skipped) = make::build_and_skipped(&p, &registry, no_mesh)?;
                 for name in skipped {
                     if !skipped_exporters.contains(&name) {
                         skipped_exporters.push(name);
@@ -374,8 +374,8 @@ fn run(cli: Cli) -> Result<()> {
                     name,
                     description,
                     pipeline: p,
+                    components,
                     registry,
-                    exporters,
                 });
             }
             make::note_skipped(&skipped_exporters);

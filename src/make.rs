@@ -1,15 +1,15 @@
 //! Making a world folder, step by step, as `generate` and `dataset` both do it: the registry
-//! with the pipeline's plugins, the exporters (built and checked before anything is
-//! generated, so a bad `[[export]]` costs nothing), the world, and the atomic folder.
+//! with the pipeline's plugins, its components (route, shapes, tile set, exporters: built once
+//! and checked before anything is generated, so a bad `[[export]]` costs nothing), the world
+//! made with them, and the atomic folder.
 
 use std::path::{Path, PathBuf};
 
 use anyhow::{Result, anyhow, bail};
 
 use subtgraph_core::config::Provenance;
-use subtgraph_core::export::Exporter;
 use subtgraph_core::params::ComponentSpec;
-use subtgraph_core::{Budget, Pipeline, Registry, World};
+use subtgraph_core::{Budget, Components, Pipeline, Registry, World};
 
 /// The registry with every built-in and the plugins of the pipeline and the command line.
 pub fn registry_with(p: &Pipeline, extra: &[PathBuf]) -> Result<Registry> {
@@ -41,57 +41,43 @@ pub fn add_formats(p: &mut Pipeline, formats: &[String]) -> Result<()> {
     Ok(())
 }
 
-/// An exporter ready to run, with its `type` name for messages.
-pub struct NamedExporter {
-    /// The `type` name.
-    pub name: String,
-    /// The exporter.
-    pub exporter: Box<dyn Exporter>,
-}
+pub use subtgraph_core::components::NamedExporter;
 
-/// Builds the pipeline's exporters. One that needs geometry in a pipeline without a
-/// `[tileset]` is an error saying to add one, or, with `no_mesh` (the user asked for no
-/// geometry), left out with a note on standard error.
-pub fn exporters(p: &Pipeline, registry: &Registry, no_mesh: bool) -> Result<Vec<NamedExporter>> {
-    let (out, skipped) = exporters_and_skipped(p, registry, no_mesh)?;
+/// Builds the pipeline's components, each once ([`Pipeline::build`]), and checks its
+/// exporters: one that needs geometry in a pipeline without a `[tileset]` is an error saying
+/// to add one, or, with `no_mesh` (the user asked for no geometry), left out with a note on
+/// standard error.
+pub fn build(p: &Pipeline, registry: &Registry, no_mesh: bool) -> Result<Components> {
+    let (components, skipped) = build_and_skipped(p, registry, no_mesh)?;
     note_skipped(&skipped);
-    Ok(out)
+    Ok(components)
 }
 
-/// [`exporters`], returning the names of those left out under `no_mesh` instead of noting
-/// them: `dataset` builds the exporters of every source and says each once.
-pub fn exporters_and_skipped(
+/// [`build`], returning the names of the exporters left out under `no_mesh` instead of
+/// noting them: `dataset` builds the components of every source and says each once.
+pub fn build_and_skipped(
     p: &Pipeline,
     registry: &Registry,
     no_mesh: bool,
-) -> Result<(Vec<NamedExporter>, Vec<String>)> {
-    let mut out = Vec::new();
+) -> Result<(Components, Vec<String>)> {
+    let mut components = p.build(registry)?;
     let mut skipped = Vec::new();
-    for spec in &p.export {
-        let exporter = match registry.exporters.get(&spec.type_name) {
-            Ok(entry) => (entry.factory)(&spec.params)?,
-            Err(unknown) => bail!(
-                "{} (formats: {})",
-                unknown.at(&spec.params),
-                unknown.known.join(", ")
-            ),
-        };
-        if exporter.needs_geometry() && p.tileset.is_none() {
+    let mut kept = Vec::new();
+    for e in std::mem::take(&mut components.exporters) {
+        if e.exporter.needs_geometry() && components.tileset.is_none() {
             if no_mesh {
-                skipped.push(spec.type_name.clone());
+                skipped.push(e.name);
                 continue;
             }
             bail!(
                 "exporter '{}' writes geometry, but the pipeline has no [tileset]: add one (e.g. [tileset] type = \"cave\") or pass --tileset NAME",
-                spec.type_name
+                e.name
             );
         }
-        out.push(NamedExporter {
-            name: spec.type_name.clone(),
-            exporter,
-        });
+        kept.push(e);
     }
-    Ok((out, skipped))
+    components.exporters = kept;
+    Ok((components, skipped))
 }
 
 /// Notes on standard error the exporters left out under `--no-mesh`, one line each.
@@ -119,10 +105,18 @@ pub fn expected_world_toml(p: &Pipeline, source: &str) -> Result<String> {
     Ok(subtgraph_exporters::world_toml_text(&resolved))
 }
 
-/// Generates a world within a memory budget and records where its pipeline came from.
-pub fn generate(p: &Pipeline, registry: &Registry, source: &str, budget: &Budget) -> Result<World> {
-    let mut world = subtgraph_core::generate_within(p, registry, budget)?;
-    world.pipeline.generated = Some(provenance(source));
+/// Generates a world with the pipeline's components (built by [`build`]) within a memory
+/// budget. The pipeline records where it came from before generating (the provenance enters
+/// the world with it, and is not patched in afterwards).
+pub fn generate(
+    p: &Pipeline,
+    components: &Components,
+    source: &str,
+    budget: &Budget,
+) -> Result<World> {
+    let mut p = p.clone();
+    p.generated = Some(provenance(source));
+    let world = subtgraph_core::generate_with(&p, components, budget)?;
     subtgraph_plugins::check_failures().map_err(|e| anyhow!(e))?;
     Ok(world)
 }

@@ -20,6 +20,7 @@
 
 pub mod assembly;
 pub mod budget;
+pub mod components;
 pub mod config;
 pub mod error;
 pub mod export;
@@ -42,8 +43,9 @@ pub mod vec3;
 pub mod world;
 
 pub use budget::Budget;
+pub use components::Components;
 pub use config::Pipeline;
 pub use error::{ConfigError, Error};
-pub use generate::{generate, generate_within, layout, layout_within};
+pub use generate::{generate, generate_with, generate_within, layout, layout_with, layout_within};
 pub use registry::Registry;
 pub use world::World;

@@ -24,10 +24,10 @@ use std::time::Instant;
 use anyhow::{Context, Result, anyhow, bail};
 
 use subtgraph_core::rng::derive_seed;
-use subtgraph_core::{Pipeline, Registry};
+use subtgraph_core::{Components, Pipeline, Registry};
 
 use crate::folder::{FolderError, manifest};
-use crate::make::{self, NamedExporter};
+use crate::make;
 use index::RunFacts;
 
 /// Where the worlds of a dataset come from: a pipeline file or a preset, ready to generate.
@@ -39,10 +39,12 @@ pub struct Source {
     pub description: String,
     /// The pipeline (its `world.seed` is replaced by each world's own seed).
     pub pipeline: Pipeline,
+    /// The pipeline's components, built once for every world of this source (they do not
+    /// depend on the seed): a mesh-files tile set reads its meshes once per run, not once
+    /// per world. Its exporters run in every world folder.
+    pub components: Components,
     /// The registry with the pipeline's plugins.
     pub registry: Registry,
-    /// The exporters to run in every world folder.
-    pub exporters: Vec<NamedExporter>,
 }
 
 /// This machine's share of a dataset: `I/N` makes every N-th world of the global list,
@@ -529,7 +531,7 @@ fn make_world(source: &Source, w: &Planned, opts: &Options, replace: bool) -> Re
     }
     let started = Instant::now();
     let budget = crate::memory::per_world(&opts.max_memory, opts.jobs);
-    let world = make::generate(&p, &source.registry, &description, &budget)?;
+    let world = make::generate(&p, &source.components, &description, &budget)?;
     let generation_s = started.elapsed().as_secs_f64();
     if write_world(&world, source, w, opts, replace)? == Made::Elsewhere {
         return Ok(Made::Elsewhere);
@@ -556,7 +558,7 @@ fn write_world(
     replace: bool,
 ) -> Result<Made> {
     let dest = opts.out.join(&w.name);
-    let e = match make::write_folder(world, &source.exporters, &dest, replace) {
+    let e = match make::write_folder(world, &source.components.exporters, &dest, replace) {
         Ok(()) => return Ok(Made::Here),
         Err(e) => e,
     };
@@ -639,12 +641,13 @@ mod tests {
         let dir = tempfile::tempdir().unwrap();
         let mut pipeline = crate::presets::load("cave").unwrap();
         pipeline.tileset = None;
+        let registry = crate::registry();
         let source = Source {
             name: "cave".into(),
             description: "preset cave".into(),
+            components: pipeline.build(&registry).unwrap(),
             pipeline,
-            registry: crate::registry(),
-            exporters: Vec::new(),
+            registry,
         };
         let opts = Options {
             count: 1,
@@ -669,7 +672,7 @@ mod tests {
         p.world.seed = w.seed;
         let world = make::generate(
             &p,
-            &source.registry,
+            &source.components,
             &description(&source, w, &opts),
             &opts.max_memory,
         )

@@ -14,23 +14,22 @@
 pub(crate) mod level;
 mod search;
 
-use std::collections::BTreeMap;
-
 use crate::budget::Budget;
+use crate::components::Components;
 use crate::config::Pipeline;
 use crate::error::Error;
 use crate::grid::{Cell, Grid3};
 use crate::registry::Registry;
 use crate::rng::WorldRng;
 use crate::shape::ConstraintShape;
-use crate::tileset::TileSet;
 use crate::world::{Counts, Shaft, World};
 
 pub use level::structure_counts;
 pub use search::DETOUR_COST;
 
 /// Generates the world a pipeline describes: its layout and, when the pipeline has a
-/// `[tileset]`, its geometry. No memory budget: see [`generate_within`].
+/// `[tileset]`, its geometry. Builds the pipeline's components ([`Pipeline::build`]), then
+/// runs [`generate_with`]. No memory budget: see [`generate_within`].
 pub fn generate(pipeline: &Pipeline, registry: &Registry) -> Result<World, Error> {
     generate_within(pipeline, registry, &Budget::unlimited())
 }
@@ -42,20 +41,24 @@ pub fn generate_within(
     registry: &Registry,
     budget: &Budget,
 ) -> Result<World, Error> {
-    // The tile set is built once, by the layout's check of the pipeline's components (a
-    // mesh-files tile set reads every mesh file when it is built).
-    let (mut world, tileset) = layout_and_tileset(pipeline, registry, budget)?;
-    if let Some(tileset) = tileset {
-        let name = pipeline
-            .tileset
-            .as_ref()
-            .map(|t| t.type_name.clone())
-            .unwrap_or_default();
+    generate_with(pipeline, &pipeline.build(registry)?, budget)
+}
+
+/// The run step of [`generate_within`]: the layout, then the geometry of `components`' tile
+/// set when it has one, with components built once by [`Pipeline::build`] (for this pipeline,
+/// or another with the same components: a dataset's worlds differ only in their seed).
+pub fn generate_with(
+    pipeline: &Pipeline,
+    components: &Components,
+    budget: &Budget,
+) -> Result<World, Error> {
+    let mut world = layout_with(pipeline, components, budget)?;
+    if let Some(t) = &components.tileset {
         world.mesh = Some(
-            crate::assembly::assemble_within(&world, tileset.as_ref(), budget).map_err(|e| {
+            crate::assembly::assemble_within(&world, t.tileset.as_ref(), budget).map_err(|e| {
                 Error::Component {
                     component: "tile set",
-                    name,
+                    name: t.name.clone(),
                     message: e.0,
                 }
             })?,
@@ -76,16 +79,17 @@ pub fn layout_within(
     registry: &Registry,
     budget: &Budget,
 ) -> Result<World, Error> {
-    layout_and_tileset(pipeline, registry, budget).map(|(world, _)| world)
+    layout_with(pipeline, &pipeline.build(registry)?, budget)
 }
 
-/// [`layout_within`], also returning the pipeline's tile set, which checking the pipeline's
-/// components builds anyway.
-fn layout_and_tileset(
+/// The run step of [`layout_within`], with components built once by [`Pipeline::build`]: the
+/// route descriptor guides the arms of the constraint shapes; the tile set and exporters are
+/// not used.
+pub fn layout_with(
     pipeline: &Pipeline,
-    registry: &Registry,
+    components: &Components,
     budget: &Budget,
-) -> Result<(World, Option<Box<dyn TileSet>>), Error> {
+) -> Result<World, Error> {
     let (resolved_pipeline, resolved) = pipeline.resolve()?;
     budget
         .check(
@@ -97,36 +101,8 @@ fn layout_and_tileset(
             "make it smaller (world.levels, world.min_length, or world.rows and world.cols)",
         )
         .map_err(Error::TooLarge)?;
-    let descriptor = registry.route_descriptors.build(&pipeline.route)?;
-    let tileset = match &pipeline.tileset {
-        Some(t) => Some(registry.tilesets.build(t)?),
-        None => None,
-    };
-    for e in &pipeline.export {
-        registry.exporters.build(e)?;
-    }
-
-    // One shape object per structure name.
-    let mut shapes: BTreeMap<String, Box<dyn ConstraintShape>> = BTreeMap::new();
-    for level in &resolved.per_level {
-        for (name, _) in level {
-            if shapes.contains_key(name) {
-                continue;
-            }
-            let spec = pipeline
-                .topology
-                .structures
-                .iter()
-                .find(|s| &s.type_name == name)
-                .map(|s| {
-                    let mut s = s.clone();
-                    s.params.take("count");
-                    s
-                })
-                .unwrap_or_else(|| crate::params::ComponentSpec::named(name));
-            shapes.insert(name.clone(), registry.constraint_shapes.build(&spec)?);
-        }
-    }
+    let descriptor = &components.route;
+    let shapes = &components.shapes;
 
     let (rows, cols) = (resolved.rows, resolved.cols);
     let mut occupancy = Grid3::filled(resolved.levels, rows, cols, false);
@@ -202,7 +178,7 @@ fn layout_and_tileset(
         .iter()
         .map(|l| l.iter().cloned().collect())
         .collect();
-    let world = World::assemble(
+    Ok(World::assemble(
         resolved_pipeline,
         resolved,
         occupancy,
@@ -210,6 +186,5 @@ fn layout_and_tileset(
         requested,
         expected,
         attempts_used,
-    );
-    Ok((world, tileset))
+    ))
 }

@@ -61,8 +61,12 @@ fn load_with_mesh_loader(path: &Path) -> Result<Vec<Part>, String> {
     if !path.is_file() {
         return Err(format!("{}: no such file", path.display()));
     }
+    // Read once: the bytes feed both mesh-loader and the material names below (what
+    // `Loader::load` does, reading the file itself, would read an OBJ twice).
+    let bytes =
+        std::fs::read(path).map_err(|e| format!("{}: cannot be read: {e}", path.display()))?;
     let scene = mesh_loader::Loader::default()
-        .load(path)
+        .load_from_slice(&bytes, path)
         .map_err(|e| format!("{}: cannot be read: {e}", path.display()))?;
     let mut parts: Vec<Part> = scene
         .meshes
@@ -81,7 +85,7 @@ fn load_with_mesh_loader(path: &Path) -> Result<Vec<Part>, String> {
         .extension()
         .is_some_and(|e| e.eq_ignore_ascii_case("obj"))
     {
-        let text = std::fs::read_to_string(path).unwrap_or_default();
+        let text = std::str::from_utf8(&bytes).unwrap_or_default();
         let mut names: Vec<&str> = Vec::new();
         for line in text.lines() {
             if let Some(n) = line.strip_prefix("usemtl ") {
