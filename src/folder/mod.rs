@@ -415,10 +415,9 @@ pub fn write_atomically(
     }
     let placed = place(&tmp, &dest, &parent, &name, was);
     if placed.is_err() && tmp.exists() {
-        // Only our own temporary folder can be at `tmp` after a failed move.
-        if matches!(manifest::read(&tmp), Some(manifest::Manifest::Complete(_))) {
-            let _ = fs::remove_dir_all(&tmp);
-        }
+        // `place` fails only before the new world has left `tmp` (once an old world has been
+        // swapped in there, it never fails), so what is at `tmp` is our own new folder.
+        let _ = fs::remove_dir_all(&tmp);
     }
     drop(registered);
     placed
@@ -445,6 +444,8 @@ fn fill_and_seal(
 }
 
 /// Moves the finished folder `tmp` to `dest`, replacing only what `before` found replaceable.
+/// It fails only while the new world is still at `tmp`: after an old world is swapped out, a
+/// failure to remove it is a warning, never an error that would make the caller clean up.
 fn place(
     tmp: &Path,
     dest: &Path,
@@ -491,19 +492,20 @@ fn place(
                 Err(e) => return Err(io("replacing", dest)(e)),
             };
             let _registered = partial::Registered::replaced(&old);
-            // The old folder is checked again now that it cannot change under us: whatever is
-            // in it that subtgraph did not write stays, moved to a visible name.
-            let removed = remove_listed(&old).map_err(io("removing the replaced world", &old))?;
+            // The new world is in place: from here on nothing fails the run. The old folder is
+            // checked again now that it cannot change under us: only the files it lists are
+            // removed, and whatever else is in it stays, moved to a visible name.
+            let removed = remove_listed(&old).unwrap_or(false);
             if !removed && old.exists() {
                 let kept = parent.join(format!("{name}-replaced-leftovers"));
                 let kept = match rename_noreplace(&old, &kept) {
-                    Ok(()) => kept,
-                    Err(_) => keep_elsewhere(&old, parent, &format!("{name}-replaced"))?,
+                    Ok(()) => Some(kept),
+                    Err(_) => keep_elsewhere(&old, parent, &format!("{name}-replaced")).ok(),
                 };
                 eprintln!(
-                    "warning: files that subtgraph did not write appeared in {} while it was replaced; they are kept in {}",
+                    "warning: not everything in the replaced {} could be removed (files subtgraph did not write appeared in it, or a removal failed); it is kept in {}",
                     dest.display(),
-                    kept.display()
+                    kept.as_deref().unwrap_or(&old).display()
                 );
             }
             Ok(())
