@@ -365,12 +365,13 @@ fn temporary_name(name: &str, what: &str) -> String {
 }
 
 /// Keeps a finished world whose destination was taken, under `NAME-new`, `NAME-new-2`, ...
-fn keep_elsewhere(tmp: &Path, parent: &Path, name: &str) -> Result<PathBuf, FolderError> {
+fn keep_elsewhere(tmp: &Path, dest: &Path, name: &str) -> Result<PathBuf, FolderError> {
     for n in 1..1000 {
+        // Beside `dest`, named as the user wrote it (`race-new`, not `./race-new`).
         let candidate = if n == 1 {
-            parent.join(format!("{name}-new"))
+            dest.with_file_name(format!("{name}-new"))
         } else {
-            parent.join(format!("{name}-new-{n}"))
+            dest.with_file_name(format!("{name}-new-{n}"))
         };
         match rename_noreplace(tmp, &candidate) {
             Ok(()) => return Ok(candidate),
@@ -380,7 +381,7 @@ fn keep_elsewhere(tmp: &Path, parent: &Path, name: &str) -> Result<PathBuf, Fold
     }
     Err(FolderError::Io {
         what: "keeping the new world beside",
-        path: parent.join(name),
+        path: dest.to_owned(),
         source: std::io::ErrorKind::AlreadyExists.into(),
     })
 }
@@ -394,7 +395,12 @@ pub fn write_atomically(
     fill: impl FnOnce(&mut FolderWriter) -> anyhow::Result<()>,
 ) -> Result<(), FolderError> {
     let (parent, name) = destination(out)?;
-    let dest = parent.join(&name);
+    // Named as the user wrote it (`race`, not `./race`) in messages.
+    let dest = if out.parent().is_some_and(|p| p.as_os_str().is_empty()) {
+        PathBuf::from(&name)
+    } else {
+        parent.join(&name)
+    };
     let name = name.to_string_lossy().into_owned();
     if let Some(file) = parent
         .ancestors()
@@ -457,7 +463,7 @@ fn place(
         Before::Absent => match rename_noreplace(tmp, dest) {
             Ok(()) => Ok(()),
             Err(e) if is_exists(&e) => {
-                let kept = keep_elsewhere(tmp, parent, name)?;
+                let kept = keep_elsewhere(tmp, dest, name)?;
                 Err(FolderError::AppearedMeanwhile {
                     out: dest.to_owned(),
                     kept,
@@ -481,7 +487,7 @@ fn place(
                         return Err(if is_exists(&e) {
                             FolderError::AppearedMeanwhile {
                                 out: dest.to_owned(),
-                                kept: keep_elsewhere(tmp, parent, name)?,
+                                kept: keep_elsewhere(tmp, dest, name)?,
                             }
                         } else {
                             io("moving into place", dest)(e)
@@ -500,7 +506,7 @@ fn place(
                 let kept = parent.join(format!("{name}-replaced-leftovers"));
                 let kept = match rename_noreplace(&old, &kept) {
                     Ok(()) => Some(kept),
-                    Err(_) => keep_elsewhere(&old, parent, &format!("{name}-replaced")).ok(),
+                    Err(_) => keep_elsewhere(&old, dest, &format!("{name}-replaced")).ok(),
                 };
                 eprintln!(
                     "warning: not everything in the replaced {} could be removed (files subtgraph did not write appeared in it, or a removal failed); it is kept in {}",
