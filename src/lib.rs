@@ -35,12 +35,3 @@ pub fn registry() -> Registry {
     subtgraph_exporters::register(&mut r).expect("built-in names are distinct");
     r
 }
-
-/// `text` cut to at most `max` characters, with `...` and the full length when cut: user
-/// values quoted in messages stay readable whatever their size.
-pub fn clip(text: &str, max: usize) -> String {
-    match text.char_indices().nth(max) {
-        None => text.to_owned(),
-        Some((cut, _)) => format!("{}... ({} characters)", &text[..cut], text.chars().count()),
-    }
-}

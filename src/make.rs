@@ -124,16 +124,11 @@ pub fn generate(
 /// Writes the world folder (its own files, then every exporter's) at `out`, atomically, after
 /// removing what killed runs left beside it.
 pub fn write(world: &World, exporters: &[NamedExporter], out: &Path, force: bool) -> Result<()> {
-    let parent = match out.parent() {
-        Some(p) if !p.as_os_str().is_empty() => p,
-        _ => Path::new("."),
-    };
-    match crate::folder::sweep_stale(parent) {
-        Ok(0) | Err(_) => {}
-        Ok(n) => eprintln!(
+    if let Some((parent, n)) = crate::folder::sweep_stale_beside(out) {
+        eprintln!(
             "note: removed {n} unfinished folder(s) in {} left by runs that were killed",
             parent.display()
-        ),
+        );
     }
     write_folder(world, exporters, out, force)?;
     Ok(())

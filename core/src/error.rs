@@ -14,7 +14,12 @@ pub const QUOTE_LIMIT: usize = 80;
 /// A user's value as messages quote it: whole up to [`QUOTE_LIMIT`] characters, else its
 /// first [`QUOTE_LIMIT`] characters, `...` and its length.
 pub fn excerpt(value: &str) -> Cow<'_, str> {
-    match value.char_indices().nth(QUOTE_LIMIT) {
+    excerpt_to(value, QUOTE_LIMIT)
+}
+
+/// [`excerpt`] with another length: for lists of names, which may be longer than one value.
+pub fn excerpt_to(value: &str, max: usize) -> Cow<'_, str> {
+    match value.char_indices().nth(max) {
         None => Cow::Borrowed(value),
         Some((cut, _)) => Cow::Owned(format!(
             "{}... ({} bytes in all)",

@@ -292,7 +292,7 @@ pub fn run(sources: &[Source], opts: &Options) -> Result<Summary> {
         eprintln!(
             "note: {} world(s) are being made by another process writing into the same folder, left to it: {}; that run indexes them when it ends (or run this command again then)",
             elsewhere.len(),
-            crate::clip(&list.join(", "), 400)
+            subtgraph_core::error::excerpt_to(&list.join(", "), 400)
         );
     }
     let indexed = index::rebuild(&opts.out)?;
@@ -341,7 +341,7 @@ fn prepare_out(out: &Path, all: &[Planned]) -> Result<()> {
             bail!(
                 "--out {} already holds files that are not this dataset's ({}); give a new or empty folder",
                 out.display(),
-                crate::clip(&foreign.join(", "), 200)
+                subtgraph_core::error::excerpt_to(&foreign.join(", "), 200)
             );
         }
     }
@@ -488,7 +488,10 @@ fn first_difference(on_disk: &str, expected: &str) -> String {
         if shown.is_empty() {
             "nothing".to_owned()
         } else {
-            format!("`{}`", crate::clip(&shown.join(" / "), 100))
+            format!(
+                "`{}`",
+                subtgraph_core::error::excerpt_to(&shown.join(" / "), 100)
+            )
         }
     };
     format!(

@@ -197,6 +197,17 @@ fn destination(out: &Path) -> Result<(PathBuf, std::ffi::OsString), FolderError>
     Ok((parent, name.to_owned()))
 }
 
+/// Removes what killed runs left in the folder `out` goes into (the same parent
+/// [`write_atomically`] writes its temporary folder in, `w/.` resolved); returns that folder
+/// and how many were removed, when any were.
+pub fn sweep_stale_beside(out: &Path) -> Option<(PathBuf, usize)> {
+    let (parent, _) = destination(out).ok()?;
+    match sweep_stale(&parent) {
+        Ok(n) if n > 0 => Some((parent, n)),
+        _ => None,
+    }
+}
+
 /// Checks what is at `dest` before anything is made.
 fn before(dest: &Path, force: bool) -> Result<Before, FolderError> {
     let meta = match fs::symlink_metadata(dest) {
