@@ -221,26 +221,10 @@ fn main() -> ExitCode {
         Err(e) => {
             // Every message passes through `shorten`, so no path that echoes a user's value can
             // print a huge one whole.
-            eprintln!("error: {}", subtgraph::core::error::shorten(&message(&e)));
+            eprintln!("error: {}", subtgraph::core::error::shorten(&make::message(&e)));
             ExitCode::FAILURE
         }
     }
-}
-
-/// The error and its causes, each cause once: many errors already quote their cause in their
-/// own message (`writing mesh/world.obj: File too large`), so a cause already said is skipped.
-fn message(e: &anyhow::Error) -> String {
-    let mut text = String::new();
-    for cause in e.chain() {
-        let part = cause.to_string();
-        if text.is_empty() {
-            text = part;
-        } else if !text.contains(&part) {
-            text.push_str(": ");
-            text.push_str(&part);
-        }
-    }
-    text
 }
 
 fn run(cli: Cli) -> Result<()> {
@@ -259,7 +243,7 @@ fn run(cli: Cli) -> Result<()> {
             max_memory,
         } => {
             let budget = subtgraph::memory::budget(max_memory.as_deref())?;
-            let (mut p, source) = load_pipeline(pipeline.as_deref(), preset.as_deref())?;
+            let (mut p, source) = make::load_pipeline(pipeline.as_deref(), preset.as_deref())?;
             if let Some(name) = tileset {
                 p.tileset = Some(subtgraph::core::params::ComponentSpec::named(&name));
             }
@@ -348,7 +332,7 @@ fn run(cli: Cli) -> Result<()> {
             let mut sources = Vec::new();
             let mut skipped_exporters: Vec<String> = Vec::new();
             for (file, preset) in chosen {
-                let (mut p, description) = load_pipeline(file, preset)?;
+                let (mut p, description) = make::load_pipeline(file, preset)?;
                 let name = match (file, preset) {
                     (Some(f), _) => f
                         .file_stem()
@@ -410,7 +394,7 @@ fn run(cli: Cli) -> Result<()> {
             Ok(())
         }
         Command::Validate { pipeline, plugins } => {
-            let (p, _) = load_pipeline(Some(&pipeline), None)?;
+            let (p, _) = make::load_pipeline(Some(&pipeline), None)?;
             let registry = registry_with(&p, &plugins)?;
             let world = match validate_layout(&p, &registry) {
                 Ok(w) => w,
@@ -495,34 +479,6 @@ fn list(r: &subtgraph::core::Registry) {
     rows(&r.constraint_shapes);
     rows(&r.tilesets);
     rows(&r.exporters);
-}
-
-/// The pipeline to use and a description of where it came from.
-fn load_pipeline(file: Option<&Path>, preset: Option<&str>) -> Result<(Pipeline, String)> {
-    match (file, preset) {
-        (Some(path), _) => {
-            let text = std::fs::read_to_string(path)
-                .with_context(|| format!("reading pipeline file {}", path.display()))?;
-            let mut p = Pipeline::parse(&text, &path.display().to_string())?;
-            p.anchor_paths(path.parent().unwrap_or(Path::new(".")));
-            Ok((p, path.display().to_string()))
-        }
-        (None, preset) => {
-            let name = preset.unwrap_or("cave");
-            let mut p = presets::load(name).ok_or_else(|| {
-                anyhow!(
-                    "unknown preset '{name}'; the presets are: {}",
-                    presets::names()
-                )
-            })?;
-            p.anchor_paths(&Path::new(env!("CARGO_MANIFEST_DIR")).join("examples"));
-            let source = match preset {
-                Some(_) => format!("preset {name}"),
-                None => "built-in defaults (the cave preset)".into(),
-            };
-            Ok((p, source))
-        }
-    }
 }
 
 fn import_world(path: &Path, p: &Pipeline, budget: &subtgraph::core::Budget) -> Result<World> {

@@ -5,11 +5,13 @@
 
 use std::path::{Path, PathBuf};
 
-use anyhow::{Result, anyhow, bail};
+use anyhow::{Context, Result, anyhow, bail};
 
 use subtgraph_core::config::Provenance;
 use subtgraph_core::params::ComponentSpec;
 use subtgraph_core::{Budget, Components, Pipeline, Registry, World};
+
+use crate::presets;
 
 /// The registry with every built-in and the plugins of the pipeline and the command line.
 pub fn registry_with(p: &Pipeline, extra: &[PathBuf]) -> Result<Registry> {
@@ -155,4 +157,48 @@ pub fn write_folder(
         subtgraph_plugins::check_failures().map_err(|e| anyhow!(e))?;
         Ok(())
     })
+}
+
+/// The pipeline to use and a description of where it came from.
+pub fn load_pipeline(file: Option<&Path>, preset: Option<&str>) -> Result<(Pipeline, String)> {
+    match (file, preset) {
+        (Some(path), _) => {
+            let text = std::fs::read_to_string(path)
+                .with_context(|| format!("reading pipeline file {}", path.display()))?;
+            let mut p = Pipeline::parse(&text, &path.display().to_string())?;
+            p.anchor_paths(path.parent().unwrap_or(Path::new(".")));
+            Ok((p, path.display().to_string()))
+        }
+        (None, preset) => {
+            let name = preset.unwrap_or("cave");
+            let mut p = presets::load(name).ok_or_else(|| {
+                anyhow!(
+                    "unknown preset '{name}'; the presets are: {}",
+                    presets::names()
+                )
+            })?;
+            p.anchor_paths(&Path::new(env!("CARGO_MANIFEST_DIR")).join("examples"));
+            let source = match preset {
+                Some(_) => format!("preset {name}"),
+                None => "built-in defaults (the cave preset)".into(),
+            };
+            Ok((p, source))
+        }
+    }
+}
+
+/// The error and its causes, each cause once: many errors already quote their cause in their
+/// own message (`writing mesh/world.obj: File too large`), so a cause already said is skipped.
+pub fn message(e: &anyhow::Error) -> String {
+    let mut text = String::new();
+    for cause in e.chain() {
+        let part = cause.to_string();
+        if text.is_empty() {
+            text = part;
+        } else if !text.contains(&part) {
+            text.push_str(": ");
+            text.push_str(&part);
+        }
+    }
+    text
 }

@@ -1,0 +1,461 @@
+//! The one module that reads the core's [`World`]: every field the Python `World` shows is
+//! read here, so a change of the core's world model is adapted in this file alone.
+//!
+//! Arrays are numpy views of the world's own memory, not copies: the Python object owns the
+//! world, never changes it (the class is frozen), and each array keeps it alive as its base.
+//! The views are read-only, since writing into them would change a world its files, graph
+//! and meshes were made from.
+
+use std::path::PathBuf;
+use std::sync::OnceLock;
+
+use numpy::ndarray::{ArrayView, Dimension, IxDyn};
+use numpy::{Element, PyArray, PyArrayDyn};
+use pyo3::prelude::*;
+use pyo3::types::{PyBytes, PyDict};
+
+use subtgraph::folder;
+use subtgraph::make::NamedExporter;
+use subtgraph_core::World;
+use subtgraph_core::export::{MemoryWriter, WorldWriter};
+use subtgraph_core::grid::Cell;
+use subtgraph_core::mesh::Mesh;
+use subtgraph_core::params::{ComponentSpec, Params};
+
+use crate::errors::OrRaise;
+
+/// A generated world, as the Python package's `World` wraps it.
+#[pyclass(module = "subtgraph._native", name = "World", frozen)]
+pub struct PyWorld {
+    world: World,
+    /// The pipeline's exporters, built when the world was generated: what `export` writes.
+    exporters: Vec<NamedExporter>,
+    /// Plugins the generating run loaded (exporters a later `files` call may name).
+    plugins: Vec<PathBuf>,
+    codes: OnceLock<Vec<u8>>,
+    tiles: OnceLock<Vec<u8>>,
+}
+
+impl PyWorld {
+    /// Wraps a generated world with the exporters its pipeline names.
+    pub fn new(world: World, exporters: Vec<NamedExporter>, plugins: Vec<PathBuf>) -> Self {
+        PyWorld {
+            world,
+            exporters,
+            plugins,
+            codes: OnceLock::new(),
+            tiles: OnceLock::new(),
+        }
+    }
+}
+
+/// A read-only numpy view of `view`, whose memory `owner` holds.
+fn borrowed<'py, T: Element, D: Dimension>(
+    owner: &Bound<'py, PyWorld>,
+    view: ArrayView<'_, T, D>,
+) -> PyResult<Bound<'py, PyArray<T, D>>> {
+    // SAFETY: the memory belongs to the world inside `owner`, which is frozen (no method
+    // changes it) and is dropped only when the last reference to `owner` goes; the array holds
+    // one as its base object, and is made read-only below, before Python sees it.
+    let array = unsafe { PyArray::borrow_from_array(&view, owner.clone().into_any()) };
+    array.getattr("flags")?.setattr("writeable", false)?;
+    Ok(array)
+}
+
+fn dyn_view<'a, T>(data: &'a [T], shape: &[usize]) -> ArrayView<'a, T, IxDyn> {
+    ArrayView::from_shape(IxDyn(shape), data).expect("lengths match the world's shape")
+}
+
+/// `(n, k)` rows from a slice of `[T; k]`.
+fn rows<'py, T: Element, const K: usize>(
+    owner: &Bound<'py, PyWorld>,
+    data: &[[T; K]],
+) -> PyResult<Bound<'py, PyArrayDyn<T>>> {
+    borrowed(owner, dyn_view(data.as_flattened(), &[data.len(), K]))
+}
+
+fn mesh_of<'a>(w: &'a World, which: &str) -> PyResult<&'a Mesh> {
+    let m = w.mesh.as_ref().ok_or_else(|| {
+        pyo3::exceptions::PyValueError::new_err(
+            "this world has no mesh: generate it with mesh=True and a pipeline that has a [tileset]",
+        )
+    })?;
+    match which {
+        "visual" => Ok(&m.visual),
+        "collision" => Ok(&m.collision),
+        _ => Err(pyo3::exceptions::PyValueError::new_err(format!(
+            "mesh '{which}': choose 'visual' or 'collision'"
+        ))),
+    }
+}
+
+/// Writes into another writer, giving `world.toml` the text of a pipeline that records every
+/// exporter written (so the folder's `world.toml` makes the same files again).
+struct WithWorldToml<'a> {
+    inner: &'a mut dyn WorldWriter,
+    world_toml: &'a str,
+}
+
+impl WorldWriter for WithWorldToml<'_> {
+    fn write(&mut self, path: &str, bytes: &[u8]) -> std::io::Result<()> {
+        if path == "world.toml" {
+            self.inner.write(path, self.world_toml.as_bytes())
+        } else {
+            self.inner.write(path, bytes)
+        }
+    }
+    fn contains(&self, path: &str) -> bool {
+        self.inner.contains(path)
+    }
+    fn stream(
+        &mut self,
+        path: &str,
+        fill: &mut dyn FnMut(&mut dyn std::io::Write) -> std::io::Result<()>,
+    ) -> std::io::Result<()> {
+        if path == "world.toml" {
+            self.inner.write(path, self.world_toml.as_bytes())
+        } else {
+            self.inner.stream(path, fill)
+        }
+    }
+}
+
+impl PyWorld {
+    /// The exporters for `formats` (names, like the command line's `--format`), or the
+    /// world's own when `None`; each also checked against the world's geometry.
+    fn exporters_for(&self, formats: Option<&[String]>) -> anyhow::Result<Vec<NamedExporter>> {
+        let registry = subtgraph::make::registry_with(&self.world.pipeline, &self.plugins)?;
+        let specs: Vec<ComponentSpec> = match formats {
+            None => return self.rebuild(&registry, &self.world.pipeline.export),
+            Some(f) => {
+                let mut p = self.world.pipeline.clone();
+                p.export.clear();
+                subtgraph::make::add_formats(&mut p, f)?;
+                p.export
+            }
+        };
+        self.rebuild(&registry, &specs)
+    }
+
+    fn rebuild(
+        &self,
+        registry: &subtgraph_core::Registry,
+        specs: &[ComponentSpec],
+    ) -> anyhow::Result<Vec<NamedExporter>> {
+        let mut out = Vec::new();
+        for spec in specs {
+            let exporter = registry.exporters.build(spec)?;
+            if exporter.needs_geometry() && self.world.mesh.is_none() {
+                anyhow::bail!(
+                    "exporter '{}' writes geometry, but this world has no mesh: generate it with mesh=True and a pipeline with a [tileset]",
+                    spec.type_name
+                );
+            }
+            out.push(NamedExporter {
+                name: spec.type_name.clone(),
+                exporter,
+            });
+        }
+        Ok(out)
+    }
+
+    /// Runs exporters into memory.
+    fn run(&self, exporters: &[NamedExporter]) -> anyhow::Result<MemoryWriter> {
+        let mut out = MemoryWriter::default();
+        for e in exporters {
+            e.exporter
+                .export(&self.world, &mut out)
+                .map_err(|err| anyhow::anyhow!("exporter '{}': {err}", e.name))?;
+        }
+        subtgraph_plugins::check_failures().map_err(|e| anyhow::anyhow!(e))?;
+        Ok(out)
+    }
+}
+
+fn files_dict<'py>(py: Python<'py>, files: &MemoryWriter) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    for (path, bytes) in &files.files {
+        d.set_item(path, PyBytes::new(py, bytes))?;
+    }
+    Ok(d)
+}
+
+/// One MJCF document from the main file and its included part files: each `<include>` line
+/// replaced by the part's assets and bodies (MJCF allows repeated sections), so MuJoCo loads
+/// it from a string with no files.
+fn inline_includes(files: &MemoryWriter) -> anyhow::Result<String> {
+    let text = |path: &str| -> anyhow::Result<&str> {
+        let bytes = files
+            .get(path)
+            .ok_or_else(|| anyhow::anyhow!("exporter 'mjcf' wrote no {path}"))?;
+        Ok(std::str::from_utf8(bytes)?)
+    };
+    let mut out = String::new();
+    for line in text("mujoco/world.xml")?.lines() {
+        let Some(file) = line
+            .trim()
+            .strip_prefix("<include file=\"")
+            .and_then(|l| l.strip_suffix("\"/>"))
+        else {
+            out.push_str(line);
+            out.push('\n');
+            continue;
+        };
+        let part = text(&format!("mujoco/{file}"))?;
+        for l in part.lines() {
+            let t = l.trim_start();
+            if t.starts_with("<mujoco") || t.starts_with("</mujoco>") || t.starts_with("<compiler") {
+                continue;
+            }
+            out.push_str(l);
+            out.push('\n');
+        }
+    }
+    Ok(out)
+}
+
+#[pymethods]
+impl PyWorld {
+    /// `uint8 [levels, rows, cols]`: the original's spatial codes (0 empty, 1 dead end,
+    /// 2 straight, 3 corner, 4 T-junction, 5 intersection, 11 shaft up, 111 shaft landing).
+    #[getter]
+    fn occupancy<'py>(slf: &Bound<'py, Self>) -> PyResult<Bound<'py, PyArrayDyn<u8>>> {
+        let me = slf.get();
+        let codes = me.codes.get_or_init(|| me.world.spatial_codes());
+        borrowed(slf, dyn_view(codes, &me.world.occupancy.shape()))
+    }
+
+    /// `uint8 [levels, rows, cols, 3]`: per cell its spatial code, its openings (bit 0 east,
+    /// 1 north, 2 west, 3 south) and its quarter turns; zeros for empty cells.
+    #[getter]
+    fn tiles<'py>(slf: &Bound<'py, Self>) -> PyResult<Bound<'py, PyArrayDyn<u8>>> {
+        let me = slf.get();
+        let tiles = me.tiles.get_or_init(|| {
+            me.world
+                .tiles
+                .as_slice()
+                .iter()
+                .flat_map(|t| match t {
+                    Some(t) => [t.kind.spatial_code(), t.openings, t.rotation],
+                    None => [0, 0, 0],
+                })
+                .collect()
+        });
+        let [l, r, c] = me.world.occupancy.shape();
+        borrowed(slf, dyn_view(tiles, &[l, r, c, 3]))
+    }
+
+    /// `(levels, rows, cols)`.
+    #[getter]
+    fn shape(&self) -> (usize, usize, usize) {
+        let [l, r, c] = self.world.occupancy.shape();
+        (l, r, c)
+    }
+
+    /// The world's seed.
+    #[getter]
+    fn seed(&self) -> u64 {
+        self.world.resolved.seed
+    }
+
+    /// Metres between tile centres.
+    #[getter]
+    fn tile_pitch(&self) -> f64 {
+        self.world.resolved.tile_pitch
+    }
+
+    /// Metres between levels.
+    #[getter]
+    fn level_height(&self) -> f64 {
+        self.world.resolved.level_height
+    }
+
+    /// The start cell `(level, row, col)`.
+    #[getter]
+    fn start(&self) -> Option<(usize, usize, usize)> {
+        self.world.start.map(|c| (c.level, c.row, c.col))
+    }
+
+    /// Shafts as `((level, row, col) foot, (level, row, col) landing)`.
+    #[getter]
+    fn shafts(&self) -> Vec<((usize, usize, usize), (usize, usize, usize))> {
+        let t = |c: Cell| (c.level, c.row, c.col);
+        self.world
+            .shafts
+            .iter()
+            .map(|s| (t(s.up), t(s.landing)))
+            .collect()
+    }
+
+    /// The world-frame position in metres of a cell's centre on its floor.
+    fn cell_position(&self, level: usize, row: usize, col: usize) -> PyResult<(f64, f64, f64)> {
+        let [l, r, c] = self.world.occupancy.shape();
+        if level >= l || row >= r || col >= c {
+            return Err(pyo3::exceptions::PyIndexError::new_err(format!(
+                "cell ({level}, {row}, {col}) is outside the world's {l} x {r} x {c} cells"
+            )));
+        }
+        let p = self.world.cell_position(Cell::new(level, row, col));
+        Ok((p[0], p[1], p[2]))
+    }
+
+    /// The graph (nodes and edges) as JSON text.
+    fn graph_json(&self) -> String {
+        serde_json::to_string(&self.world.graph).expect("plain data serializes")
+    }
+
+    /// Requested against achieved counts per level, as JSON text.
+    fn levels_json(&self) -> String {
+        serde_json::to_string(&self.world.levels).expect("plain data serializes")
+    }
+
+    /// The resolved pipeline as `world.toml` holds it.
+    fn world_toml(&self) -> String {
+        subtgraph_exporters::world_toml_text(&self.world.pipeline)
+    }
+
+    /// Whether the world has meshes.
+    #[getter]
+    fn has_mesh(&self) -> bool {
+        self.world.mesh.is_some()
+    }
+
+    /// `(vertices float32 [n, 3], triangles uint32 [m, 3])` of the visual or collision mesh.
+    fn mesh<'py>(
+        slf: &Bound<'py, Self>,
+        which: &str,
+    ) -> PyResult<(Bound<'py, PyArrayDyn<f32>>, Bound<'py, PyArrayDyn<u32>>)> {
+        let m = mesh_of(&slf.get().world, which)?;
+        Ok((rows(slf, &m.positions)?, rows(slf, &m.triangles)?))
+    }
+
+    /// Per-vertex normals `float32 [n, 3]` of a mesh (pointing into the passage).
+    fn mesh_normals<'py>(slf: &Bound<'py, Self>, which: &str) -> PyResult<Bound<'py, PyArrayDyn<f32>>> {
+        let m = mesh_of(&slf.get().world, which)?;
+        rows(slf, &m.normals)
+    }
+
+    /// Per-triangle material indices `uint8 [m]` of a mesh (into `material_names`).
+    fn mesh_materials<'py>(slf: &Bound<'py, Self>, which: &str) -> PyResult<Bound<'py, PyArrayDyn<u8>>> {
+        let m = mesh_of(&slf.get().world, which)?;
+        if m.materials.is_empty() {
+            return Ok(PyArrayDyn::zeros(slf.py(), IxDyn(&[m.triangles.len()]), false));
+        }
+        borrowed(slf, dyn_view(&m.materials, &[m.materials.len()]))
+    }
+
+    /// The tile set's material names.
+    fn material_names(&self) -> Vec<String> {
+        self.world
+            .mesh
+            .as_ref()
+            .map(|m| m.materials.iter().map(|x| x.name.clone()).collect())
+            .unwrap_or_default()
+    }
+
+    /// The files the exporters for `formats` write (the world's own exporters when `None`),
+    /// in memory: `{path: bytes}`, paths relative to the world folder.
+    #[pyo3(signature = (formats=None))]
+    fn files<'py>(&self, py: Python<'py>, formats: Option<Vec<String>>) -> PyResult<Bound<'py, PyDict>> {
+        let files = py
+            .detach(|| {
+                let exporters = self.exporters_for(formats.as_deref())?;
+                self.run(&exporters)
+            })
+            .or_raise(py)?;
+        files_dict(py, &files)
+    }
+
+    /// The MJCF as one self-contained document and its mesh files: `(xml, {path: bytes})`.
+    /// Without `visual` there are no mesh files (collision height fields only, loads in a
+    /// tenth of the time).
+    #[pyo3(signature = (visual=false))]
+    fn mjcf<'py>(&self, py: Python<'py>, visual: bool) -> PyResult<(String, Bound<'py, PyDict>)> {
+        let (xml, files) = py
+            .detach(|| -> anyhow::Result<_> {
+                if self.world.mesh.is_none() {
+                    anyhow::bail!("exporter 'mjcf' writes geometry, but this world has no mesh: generate it with mesh=True and a pipeline with a [tileset]");
+                }
+                let mut table = toml::Table::new();
+                if !visual {
+                    table.insert("visual".into(), toml::Value::String("none".into()));
+                }
+                let spec = ComponentSpec {
+                    type_name: "mjcf".into(),
+                    params: Params::from_table("export", table),
+                };
+                let exporter = subtgraph::registry().exporters.build(&spec)?;
+                let files = self.run(&[NamedExporter {
+                    name: "mjcf".into(),
+                    exporter,
+                }])?;
+                let xml = inline_includes(&files)?;
+                let mut assets = MemoryWriter::default();
+                for (path, bytes) in files.files {
+                    if !path.ends_with(".xml") {
+                        assets.files.push((path, bytes));
+                    }
+                }
+                Ok((xml, assets))
+            })
+            .or_raise(py)?;
+        Ok((xml, files_dict(py, &files)?))
+    }
+
+    /// Writes the world folder at `folder`, atomically, as `subtgraph generate --out` does:
+    /// complete or absent, never over a folder the tool did not write (`force` replaces only
+    /// a world folder it wrote). `formats` replaces the exporters the world was generated
+    /// with; its `world.toml` records what was written.
+    #[pyo3(signature = (folder, formats=None, force=false))]
+    fn export(&self, py: Python<'_>, folder: PathBuf, formats: Option<Vec<String>>, force: bool) -> PyResult<()> {
+        py.detach(|| -> anyhow::Result<()> {
+            let built;
+            let (exporters, world_toml) = match &formats {
+                None => (&self.exporters, None),
+                Some(f) => {
+                    built = self.exporters_for(Some(f))?;
+                    let mut p = self.world.pipeline.clone();
+                    p.export.clear();
+                    subtgraph::make::add_formats(&mut p, f)?;
+                    (&built, Some(subtgraph_exporters::world_toml_text(&p)))
+                }
+            };
+            folder::sweep_stale_beside(&folder);
+            let default_obj = !exporters.iter().any(|e| e.exporter.needs_geometry());
+            folder::write_atomically(&folder, force, |w| {
+                let mut wrapped;
+                let out: &mut dyn WorldWriter = match &world_toml {
+                    Some(text) => {
+                        wrapped = WithWorldToml {
+                            inner: w,
+                            world_toml: text,
+                        };
+                        &mut wrapped
+                    }
+                    None => w,
+                };
+                subtgraph_exporters::write_world_files(&self.world, out, default_obj)?;
+                for e in exporters {
+                    e.exporter
+                        .export(&self.world, out)
+                        .map_err(|err| anyhow::anyhow!("exporter '{}': {err}", e.name))?;
+                }
+                subtgraph_plugins::check_failures().map_err(|e| anyhow::anyhow!(e))?;
+                Ok(())
+            })?;
+            Ok(())
+        })
+        .or_raise(py)
+    }
+
+    fn __repr__(&self) -> String {
+        let [l, r, c] = self.world.occupancy.shape();
+        format!(
+            "World(seed={}, levels={l}, rows={r}, cols={c}, nodes={}, edges={}, mesh={})",
+            self.world.resolved.seed,
+            self.world.graph.nodes.len(),
+            self.world.graph.edges.len(),
+            self.world.mesh.is_some()
+        )
+    }
+}
