@@ -177,14 +177,17 @@ impl RouteDescriptor for PythonRoute {
                 None,
             ),
             Ok(x) => {
+                // Near the border a guide is clamped to the level, as the built-in
+                // descriptors' are; an offset taking it far outside is a bug of the callback.
                 let [r, c] = s.point(t, x);
-                let inside = |v: f64, n: usize| v >= -0.5 && v < n as f64 - 0.5;
+                let slack = (s.rows.min(s.cols) as f64 / 4.0).max(2.0);
+                let inside = |v: f64, n: usize| v >= -slack && v <= n as f64 - 1.0 + slack;
                 if inside(r, s.rows) && inside(c, s.cols) {
                     x
                 } else {
                     self.fail(
                         format!(
-                            "returned {x} at t = {t}, which puts the route at row {r:.1}, column {c:.1}, outside the level's {} x {} cells; keep offsets small enough for the level (the segment passed in has rows, cols and length())",
+                            "returned {x} at t = {t}, which puts the route at row {r:.1}, column {c:.1}, outside the level's {} x {} cells (by more than {slack} cells, a quarter of its smaller side); keep offsets within the level (the segment passed in has rows, cols and length())",
                             s.rows, s.cols
                         ),
                         None,
@@ -438,4 +441,29 @@ fn shape_from(py: Python<'_>, o: &Bound<'_, PyAny>, name: &str) -> Result<DataSh
         rotations,
         clearance,
     })
+}
+
+/// Refuses to write a world once a Python callback of the run has failed: its offsets after
+/// the failure were made up (0), so the world is not the one asked for.
+struct Gate(Arc<Failures>);
+
+impl subtgraph_core::export::Exporter for Gate {
+    fn export(
+        &self,
+        _world: &subtgraph_core::World,
+        _out: &mut dyn subtgraph_core::export::WorldWriter,
+    ) -> Result<(), subtgraph_core::export::ExportError> {
+        match &*self.0.first.lock().unwrap_or_else(|e| e.into_inner()) {
+            Some((message, _)) => Err(subtgraph_core::export::ExportError::Unsupported(message.clone())),
+            None => Ok(()),
+        }
+    }
+}
+
+/// An exporter that fails, so the world folder is not written, once `failures` has one.
+pub fn gate(failures: &Arc<Failures>) -> subtgraph::make::NamedExporter {
+    subtgraph::make::NamedExporter {
+        name: "python callbacks".into(),
+        exporter: Box::new(Gate(failures.clone())),
+    }
 }

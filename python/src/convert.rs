@@ -4,8 +4,17 @@
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyDict, PyFloat, PyInt, PyList, PyString, PyTuple};
 
-/// A Python value as TOML, or a message naming the dotted `key` and what it accepts.
-pub fn py_to_toml(v: &Bound<'_, PyAny>, key: &str) -> Result<toml::Value, String> {
+/// A Python value as TOML, or the dotted `key` at fault and a message saying what it accepts.
+pub fn py_to_toml(v: &Bound<'_, PyAny>, key: &str) -> Result<toml::Value, (String, String)> {
+    convert(v, key).map_err(|m| (key_of(&m), m))
+}
+
+/// The key a message of [`convert`] starts with.
+fn key_of(message: &str) -> String {
+    message.split(": ").next().unwrap_or_default().to_owned()
+}
+
+fn convert(v: &Bound<'_, PyAny>, key: &str) -> Result<toml::Value, String> {
     if v.is_instance_of::<PyBool>() {
         return Ok(toml::Value::Boolean(v.extract().unwrap_or(false)));
     }
@@ -28,15 +37,15 @@ pub fn py_to_toml(v: &Bound<'_, PyAny>, key: &str) -> Result<toml::Value, String
                 .extract()
                 .map_err(|_| format!("{key}: keys must be strings, not {}", type_name(&k)))?;
             let dotted = if key.is_empty() { k.clone() } else { format!("{key}.{k}") };
-            t.insert(k, py_to_toml(&item, &dotted)?);
+            t.insert(k, convert(&item, &dotted)?);
         }
         return Ok(toml::Value::Table(t));
     }
     if v.is_instance_of::<PyList>() || v.is_instance_of::<PyTuple>() {
         let mut out = Vec::new();
-        for (i, item) in v.try_iter().map_err(|e| e.to_string())?.enumerate() {
-            let item = item.map_err(|e| e.to_string())?;
-            out.push(py_to_toml(&item, &format!("{key}[{i}]"))?);
+        for (i, item) in v.try_iter().map_err(|e| format!("{key}: {e}"))?.enumerate() {
+            let item = item.map_err(|e| format!("{key}: {e}"))?;
+            out.push(convert(&item, &format!("{key}[{i}]"))?);
         }
         return Ok(toml::Value::Array(out));
     }

@@ -84,6 +84,19 @@ pub fn raise(py: Python<'_>, class: &str, message: &str) -> PyErr {
     }
 }
 
+/// [`raise`] about a key of a pipeline given from Python (`file` is `<dict>`).
+pub fn raise_at(py: Python<'_>, class: &str, message: &str, file: &str, key: &str) -> PyErr {
+    let place = Place {
+        file: Some(file.to_owned()),
+        key: (!key.is_empty()).then(|| key.to_owned()),
+        ..Place::default()
+    };
+    match exception(py, class, &shorten(message), place) {
+        Ok(e) => PyErr::from_value(e),
+        Err(e) => e,
+    }
+}
+
 /// The Python exception for an error of the library: the message the command line prints
 /// (every cause once, long values cut), as the subclass of `subtgraph.Error` it belongs to.
 pub fn to_py(py: Python<'_>, e: &anyhow::Error) -> PyErr {

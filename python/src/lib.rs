@@ -42,7 +42,15 @@ fn load(
     pipeline: Option<&Bound<'_, PyAny>>,
 ) -> PyResult<(Pipeline, String)> {
     let Some(pipeline) = pipeline else {
-        return make::load_pipeline(None, Some(preset.unwrap_or("cave"))).or_raise(py);
+        let name = preset.unwrap_or("cave");
+        if subtgraph::presets::text(name).is_none() {
+            return Err(raise(
+                py,
+                "ConfigError",
+                &format!("unknown preset '{name}'; the presets are: {}", subtgraph::presets::names()),
+            ));
+        }
+        return make::load_pipeline(None, Some(name)).or_raise(py);
     };
     if preset.is_some() {
         return Err(raise(
@@ -52,7 +60,8 @@ fn load(
         ));
     }
     if let Ok(d) = pipeline.cast::<PyDict>() {
-        let table = convert::py_to_toml(d.as_any(), "").map_err(|m| raise(py, "ConfigError", &m))?;
+        let table = convert::py_to_toml(d.as_any(), "")
+            .map_err(|(key, m)| errors::raise_at(py, "ConfigError", &m, "<dict>", &key))?;
         let text = toml::to_string(&table).map_err(|e| raise(py, "ConfigError", &e.to_string()))?;
         let p = Pipeline::parse(&text, "<dict>").or_raise(py)?;
         return Ok((p, "a dict from Python".into()));
@@ -91,7 +100,8 @@ fn generate(
     plugins: Option<Vec<PathBuf>>,
     max_memory: Option<&str>,
 ) -> PyResult<PyWorld> {
-    let budget = subtgraph::memory::budget(max_memory).or_raise(py)?;
+    let budget = subtgraph::memory::budget(max_memory)
+        .map_err(|e| raise(py, "ConfigError", &make::message(&e)))?;
     let (mut p, source) = load(py, preset, pipeline)?;
     if let Some(name) = tileset {
         p.tileset = Some(subtgraph_core::params::ComponentSpec::named(name));
@@ -321,7 +331,10 @@ fn dataset<'py>(
             make::add_formats(&mut p, formats.as_deref().unwrap_or_default())?;
             let mut registry = make::registry_with(&p, &plugins)?;
             callbacks::register_all(py, &mut registry, &failures)?;
-            let (components, _) = make::build_and_skipped(&p, &registry, !mesh)?;
+            let (mut components, _) = make::build_and_skipped(&p, &registry, !mesh)?;
+            // Runs first in every world folder: a world made after a Python callback failed
+            // is not written.
+            components.exporters.insert(0, callbacks::gate(&failures));
             sources.push(subtgraph::dataset::Source { name, description, pipeline: p, components, registry });
         }
         Ok(sources)
@@ -336,7 +349,8 @@ fn dataset<'py>(
         out,
         jobs: jobs.unwrap_or_else(|| std::thread::available_parallelism().map_or(1, std::num::NonZero::get)),
         shard: subtgraph::dataset::Shard::ALL,
-        max_memory: subtgraph::memory::budget(max_memory).or_raise(py)?,
+        max_memory: subtgraph::memory::budget(max_memory)
+            .map_err(|e| raise(py, "ConfigError", &make::message(&e)))?,
     };
     let summary = py.detach(|| subtgraph::dataset::run(&sources, &opts));
     if let Some(e) = failures.take(py) {
