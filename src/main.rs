@@ -221,7 +221,10 @@ fn main() -> ExitCode {
         Err(e) => {
             // Every message passes through `shorten`, so no path that echoes a user's value can
             // print a huge one whole.
-            eprintln!("error: {}", subtgraph::core::error::shorten(&make::message(&e)));
+            eprintln!(
+                "error: {}",
+                subtgraph::core::error::shorten(&make::message(&e))
+            );
             ExitCode::FAILURE
         }
     }

@@ -56,7 +56,10 @@ pub struct Failures {
 
 impl Failures {
     fn failed(&self) -> bool {
-        self.first.lock().unwrap_or_else(|e| e.into_inner()).is_some()
+        self.first
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .is_some()
     }
 
     fn record(&self, message: String, cause: Option<PyErr>) {
@@ -69,7 +72,11 @@ impl Failures {
     /// The recorded failure as `subtgraph.CallbackError` (its cause the callback's own
     /// exception), if any.
     pub fn take(&self, py: Python<'_>) -> Option<PyErr> {
-        let (message, cause) = self.first.lock().unwrap_or_else(|e| e.into_inner()).take()?;
+        let (message, cause) = self
+            .first
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .take()?;
         let err = crate::errors::raise(py, "CallbackError", &message);
         err.set_cause(py, cause);
         Some(err)
@@ -155,7 +162,12 @@ impl RouteDescriptor for PythonRoute {
             let seg = Py::new(py, segment(s)).map_err(|e| (e.to_string(), Some(e)))?;
             let value = self.offset.call1(py, (t, seg)).map_err(|e| {
                 (
-                    format!("raised {} at t = {t}", e.value(py).repr().map_or_else(|_| e.to_string(), |r| r.to_string())),
+                    format!(
+                        "raised {} at t = {t}",
+                        e.value(py)
+                            .repr()
+                            .map_or_else(|_| e.to_string(), |r| r.to_string())
+                    ),
                     Some(e),
                 )
             })?;
@@ -336,7 +348,11 @@ fn value<'py>(o: &Bound<'py, PyAny>, name: &str) -> PyResult<Option<Bound<'py, P
         return Ok(None);
     }
     let v = o.getattr(name)?;
-    if v.is_callable() { v.call0().map(Some) } else { Ok(Some(v)) }
+    if v.is_callable() {
+        v.call0().map(Some)
+    } else {
+        Ok(Some(v))
+    }
 }
 
 fn direction(s: &str) -> Result<Direction, String> {
@@ -358,7 +374,12 @@ fn shape_from(py: Python<'_>, o: &Bound<'_, PyAny>, name: &str) -> Result<DataSh
         .map_err(py_err)?
         .ok_or("it has no `footprint`: give a list of (d_row, d_col) cells")?
         .extract()
-        .map_err(|e: PyErr| format!("`footprint` must be a list of (d_row, d_col) integer pairs: {}", describe(py, &e)))?;
+        .map_err(|e: PyErr| {
+            format!(
+                "`footprint` must be a list of (d_row, d_col) integer pairs: {}",
+                describe(py, &e)
+            )
+        })?;
     if footprint.is_empty() || footprint.len() > 4096 {
         return Err(format!(
             "`footprint` has {} cells: give between 1 and 4096",
@@ -454,7 +475,9 @@ impl subtgraph_core::export::Exporter for Gate {
         _out: &mut dyn subtgraph_core::export::WorldWriter,
     ) -> Result<(), subtgraph_core::export::ExportError> {
         match &*self.0.first.lock().unwrap_or_else(|e| e.into_inner()) {
-            Some((message, _)) => Err(subtgraph_core::export::ExportError::Unsupported(message.clone())),
+            Some((message, _)) => Err(subtgraph_core::export::ExportError::Unsupported(
+                message.clone(),
+            )),
             None => Ok(()),
         }
     }

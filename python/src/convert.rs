@@ -19,10 +19,9 @@ fn convert(v: &Bound<'_, PyAny>, key: &str) -> Result<toml::Value, String> {
         return Ok(toml::Value::Boolean(v.extract().unwrap_or(false)));
     }
     if v.is_instance_of::<PyInt>() {
-        return v
-            .extract::<i64>()
-            .map(toml::Value::Integer)
-            .map_err(|_| format!("{key}: the integer {v} is out of range (TOML integers are 64-bit signed)"));
+        return v.extract::<i64>().map(toml::Value::Integer).map_err(|_| {
+            format!("{key}: the integer {v} is out of range (TOML integers are 64-bit signed)")
+        });
     }
     if v.is_instance_of::<PyFloat>() {
         return Ok(toml::Value::Float(v.extract().unwrap_or(f64::NAN)));
@@ -36,7 +35,11 @@ fn convert(v: &Bound<'_, PyAny>, key: &str) -> Result<toml::Value, String> {
             let k: String = k
                 .extract()
                 .map_err(|_| format!("{key}: keys must be strings, not {}", type_name(&k)))?;
-            let dotted = if key.is_empty() { k.clone() } else { format!("{key}.{k}") };
+            let dotted = if key.is_empty() {
+                k.clone()
+            } else {
+                format!("{key}.{k}")
+            };
             t.insert(k, convert(&item, &dotted)?);
         }
         return Ok(toml::Value::Table(t));

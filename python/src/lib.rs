@@ -47,7 +47,10 @@ fn load(
             return Err(raise(
                 py,
                 "ConfigError",
-                &format!("unknown preset '{name}'; the presets are: {}", subtgraph::presets::names()),
+                &format!(
+                    "unknown preset '{name}'; the presets are: {}",
+                    subtgraph::presets::names()
+                ),
             ));
         }
         return make::load_pipeline(None, Some(name)).or_raise(py);
@@ -78,7 +81,10 @@ fn load(
             "ConfigError",
             &format!(
                 "pipeline= takes a path, TOML text or a dict, not a {}",
-                pipeline.get_type().name().map_or_else(|_| "value".into(), |n| n.to_string())
+                pipeline
+                    .get_type()
+                    .name()
+                    .map_or_else(|_| "value".into(), |n| n.to_string())
             ),
         )
     })?;
@@ -135,7 +141,9 @@ fn generate(
     for name in skipped {
         warn(
             py,
-            &format!("skipping exporter '{name}': it writes geometry, and mesh=False asked for none"),
+            &format!(
+                "skipping exporter '{name}': it writes geometry, and mesh=False asked for none"
+            ),
         )?;
     }
     let made = py.detach(|| make::generate(&p, &components, &source, &budget));
@@ -163,20 +171,26 @@ fn presets() -> Vec<(String, String)> {
 /// A preset's pipeline text.
 #[pyfunction]
 fn preset_text(py: Python<'_>, name: &str) -> PyResult<String> {
-    subtgraph::presets::text(name).map(str::to_owned).ok_or_else(|| {
-        raise(
-            py,
-            "ConfigError",
-            &format!("unknown preset '{name}'; the presets are: {}", subtgraph::presets::names()),
-        )
-    })
+    subtgraph::presets::text(name)
+        .map(str::to_owned)
+        .ok_or_else(|| {
+            raise(
+                py,
+                "ConfigError",
+                &format!(
+                    "unknown preset '{name}'; the presets are: {}",
+                    subtgraph::presets::names()
+                ),
+            )
+        })
 }
 
 /// `[(kind, name, origin, summary)]` of every component the registry has, as
 /// `subtgraph list` shows them (Python ones and loaded plugins included).
 #[pyfunction]
 fn components(py: Python<'_>) -> PyResult<Vec<(String, String, String, String)>> {
-    let mut registry = make::registry_with(&Pipeline::default(), &plugins_with(None)).or_raise(py)?;
+    let mut registry =
+        make::registry_with(&Pipeline::default(), &plugins_with(None)).or_raise(py)?;
     callbacks::register_all(py, &mut registry, &Arc::new(Failures::default())).or_raise(py)?;
     let mut out = Vec::new();
     fn rows<T: ?Sized>(
@@ -184,7 +198,12 @@ fn components(py: Python<'_>) -> PyResult<Vec<(String, String, String, String)>>
         out: &mut Vec<(String, String, String, String)>,
     ) {
         for (name, e) in c.entries() {
-            out.push((c.kind().into(), name.into(), e.origin.clone(), e.summary.clone()));
+            out.push((
+                c.kind().into(),
+                name.into(),
+                e.origin.clone(),
+                e.summary.clone(),
+            ));
         }
     }
     rows(&registry.route_descriptors, &mut out);
@@ -209,7 +228,10 @@ fn load_plugin(py: Python<'_>, path: PathBuf) -> PyResult<Vec<String>> {
         v
     };
     let old = names(&before);
-    let added = names(&after).into_iter().filter(|n| !old.contains(n)).collect();
+    let added = names(&after)
+        .into_iter()
+        .filter(|n| !old.contains(n))
+        .collect();
     let mut plugins = PLUGINS.lock().unwrap_or_else(|e| e.into_inner());
     if !plugins.contains(&path) {
         plugins.push(path);
@@ -223,13 +245,19 @@ fn register(py: Python<'_>, kind: &str, name: &str, object: Bound<'_, PyAny>) ->
     let kind = match kind {
         "route descriptor" => Kind::Route,
         "constraint shape" => Kind::Shape,
-        _ => return Err(pyo3::exceptions::PyValueError::new_err(format!("unknown kind {kind}"))),
+        _ => {
+            return Err(pyo3::exceptions::PyValueError::new_err(format!(
+                "unknown kind {kind}"
+            )));
+        }
     };
     if name.is_empty() || name.chars().any(|c| c.is_whitespace() || c == '"') {
         return Err(raise(
             py,
             "ConfigError",
-            &format!("'{name}' cannot be a `type` name: use letters, digits and dashes, like \"spiral\""),
+            &format!(
+                "'{name}' cannot be a `type` name: use letters, digits and dashes, like \"spiral\""
+            ),
         ));
     }
     if !object.is_callable() && !object.is_instance_of::<PyType>() {
@@ -241,29 +269,54 @@ fn register(py: Python<'_>, kind: &str, name: &str, object: Bound<'_, PyAny>) ->
         .getattr("__doc__")
         .ok()
         .and_then(|d| d.extract::<String>().ok())
-        .and_then(|d| d.lines().map(str::trim).find(|l| !l.is_empty()).map(str::to_owned))
+        .and_then(|d| {
+            d.lines()
+                .map(str::trim)
+                .find(|l| !l.is_empty())
+                .map(str::to_owned)
+        })
         .unwrap_or_else(|| "written in Python".into());
     // A taken name is an error, never an override: check against the built-ins, the loaded
     // plugins and the Python components so far.
-    let mut registry = make::registry_with(&Pipeline::default(), &plugins_with(None)).or_raise(py)?;
+    let mut registry =
+        make::registry_with(&Pipeline::default(), &plugins_with(None)).or_raise(py)?;
     callbacks::register_all(py, &mut registry, &Arc::new(Failures::default())).or_raise(py)?;
     let (taken, what) = match kind {
-        Kind::Route => (registry.route_descriptors.get(name).ok().map(|e| e.origin.clone()), "route descriptor"),
-        Kind::Shape => (registry.constraint_shapes.get(name).ok().map(|e| e.origin.clone()), "constraint shape"),
+        Kind::Route => (
+            registry
+                .route_descriptors
+                .get(name)
+                .ok()
+                .map(|e| e.origin.clone()),
+            "route descriptor",
+        ),
+        Kind::Shape => (
+            registry
+                .constraint_shapes
+                .get(name)
+                .ok()
+                .map(|e| e.origin.clone()),
+            "constraint shape",
+        ),
     };
     if let Some(origin) = taken {
         return Err(raise(
             py,
             "ConfigError",
-            &format!("{what} '{name}' is already registered by {origin}; choose another name (two components cannot share a `type` name), or call subtgraph.unregister(\"{name}\") first to replace a Python one"),
+            &format!(
+                "{what} '{name}' is already registered by {origin}; choose another name (two components cannot share a `type` name), or call subtgraph.unregister(\"{name}\") first to replace a Python one"
+            ),
         ));
     }
-    REGISTERED.lock().unwrap_or_else(|e| e.into_inner()).push(Registered {
-        kind,
-        name: name.to_owned(),
-        object: object.unbind(),
-        summary,
-    });
+    REGISTERED
+        .lock()
+        .unwrap_or_else(|e| e.into_inner())
+        .push(Registered {
+            kind,
+            name: name.to_owned(),
+            object: object.unbind(),
+            summary,
+        });
     Ok(())
 }
 
@@ -309,7 +362,10 @@ fn dataset<'py>(
         let files = pipelines.unwrap_or_default();
         let names = presets.unwrap_or_default();
         if files.is_empty() && names.is_empty() {
-            anyhow::bail!("name at least one source: pipelines=[...] or presets=[...] ({})", subtgraph::presets::names());
+            anyhow::bail!(
+                "name at least one source: pipelines=[...] or presets=[...] ({})",
+                subtgraph::presets::names()
+            );
         }
         let chosen = files
             .iter()
@@ -319,7 +375,9 @@ fn dataset<'py>(
         for (file, preset) in chosen {
             let (mut p, description) = make::load_pipeline(file, preset)?;
             let name = match (file, preset) {
-                (Some(f), _) => f.file_stem().map_or_else(|| "world".into(), |s| s.to_string_lossy().into_owned()),
+                (Some(f), _) => f
+                    .file_stem()
+                    .map_or_else(|| "world".into(), |s| s.to_string_lossy().into_owned()),
                 (None, n) => n.unwrap_or("cave").to_owned(),
             };
             if let Some(t) = &tileset {
@@ -335,7 +393,13 @@ fn dataset<'py>(
             // Runs first in every world folder: a world made after a Python callback failed
             // is not written.
             components.exporters.insert(0, callbacks::gate(&failures));
-            sources.push(subtgraph::dataset::Source { name, description, pipeline: p, components, registry });
+            sources.push(subtgraph::dataset::Source {
+                name,
+                description,
+                pipeline: p,
+                components,
+                registry,
+            });
         }
         Ok(sources)
     })();
@@ -347,7 +411,9 @@ fn dataset<'py>(
         count,
         seed,
         out,
-        jobs: jobs.unwrap_or_else(|| std::thread::available_parallelism().map_or(1, std::num::NonZero::get)),
+        jobs: jobs.unwrap_or_else(|| {
+            std::thread::available_parallelism().map_or(1, std::num::NonZero::get)
+        }),
         shard: subtgraph::dataset::Shard::ALL,
         max_memory: subtgraph::memory::budget(max_memory)
             .map_err(|e| raise(py, "ConfigError", &make::message(&e)))?,
@@ -368,8 +434,11 @@ fn dataset<'py>(
 #[pyfunction]
 #[pyo3(signature = (inputs, out, crop="common"))]
 fn stats(py: Python<'_>, inputs: Vec<PathBuf>, out: PathBuf, crop: &str) -> PyResult<String> {
-    let crop: subtgraph::stats::Crop = crop.parse().map_err(|m: String| raise(py, "ConfigError", &m))?;
-    py.detach(|| subtgraph::stats::run(&inputs, &out, crop)).or_raise(py)
+    let crop: subtgraph::stats::Crop = crop
+        .parse()
+        .map_err(|m: String| raise(py, "ConfigError", &m))?;
+    py.detach(|| subtgraph::stats::run(&inputs, &out, crop))
+        .or_raise(py)
 }
 
 /// The extension module.

@@ -24,6 +24,12 @@ use subtgraph_core::params::{ComponentSpec, Params};
 
 use crate::errors::OrRaise;
 
+/// A cell as Python sees it: `(level, row, col)`.
+type PyCell = (usize, usize, usize);
+
+/// A mesh as Python sees it: vertices `float32 [n, 3]` and triangles `uint32 [m, 3]`.
+type PyMesh<'py> = (Bound<'py, PyArrayDyn<f32>>, Bound<'py, PyArrayDyn<u32>>);
+
 /// A generated world, as the Python package's `World` wraps it.
 #[pyclass(module = "subtgraph._native", name = "World", frozen)]
 pub struct PyWorld {
@@ -204,7 +210,8 @@ fn inline_includes(files: &MemoryWriter) -> anyhow::Result<String> {
         let part = text(&format!("mujoco/{file}"))?;
         for l in part.lines() {
             let t = l.trim_start();
-            if t.starts_with("<mujoco") || t.starts_with("</mujoco>") || t.starts_with("<compiler") {
+            if t.starts_with("<mujoco") || t.starts_with("</mujoco>") || t.starts_with("<compiler")
+            {
                 continue;
             }
             out.push_str(l);
@@ -278,7 +285,7 @@ impl PyWorld {
 
     /// Shafts as `((level, row, col) foot, (level, row, col) landing)`.
     #[getter]
-    fn shafts(&self) -> Vec<((usize, usize, usize), (usize, usize, usize))> {
+    fn shafts(&self) -> Vec<(PyCell, PyCell)> {
         let t = |c: Cell| (c.level, c.row, c.col);
         self.world
             .shafts
@@ -324,22 +331,32 @@ impl PyWorld {
     fn mesh<'py>(
         slf: &Bound<'py, Self>,
         which: &str,
-    ) -> PyResult<(Bound<'py, PyArrayDyn<f32>>, Bound<'py, PyArrayDyn<u32>>)> {
+    ) -> PyResult<PyMesh<'py>> {
         let m = mesh_of(&slf.get().world, which)?;
         Ok((rows(slf, &m.positions)?, rows(slf, &m.triangles)?))
     }
 
     /// Per-vertex normals `float32 [n, 3]` of a mesh (pointing into the passage).
-    fn mesh_normals<'py>(slf: &Bound<'py, Self>, which: &str) -> PyResult<Bound<'py, PyArrayDyn<f32>>> {
+    fn mesh_normals<'py>(
+        slf: &Bound<'py, Self>,
+        which: &str,
+    ) -> PyResult<Bound<'py, PyArrayDyn<f32>>> {
         let m = mesh_of(&slf.get().world, which)?;
         rows(slf, &m.normals)
     }
 
     /// Per-triangle material indices `uint8 [m]` of a mesh (into `material_names`).
-    fn mesh_materials<'py>(slf: &Bound<'py, Self>, which: &str) -> PyResult<Bound<'py, PyArrayDyn<u8>>> {
+    fn mesh_materials<'py>(
+        slf: &Bound<'py, Self>,
+        which: &str,
+    ) -> PyResult<Bound<'py, PyArrayDyn<u8>>> {
         let m = mesh_of(&slf.get().world, which)?;
         if m.materials.is_empty() {
-            return Ok(PyArrayDyn::zeros(slf.py(), IxDyn(&[m.triangles.len()]), false));
+            return Ok(PyArrayDyn::zeros(
+                slf.py(),
+                IxDyn(&[m.triangles.len()]),
+                false,
+            ));
         }
         borrowed(slf, dyn_view(&m.materials, &[m.materials.len()]))
     }
@@ -356,7 +373,11 @@ impl PyWorld {
     /// The files the exporters for `formats` write (the world's own exporters when `None`),
     /// in memory: `{path: bytes}`, paths relative to the world folder.
     #[pyo3(signature = (formats=None))]
-    fn files<'py>(&self, py: Python<'py>, formats: Option<Vec<String>>) -> PyResult<Bound<'py, PyDict>> {
+    fn files<'py>(
+        &self,
+        py: Python<'py>,
+        formats: Option<Vec<String>>,
+    ) -> PyResult<Bound<'py, PyDict>> {
         let files = py
             .detach(|| {
                 let exporters = self.exporters_for(formats.as_deref())?;
@@ -407,7 +428,13 @@ impl PyWorld {
     /// a world folder it wrote). `formats` replaces the exporters the world was generated
     /// with; its `world.toml` records what was written.
     #[pyo3(signature = (folder, formats=None, force=false))]
-    fn export(&self, py: Python<'_>, folder: PathBuf, formats: Option<Vec<String>>, force: bool) -> PyResult<()> {
+    fn export(
+        &self,
+        py: Python<'_>,
+        folder: PathBuf,
+        formats: Option<Vec<String>>,
+        force: bool,
+    ) -> PyResult<()> {
         py.detach(|| -> anyhow::Result<()> {
             let built;
             let (exporters, world_toml) = match &formats {
