@@ -328,10 +328,7 @@ impl PyWorld {
     }
 
     /// `(vertices float32 [n, 3], triangles uint32 [m, 3])` of the visual or collision mesh.
-    fn mesh<'py>(
-        slf: &Bound<'py, Self>,
-        which: &str,
-    ) -> PyResult<PyMesh<'py>> {
+    fn mesh<'py>(slf: &Bound<'py, Self>, which: &str) -> PyResult<PyMesh<'py>> {
         let m = mesh_of(&slf.get().world, which)?;
         Ok((rows(slf, &m.positions)?, rows(slf, &m.triangles)?))
     }
