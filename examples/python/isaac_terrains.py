@@ -15,11 +15,15 @@ import pathlib
 import subtgraph
 
 
-def terrain(k, count):
+def terrain(k, count, max_levels, max_length):
     """The k-th terrain's pipeline: from one small level to several larger ones."""
     d = k / max(count - 1, 1)
     return {
-        "world": {"seed": 100 + k, "levels": 1 + round(2 * d), "min_length": 1500 + round(2500 * d)},
+        "world": {
+            "seed": 100 + k,
+            "levels": 1 + round((max_levels - 1) * d),
+            "min_length": 1500 + round((max_length - 1500) * d),
+        },
         "topology": {"loops": round(2 * d), "t_junctions": 1 + round(2 * d), "intersections": 1},
         "route": {"type": "harmonic", "harmonics": 3},
         "tileset": {"type": "lava-tube" if d > 0.5 else "cave"},
@@ -30,11 +34,14 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("out", type=pathlib.Path, help="folder for the terrains and terrains.json")
     ap.add_argument("--count", type=int, default=4)
+    ap.add_argument("--max-levels", type=int, default=3, help="levels of the hardest terrain")
+    ap.add_argument("--max-length", type=int, default=4000,
+                    help="world.min_length (metres of passages) of the hardest terrain")
     args = ap.parse_args()
     args.out.mkdir(parents=True, exist_ok=True)
     terrains = []
     for k in range(args.count):
-        pipeline, difficulty = terrain(k, args.count)
+        pipeline, difficulty = terrain(k, args.count, args.max_levels, args.max_length)
         world = subtgraph.generate(pipeline=pipeline, formats=["usd", "spawn-poses"])
         folder = args.out / f"terrain-{k:02d}"
         world.export(folder)

@@ -321,7 +321,9 @@ class World:
 
     def ground_truth(self, formats: Iterable[str] = ("ground-truth",)) -> dict[str, Any]:
         """The ground truth, decoded: ``{path: value}`` with JSON files parsed, ``.npy``
-        files as numpy arrays, and other files (maps, CSV, GraphML) as bytes."""
+        files and the ROS maps (``.pgm``, row 0 north) as numpy arrays, and other files
+        (YAML, CSV, GraphML) as bytes. ``formats`` picks the parts (``"graph"``,
+        ``"ros-map"``, ``"free-space"``, ``"semantic-labels"``, ``"spawn-poses"``)."""
         import numpy as np
 
         out: dict[str, Any] = {}
@@ -330,12 +332,38 @@ class World:
                 out[path] = json.loads(data)
             elif path.endswith(".npy"):
                 out[path] = np.load(io.BytesIO(data))
+            elif path.endswith(".pgm"):
+                out[path] = _pgm(data)
             else:
                 out[path] = data
         return out
 
     def __repr__(self) -> str:
         return repr(self._w)
+
+
+def _pgm(data: bytes) -> Any:
+    """A binary (P5) PGM as a numpy uint8 array [height, width]."""
+    import numpy as np
+
+    fields: list[bytes] = []
+    pos = 0
+    while len(fields) < 4:
+        while data[pos : pos + 1].isspace():
+            pos += 1
+        if data[pos : pos + 1] == b"#":
+            pos = data.index(b"\n", pos) + 1
+            continue
+        end = pos
+        while not data[end : end + 1].isspace():
+            end += 1
+        fields.append(data[pos:end])
+        pos = end
+    if fields[0] != b"P5" or fields[3] != b"255":
+        raise ValueError("not an 8-bit binary PGM")
+    width, height = int(fields[1]), int(fields[2])
+    pixels = np.frombuffer(data, dtype=np.uint8, count=width * height, offset=pos + 1)
+    return pixels.reshape(height, width)
 
 
 def presets() -> dict[str, str]:

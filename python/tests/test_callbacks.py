@@ -222,3 +222,28 @@ def test_generation_releases_the_gil():
         stop.set()
         t.join()
     assert len(ticks) > 1000
+
+
+DETERMINISM = """
+import hashlib, math, subtgraph
+@subtgraph.route_descriptor("spiral")
+def spiral(t, segment):
+    return segment.side * 2.0 * math.sin(2 * math.pi * t)
+w = subtgraph.generate(pipeline={"world": {"seed": 9, "levels": 2, "rows": 40, "cols": 40},
+                                 "route": {"type": "spiral"}, "tileset": {"type": "cave"}})
+v, f = w.mesh.visual
+print(hashlib.sha256(w.occupancy.tobytes() + v.tobytes() + f.tobytes()).hexdigest())
+"""
+
+
+@pytest.mark.parametrize("threads", ["1", "3"])
+def test_python_callbacks_give_the_same_world_on_any_thread_count(threads):
+    import subprocess
+    import sys
+
+    def digest(n):
+        env = {**os.environ, "RAYON_NUM_THREADS": n}
+        return subprocess.run([sys.executable, "-c", DETERMINISM], env=env, capture_output=True,
+                              text=True, check=True).stdout
+
+    assert digest(threads) == digest("2")

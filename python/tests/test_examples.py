@@ -40,9 +40,11 @@ def test_custom_route(tmp_path):
 def test_isaac_terrains(tmp_path):
     from pxr import Usd, UsdPhysics
 
-    run("isaac_terrains.py", tmp_path / "t", "--count", "2", cwd=tmp_path)
+    run("isaac_terrains.py", tmp_path / "t", "--count", "2", "--max-levels", "2",
+        "--max-length", "1800", cwd=tmp_path)
     listing = json.loads((tmp_path / "t" / "terrains.json").read_text())["terrains"]
     assert [t["difficulty"] for t in listing] == [0.0, 1.0]
+    assert [t["levels"] for t in listing] == [1, 2]
     for t in listing:
         stage = Usd.Stage.Open(t["usd_path"])
         colliders = [p for p in stage.Traverse() if p.HasAPI(UsdPhysics.CollisionAPI)]

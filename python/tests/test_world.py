@@ -133,6 +133,15 @@ def test_ground_truth_is_decoded():
     assert poses
     free = gt["ground_truth/free_space.npy"]
     assert isinstance(free, np.ndarray) and free.size > 0
+    ros = gt["ground_truth/maps/level-0.pgm"]
+    # The same pixels as Pillow reads from the file.
+    import io
+
+    from PIL import Image
+
+    raw = world.files(["ros-map"])["ground_truth/maps/level-0.pgm"]
+    assert np.array_equal(ros, np.asarray(Image.open(io.BytesIO(raw))))
+    assert set(np.unique(ros)) <= {0, 205, 254} and (ros == 254).any()
 
 
 def test_export_never_touches_a_users_files(tmp_path):
