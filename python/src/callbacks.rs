@@ -305,7 +305,7 @@ pub fn register_all(
                         } else {
                             instance
                         };
-                        shape_from(py, &instance, &name)
+                        shape_from(py, &instance)
                             .map(|s| Box::new(s) as Box<dyn ConstraintShape>)
                             .map_err(|m| params.error("type", format!("constraint shape '{name}' (Python): {m}")))
                     })
@@ -368,7 +368,7 @@ fn direction(s: &str) -> Result<Direction, String> {
     }
 }
 
-fn shape_from(py: Python<'_>, o: &Bound<'_, PyAny>, name: &str) -> Result<DataShape, String> {
+fn shape_from(py: Python<'_>, o: &Bound<'_, PyAny>) -> Result<DataShape, String> {
     let py_err = |e: PyErr| describe(py, &e);
     let footprint: Vec<(i32, i32)> = value(o, "footprint")
         .map_err(py_err)?
@@ -455,7 +455,6 @@ fn shape_from(py: Python<'_>, o: &Bound<'_, PyAny>, name: &str) -> Result<DataSh
             .ok_or("`clearance` must be a whole number of cells from 1 to 16")?,
         None => 2,
     };
-    let _ = name;
     Ok(DataShape {
         footprint,
         arms,
