@@ -335,35 +335,23 @@ fn run(cli: Cli) -> Result<()> {
             let mut sources = Vec::new();
             let mut skipped_exporters: Vec<String> = Vec::new();
             for (file, preset) in chosen {
-                let (mut p, description) = make::load_pipeline(file, preset)?;
-                let name = match (file, preset) {
-                    (Some(f), _) => f
-                        .file_stem()
-                        .map(|s| s.to_string_lossy().into_owned())
-                        .unwrap_or_else(|| "world".into()),
-                    (None, n) => n.unwrap_or("cave").to_owned(),
-                };
-                if let Some(t) = &tileset {
-                    p.tileset = Some(subtgraph::core::params::ComponentSpec::named(t));
-                }
-                if no_mesh {
-                    p.tileset = None;
-                }
-                make::add_formats(&mut p, &format)?;
-                let registry = registry_with(&p, &plugins)?;
-                let (components, skipped) = make::build_and_skipped(&p, &registry, no_mesh)?;
+                let (source, skipped) = make::dataset_source(
+                    file,
+                    preset,
+                    &make::SourceOptions {
+                        tileset: tileset.as_deref(),
+                        no_mesh,
+                        formats: &format,
+                        plugins: &plugins,
+                    },
+                    &mut |_| Ok(()),
+                )?;
                 for name in skipped {
                     if !skipped_exporters.contains(&name) {
                         skipped_exporters.push(name);
                     }
                 }
-                sources.push(dataset::Source {
-                    name,
-                    description,
-                    pipeline: p,
-                    components,
-                    registry,
-                });
+                sources.push(source);
             }
             make::note_skipped(&skipped_exporters);
             let opts = dataset::Options {

@@ -187,6 +187,56 @@ pub fn load_pipeline(file: Option<&Path>, preset: Option<&str>) -> Result<(Pipel
     }
 }
 
+/// How `dataset` turns each pipeline file or preset into a source: the command line's
+/// `--tileset`, `--no-mesh`, `--format` and `--plugin`.
+pub struct SourceOptions<'a> {
+    /// Replaces the pipeline's `[tileset]`.
+    pub tileset: Option<&'a str>,
+    /// No geometry: the tile set and the exporters that need it are left out.
+    pub no_mesh: bool,
+    /// Exporters to add, as `--format` lists them.
+    pub formats: &'a [String],
+    /// Plugin libraries besides the pipeline's own.
+    pub plugins: &'a [PathBuf],
+}
+
+/// A dataset source from a pipeline file or a preset (see [`load_pipeline`]), named by the
+/// preset or the file's stem, with its registry (plus what `extend` adds: the Python
+/// package's components) and components; and the exporters left out under `no_mesh`.
+pub fn dataset_source(
+    file: Option<&Path>,
+    preset: Option<&str>,
+    opts: &SourceOptions<'_>,
+    extend: &mut dyn FnMut(&mut Registry) -> Result<()>,
+) -> Result<(crate::dataset::Source, Vec<String>)> {
+    let (mut p, description) = load_pipeline(file, preset)?;
+    let name = match (file, preset) {
+        (Some(f), _) => f
+            .file_stem()
+            .map(|s| s.to_string_lossy().into_owned())
+            .unwrap_or_else(|| "world".into()),
+        (None, n) => n.unwrap_or("cave").to_owned(),
+    };
+    if let Some(t) = opts.tileset {
+        p.tileset = Some(ComponentSpec::named(t));
+    }
+    if opts.no_mesh {
+        p.tileset = None;
+    }
+    add_formats(&mut p, opts.formats)?;
+    let mut registry = registry_with(&p, opts.plugins)?;
+    extend(&mut registry)?;
+    let (components, skipped) = build_and_skipped(&p, &registry, opts.no_mesh)?;
+    let source = crate::dataset::Source {
+        name,
+        description,
+        pipeline: p,
+        components,
+        registry,
+    };
+    Ok((source, skipped))
+}
+
 /// The error and its causes, each cause once: many errors already quote their cause in their
 /// own message (`writing mesh/world.obj: File too large`), so a cause already said is skipped.
 pub fn message(e: &anyhow::Error) -> String {

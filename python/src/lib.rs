@@ -372,34 +372,24 @@ fn dataset<'py>(
             .map(|f| (Some(f.as_path()), None))
             .chain(names.iter().map(|n| (None::<&Path>, Some(n.as_str()))));
         let mut sources = Vec::new();
+        let opts = make::SourceOptions {
+            tileset: tileset.as_deref(),
+            no_mesh: !mesh,
+            formats: formats.as_deref().unwrap_or_default(),
+            plugins: &plugins,
+        };
         for (file, preset) in chosen {
-            let (mut p, description) = make::load_pipeline(file, preset)?;
-            let name = match (file, preset) {
-                (Some(f), _) => f
-                    .file_stem()
-                    .map_or_else(|| "world".into(), |s| s.to_string_lossy().into_owned()),
-                (None, n) => n.unwrap_or("cave").to_owned(),
-            };
-            if let Some(t) = &tileset {
-                p.tileset = Some(subtgraph_core::params::ComponentSpec::named(t));
-            }
-            if !mesh {
-                p.tileset = None;
-            }
-            make::add_formats(&mut p, formats.as_deref().unwrap_or_default())?;
-            let mut registry = make::registry_with(&p, &plugins)?;
-            callbacks::register_all(py, &mut registry, &failures)?;
-            let (mut components, _) = make::build_and_skipped(&p, &registry, !mesh)?;
+            let (mut source, _) = make::dataset_source(file, preset, &opts, &mut |registry| {
+                callbacks::register_all(py, registry, &failures)?;
+                Ok(())
+            })?;
             // Runs first in every world folder: a world made after a Python callback failed
             // is not written.
-            components.exporters.insert(0, callbacks::gate(&failures));
-            sources.push(subtgraph::dataset::Source {
-                name,
-                description,
-                pipeline: p,
-                components,
-                registry,
-            });
+            source
+                .components
+                .exporters
+                .insert(0, callbacks::gate(&failures));
+            sources.push(source);
         }
         Ok(sources)
     })();
