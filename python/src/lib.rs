@@ -349,6 +349,7 @@ fn dataset<'py>(
 ) -> PyResult<Bound<'py, PyDict>> {
     let plugins = plugins_with(plugins);
     let failures = Arc::new(Failures::default());
+    let mut skipped: Vec<String> = Vec::new();
     let sources = (|| -> anyhow::Result<Vec<subtgraph::dataset::Source>> {
         if seed > i64::MAX as u64 {
             anyhow::bail!("seed must be at most 2^63 - 1 (9223372036854775807)");
@@ -379,10 +380,11 @@ fn dataset<'py>(
             plugins: &plugins,
         };
         for (file, preset) in chosen {
-            let (mut source, _) = make::dataset_source(file, preset, &opts, &mut |registry| {
-                callbacks::register_all(py, registry, &failures)?;
-                Ok(())
-            })?;
+            let (mut source, left_out) =
+                make::dataset_source(file, preset, &opts, &mut |registry| {
+                    callbacks::register_all(py, registry, &failures)?;
+                    Ok(())
+                })?;
             // Runs first in every world folder: a world made after a Python callback failed
             // is not written.
             source
@@ -390,6 +392,11 @@ fn dataset<'py>(
                 .exporters
                 .insert(0, callbacks::gate(&failures));
             sources.push(source);
+            for name in left_out {
+                if !skipped.contains(&name) {
+                    skipped.push(name);
+                }
+            }
         }
         Ok(sources)
     })();
@@ -397,6 +404,14 @@ fn dataset<'py>(
         return Err(e);
     }
     let sources = sources.or_raise(py)?;
+    for name in skipped {
+        warn(
+            py,
+            &format!(
+                "skipping exporter '{name}': it writes geometry, and mesh=False asked for none"
+            ),
+        )?;
+    }
     let opts = subtgraph::dataset::Options {
         count,
         seed,

@@ -127,20 +127,14 @@ impl WorldWriter for WithWorldToml<'_> {
 }
 
 impl PyWorld {
-    /// The exporters for `formats` (names, like the command line's `--format`), or the
-    /// world's own when `None`; each also checked against the world's geometry.
-    fn exporters_for(&self, formats: Option<&[String]>) -> anyhow::Result<Vec<NamedExporter>> {
+    /// The exporters for `formats` (names, like the command line's `--format`), each checked
+    /// against the world's geometry.
+    fn exporters_for(&self, formats: &[String]) -> anyhow::Result<Vec<NamedExporter>> {
         let registry = subtgraph::make::registry_with(&self.world.pipeline, &self.plugins)?;
-        let specs: Vec<ComponentSpec> = match formats {
-            None => return self.rebuild(&registry, &self.world.pipeline.export),
-            Some(f) => {
-                let mut p = self.world.pipeline.clone();
-                p.export.clear();
-                subtgraph::make::add_formats(&mut p, f)?;
-                p.export
-            }
-        };
-        self.rebuild(&registry, &specs)
+        let mut p = self.world.pipeline.clone();
+        p.export.clear();
+        subtgraph::make::add_formats(&mut p, formats)?;
+        self.rebuild(&registry, &p.export)
     }
 
     fn rebuild(
@@ -376,9 +370,11 @@ impl PyWorld {
         formats: Option<Vec<String>>,
     ) -> PyResult<Bound<'py, PyDict>> {
         let files = py
-            .detach(|| {
-                let exporters = self.exporters_for(formats.as_deref())?;
-                self.run(&exporters)
+            .detach(|| match &formats {
+                // The exporters the world was generated with (without those left out under
+                // mesh=False).
+                None => self.run(&self.exporters),
+                Some(f) => self.run(&self.exporters_for(f)?),
             })
             .or_raise(py)?;
         files_dict(py, &files)
@@ -437,7 +433,7 @@ impl PyWorld {
             let (exporters, world_toml) = match &formats {
                 None => (&self.exporters, None),
                 Some(f) => {
-                    built = self.exporters_for(Some(f))?;
+                    built = self.exporters_for(f)?;
                     let mut p = self.world.pipeline.clone();
                     p.export.clear();
                     subtgraph::make::add_formats(&mut p, f)?;

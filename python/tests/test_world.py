@@ -215,3 +215,12 @@ def test_plugins_load_from_python():
     assert world.occupancy.any()
     with pytest.raises(subtgraph.PluginError, match="no such file"):
         subtgraph.load_plugin(ROOT / "no-such-plugin.so")
+
+
+def test_geometry_formats_without_a_mesh_are_left_out_with_a_warning(tmp_path):
+    with pytest.warns(UserWarning, match="skipping exporter 'mjcf'"):
+        world = subtgraph.generate(preset="cave", seed=3, mesh=False, formats=["mjcf", "graph"])
+    assert sorted(world.files()) == ["ground_truth/graph.graphml", "ground_truth/graph.json"]
+    with pytest.warns(UserWarning, match="skipping exporter 'usd'"):
+        subtgraph.dataset(tmp_path / "d", presets=["cave"], count=1, mesh=False, formats=["usd"])
+    assert not list((tmp_path / "d").rglob("*.usda"))
