@@ -217,6 +217,54 @@ fn presets_and_paper_datasets_give_exactly_the_topology_asked_for() {
     );
 }
 
+/// Issue 15 item 2: mines' linear routes run straight and meet at right angles, so their tile
+/// mix is the original's published mines' (corners under 5 %, against 29.5 % when a linear
+/// route was laid as a staircase), and most corridors between two nodes turn at most once
+/// (more only where a detour round another corridor needs it). Curved routes keep theirs.
+#[test]
+fn mine_drifts_run_straight_and_turn_at_right_angles() {
+    let r = subtgraph::registry();
+    let share = |name: &str| {
+        let mut p = subtgraph::presets::load(name).unwrap();
+        let (mut corners, mut tiles, mut edges, mut straightish) = (0, 0, 0, 0);
+        for seed in 0..40 {
+            p.world.seed = seed;
+            let w = generate(&p, &r).unwrap();
+            let is_corner = |c| w.tiles.get(c).is_some_and(|t| t.kind == TileKind::Corner);
+            for c in w.occupancy.cells().filter(|&c| *w.occupancy.get(c)) {
+                tiles += 1;
+                corners += usize::from(is_corner(c));
+            }
+            for e in w
+                .graph
+                .edges
+                .iter()
+                .filter(|e| e.kind == EdgeKind::Corridor)
+            {
+                edges += 1;
+                straightish += usize::from(e.cells.iter().filter(|&&c| is_corner(c)).count() <= 1);
+            }
+        }
+        (
+            corners as f64 / tiles as f64,
+            straightish as f64 / edges as f64,
+        )
+    };
+    let (mine, mine_straight) = share("mine");
+    assert!(mine < 0.05, "mine corner share {:.1} %", 100.0 * mine);
+    assert!(
+        mine_straight > 0.75,
+        "only {:.0} % of mine corridors turn at most once",
+        100.0 * mine_straight
+    );
+    let (cave, _) = share("cave");
+    assert!(
+        cave > 0.2,
+        "caves still wind: corner share {:.1} %",
+        100.0 * cave
+    );
+}
+
 #[test]
 fn different_seeds_give_different_worlds() {
     let r = subtgraph::registry();
