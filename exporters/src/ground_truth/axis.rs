@@ -392,7 +392,7 @@ fn tile_axis(world: &World, passages: &Passages, c: Cell) -> Option<TileAxis> {
             k = parent[k] as usize;
             path.push(k);
         }
-        let mut out: Vec<[f64; 3]> = path
+        let out: Vec<[f64; 3]> = path
             .iter()
             .enumerate()
             .skip(1)
