@@ -169,3 +169,164 @@ fn ground_truth_is_byte_identical_on_one_and_three_threads() {
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// The floor under `p` by our own vertical ray test on a triangle soup (independent of the
+/// exporter's exact raster): the highest crossing at most `reach` below `p.z + 0.5`, if its
+/// triangle faces up (a floor, seen from the passage) and nothing else crosses the line within
+/// a metre above it (room for a robot's body). Works on open surfaces (the DARPA tiles').
+struct Soup<'a> {
+    mesh: &'a subtgraph::core::mesh::Mesh,
+    buckets: std::collections::HashMap<(i64, i64), Vec<usize>>,
+    size: f64,
+}
+
+impl<'a> Soup<'a> {
+    fn new(mesh: &'a subtgraph::core::mesh::Mesh, size: f64) -> Self {
+        let mut buckets: std::collections::HashMap<(i64, i64), Vec<usize>> = Default::default();
+        for (t, tri) in mesh.triangles.iter().enumerate() {
+            let p = tri.map(|v| mesh.positions[v as usize]);
+            let lo = |k: usize| {
+                (p.iter().map(|q| f64::from(q[k])).fold(f64::MAX, f64::min) / size).floor() as i64
+            };
+            let hi = |k: usize| {
+                (p.iter().map(|q| f64::from(q[k])).fold(f64::MIN, f64::max) / size).floor() as i64
+            };
+            for bx in lo(0)..=hi(0) {
+                for by in lo(1)..=hi(1) {
+                    buckets.entry((bx, by)).or_default().push(t);
+                }
+            }
+        }
+        Soup {
+            mesh,
+            buckets,
+            size,
+        }
+    }
+
+    /// `(height, faces up)` of every crossing of the vertical line through `(x, y)`, sorted.
+    fn crossings(&self, x: f64, y: f64) -> Vec<(f64, bool)> {
+        let (x, y) = (x + 3.1e-6, y + 1.7e-6); // off shared edges
+        let key = (
+            (x / self.size).floor() as i64,
+            (y / self.size).floor() as i64,
+        );
+        let mut out = Vec::new();
+        for &t in self.buckets.get(&key).map(Vec::as_slice).unwrap_or(&[]) {
+            let p = self.mesh.triangles[t].map(|v| self.mesh.positions[v as usize].map(f64::from));
+            let o =
+                |a: [f64; 3], b: [f64; 3]| (b[0] - a[0]) * (y - a[1]) - (b[1] - a[1]) * (x - a[0]);
+            let area = (p[1][0] - p[0][0]) * (p[2][1] - p[0][1])
+                - (p[1][1] - p[0][1]) * (p[2][0] - p[0][0]);
+            if area == 0.0 {
+                continue;
+            }
+            let (wa, wb, wc) = (o(p[1], p[2]), o(p[2], p[0]), o(p[0], p[1]));
+            if (wa >= 0.0 && wb >= 0.0 && wc >= 0.0) || (wa <= 0.0 && wb <= 0.0 && wc <= 0.0) {
+                out.push((
+                    (wa * p[0][2] + wb * p[1][2] + wc * p[2][2]) / area,
+                    area > 0.0,
+                ));
+            }
+        }
+        out.sort_by(|a, b| a.0.total_cmp(&b.0));
+        out
+    }
+
+    fn stands_on_a_floor(&self, p: [f64; 3]) -> bool {
+        let hits = self.crossings(p[0], p[1]);
+        let probe = p[2] + 0.5;
+        let Some(k) = hits.iter().rposition(|h| h.0 <= probe) else {
+            return false;
+        };
+        // Tiles may overlap in coincident triangles (a cap's floor on a corridor's): any of
+        // those at the floor's height facing up makes it a floor.
+        let floor = hits[k].0;
+        let up = hits.iter().any(|h| (h.0 - floor).abs() < 1e-6 && h.1);
+        let above = hits.iter().find(|h| h.0 > floor + 1e-6);
+        up && probe - floor <= 1.0 && above.is_none_or(|h| h.0 >= floor + 1.0)
+    }
+}
+
+/// Issue 15 items 6 and 7: every node and every point of every corridor's polyline in
+/// `graph.json` stands in free space on a floor, over many seeds per preset and on the DARPA
+/// tiles (whose passages miss their tile centres).
+fn graph_points_stand_on_floors(p: &subtgraph::core::Pipeline, what: &str) -> usize {
+    use subtgraph::core::export::{Exporter, MemoryWriter};
+    let world = subtgraph::core::generate(p, &subtgraph::registry())
+        .unwrap_or_else(|e| panic!("{what}: {e}"));
+    let mesh = &world.mesh.as_ref().expect("a mesh").collision;
+    let soup = Soup::new(mesh, world.resolved.tile_pitch / 4.0);
+    let mut out = MemoryWriter::default();
+    subtgraph::exporters::GraphFiles
+        .export(&world, &mut out)
+        .unwrap();
+    let doc: serde_json::Value =
+        serde_json::from_slice(out.get("ground_truth/graph.json").unwrap()).unwrap();
+    let point = |v: &serde_json::Value| -> [f64; 3] {
+        let a = v.as_array().unwrap();
+        [0, 1, 2].map(|k| a[k].as_f64().unwrap())
+    };
+    let mut checked = 0;
+    for n in doc["nodes"].as_array().unwrap() {
+        let p = point(&n["position"]);
+        assert!(
+            soup.stands_on_a_floor(p),
+            "{what}: node {} at {p:?}",
+            n["id"]
+        );
+        checked += 1;
+    }
+    for e in doc["edges"].as_array().unwrap() {
+        if e["kind"] != "corridor" {
+            continue;
+        }
+        for v in e["polyline"].as_array().unwrap() {
+            let p = point(v);
+            // A seam point lies on a tile border: the floor is the one just beside it.
+            let near = [
+                [0.0, 0.0],
+                [0.05, 0.0],
+                [-0.05, 0.0],
+                [0.0, 0.05],
+                [0.0, -0.05],
+            ];
+            assert!(
+                near.iter()
+                    .any(|d| soup.stands_on_a_floor([p[0] + d[0], p[1] + d[1], p[2]])),
+                "{what}: edge {} point {p:?}",
+                e["id"]
+            );
+            checked += 1;
+        }
+    }
+    checked
+}
+
+#[test]
+fn graph_nodes_and_centrelines_stand_on_floors_over_many_seeds() {
+    for (preset, seeds) in [("cave", 0..6), ("mine", 0..3), ("lava-tube", 0..2)] {
+        let mut p = subtgraph::presets::load(preset).unwrap();
+        for seed in seeds {
+            p.world.seed = seed;
+            let n = graph_points_stand_on_floors(&p, &format!("{preset} seed {seed}"));
+            assert!(n > 100);
+        }
+    }
+}
+
+#[test]
+fn graph_nodes_and_centrelines_stand_on_floors_of_the_darpa_tiles() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    if !root.join("../shared/darpa-subt-tiles/cave-type-b").is_dir() {
+        eprintln!(
+            "skipping: ../shared/darpa-subt-tiles is absent (the DARPA tiles live in ../shared)"
+        );
+        return;
+    }
+    let file = root.join("examples/darpa-cave.toml");
+    let text = std::fs::read_to_string(&file).unwrap();
+    let p = subtgraph::core::Pipeline::parse(&text, file.to_str().unwrap()).unwrap();
+    let n = graph_points_stand_on_floors(&p, "examples/darpa-cave.toml");
+    eprintln!("{n} node and polyline points on the DARPA tiles' floors");
+}

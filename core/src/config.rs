@@ -161,9 +161,11 @@ pub struct TopologySection {
     /// `count`.
     #[serde(default, rename = "structure", skip_serializing_if = "Vec::is_empty")]
     pub structures: Vec<ComponentSpec>,
-    /// When true, the final grid has exactly the requested junctions, intersections and loops:
-    /// routes keep clear of corridors they are not meant to join.
-    #[serde(default)]
+    /// When true (the default), the final grid has exactly the requested junctions,
+    /// intersections and loops: routes keep clear of corridors they are not meant to join.
+    /// `false` is the original's behaviour: at least what was asked, arms that land next to a
+    /// corridor join it and bring junctions and loops of their own.
+    #[serde(default = "default_exact")]
     pub exact: bool,
     /// Per-level structure counts by shape name; written by resolution, and may be given by
     /// hand to fix each level's counts.
@@ -171,6 +173,9 @@ pub struct TopologySection {
     pub per_level: Vec<BTreeMap<String, u32>>,
 }
 
+fn default_exact() -> bool {
+    true
+}
 fn default_loops() -> IntRange {
     IntRange::Between(0, 2)
 }
@@ -185,7 +190,7 @@ impl Default for TopologySection {
             t_junctions: default_junctions(),
             intersections: default_junctions(),
             structures: Vec::new(),
-            exact: false,
+            exact: default_exact(),
             per_level: Vec::new(),
         }
     }

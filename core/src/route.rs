@@ -78,6 +78,15 @@ pub trait RouteDescriptor: Send + Sync {
     /// Should be 0 at `t = 0` and `t = 1` so routes meet their nodes.
     fn offset(&self, t: f64, segment: &Segment) -> f64;
 
+    /// Extra cost of a right-angle turn for the shortest-path search that lays the route along
+    /// the guide (a step costs 1 on the guide, more off it). `0`, the default, lets a route turn
+    /// anywhere at no cost, so a detour or a diagonal run becomes a staircase of corners, as
+    /// in the original. A positive cost makes routes run straight and turn only where they
+    /// must: the `linear` descriptor's mine drifts.
+    fn turn_cost(&self) -> u32 {
+        0
+    }
+
     /// Number of points sampled along a segment (paper eq. 8, factor 4 as in the original).
     fn samples(&self, segment: &Segment) -> usize {
         (4.0 * segment.length()).floor().max(1.0) as usize

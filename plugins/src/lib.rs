@@ -389,6 +389,9 @@ impl RouteDescriptor for Guarded<dyn RouteDescriptor> {
     fn guide(&self, segment: &Segment) -> Vec<[i32; 2]> {
         self.call("RouteDescriptor::guide", Vec::new, |d| d.guide(segment))
     }
+    fn turn_cost(&self) -> u32 {
+        self.call("RouteDescriptor::turn_cost", || 0, |d| d.turn_cost())
+    }
 }
 
 #[deny(clippy::missing_trait_methods)] // a new defaulted method must be forwarded, not skipped

@@ -3,8 +3,9 @@
 Usage: drive_check.py WORLD_FOLDER --engine mujoco|pybullet [--gap | --wall] [--speed M_PER_S]
 
 The route: ground_truth/graph.json, from the start node to the dead end of the start's level
-farthest from it by path length (Dijkstra over the corridors of that level), through the
-centre of every cell of the passages on the way (the corridors' polylines). When
+farthest from it by path length (Dijkstra over the corridors of that level), along the
+corridors' polylines: with a mesh, the middle of each tile's own passage on its floor (its
+axis, from the collision surface), without one the cell centres. When
 ground_truth/spawn_poses.json was computed from the collision surface, the route starts at the
 first robot's spawn pose and ends at its goal pose (on the floor: a dead end's centre can be
 rock where a tile caps its passage early).
@@ -57,7 +58,7 @@ def route(graph):
     for e in graph["edges"]:
         if e["kind"] != "corridor" or nodes[e["from"]]["level"] != level:
             continue
-        if any(abs(p[2] - e["polyline"][0][2]) > 1e-6 for p in e["polyline"]):
+        if nodes[e["to"]]["level"] != level:
             continue
         line = [tuple(p) for p in e["polyline"]]
         adjacent.setdefault(e["from"], []).append((e["to"], e["length_m"], line))
@@ -90,11 +91,12 @@ def route(graph):
 
 
 def corners(points):
-    """Indices of the waypoints where the route turns."""
+    """Indices of the waypoints where the route turns by more than 30 degrees (a polyline
+    along the middle of a real passage bends a little at almost every point)."""
     out = set()
     for i in range(1, len(points) - 1):
-        a, b = points[i] - points[i - 1], points[i + 1] - points[i]
-        if abs(a[0] * b[1] - a[1] * b[0]) > 1e-6:
+        a, b = points[i, :2] - points[i - 1, :2], points[i + 1, :2] - points[i, :2]
+        if abs(a[0] * b[1] - a[1] * b[0]) > 0.5 * np.linalg.norm(a) * np.linalg.norm(b):
             out.add(i)
     return out
 

@@ -102,9 +102,29 @@ def agree_with_mesh(points, claimed, what):
 g = json.loads((gt / "graph.json").read_text())
 assert g["seed"] == seed and "x east" in g["frame"]
 assert len(g["nodes"]) == len(topo["nodes"]) and len(g["edges"]) == len(topo["edges"])
+
+
+def on_floor(points, what):
+    """Issue 15: every point stands in free space on a floor: half a metre above it is inside
+    the passages (parity), and a ray down from there hits the surface within a metre."""
+    points = np.asarray(points, dtype=float)
+    above = points + [0, 0, 0.5]
+    for p, zs in zip(points, crossings(above)):
+        below = zs[zs <= p[2] + 0.5]
+        assert len(below) and p[2] + 0.5 - below.max() <= 1.0, f"{what}: no floor under {p.tolist()}"
+    agree_with_mesh(above, np.ones(len(above), dtype=bool), what)
+
+
 for n, t in zip(g["nodes"], topo["nodes"]):
     assert n["kind"] == KINDS[codes[n["level"], n["row"], n["col"]]] == t["kind"]
-    assert np.allclose(n["position"], centre(n["level"], n["row"], n["col"]))
+    c = centre(n["level"], n["row"], n["col"])
+    if mesh is None:
+        assert np.allclose(n["position"], c)
+    else:
+        # On the floor of the tile's own passage, inside the tile's square.
+        assert np.abs(np.array(n["position"][:2]) - c[:2]).max() <= pitch / 2 + 1e-6
+if mesh is not None:
+    on_floor([n["position"] for n in g["nodes"]], "graph nodes")
 G = nx.read_graphml(gt / "graph.graphml")
 assert G.number_of_nodes() == len(topo["nodes"]) and G.number_of_edges() == len(topo["edges"])
 assert G.graph["seed"] == seed
@@ -119,12 +139,22 @@ for e, t in zip(g["edges"], topo["edges"]):
     assert {u, v} == {f"n{t['from']}", f"n{t['to']}"} and d["kind"] == t["kind"]
     assert abs(d["length_m"] - t["length_m"]) < 1e-3 and d["length_cells"] == t["length_cells"]
     line = np.array(json.loads(d["polyline"]))
-    assert len(line) == len(t["cells"])
-    for p, c in zip(line, t["cells"]):
-        assert np.allclose(p, centre(c["level"], c["row"], c["col"]), atol=1e-3)
-    if t["kind"] == "corridor":
-        assert abs(np.linalg.norm(np.diff(line, axis=0), axis=1).sum() - t["length_m"]) < 1e-2
-print(f"graph: {G.number_of_nodes()} nodes, {G.number_of_edges()} edges, as topology.json")
+    assert np.allclose(line, np.array(e["polyline"]), atol=1e-3)
+    ends = [g["nodes"][t["from"]]["position"], g["nodes"][t["to"]]["position"]]
+    assert np.allclose(line[[0, -1]], ends, atol=1e-3), "a polyline runs from node to node"
+    if mesh is None:
+        assert len(line) == len(t["cells"])
+        for p, c in zip(line, t["cells"]):
+            assert np.allclose(p, centre(c["level"], c["row"], c["col"]), atol=1e-3)
+        if t["kind"] == "corridor":
+            assert abs(np.linalg.norm(np.diff(line, axis=0), axis=1).sum() - t["length_m"]) < 1e-2
+    elif t["kind"] == "corridor":
+        # Along the passage through every cell of the corridor, on its floor.
+        r, cc = cell_of(line[:, 0], line[:, 1])
+        assert occupied(t["cells"][0]["level"], r, cc).all(), "the polyline stays in its cells"
+        on_floor(line, f"edge {e['id']}")
+print(f"graph: {G.number_of_nodes()} nodes, {G.number_of_edges()} edges, as topology.json"
+      + ("; every node and polyline point on the floor of its passage" if mesh is not None else ""))
 
 # --- semantic labels ---------------------------------------------------------------------
 labels = json.loads((gt / "semantic_labels.json").read_text())
@@ -141,7 +171,14 @@ for row, t in zip(table, labels["tiles"]):
         rr, cc = r + dr, c + dc
         neighbour = 0 <= rr < rows and 0 <= cc < cols and codes[l, rr, cc] != 0
         assert (name in opens) == neighbour, (l, r, c, name)
-    assert np.allclose([float(row["x"]), float(row["y"]), float(row["z"])], centre(l, r, c), atol=1e-3)
+    at = np.array([float(row["x"]), float(row["y"]), float(row["z"])])
+    assert np.allclose(at, t["position"], atol=1e-3)
+    if mesh is None:
+        assert np.allclose(at, centre(l, r, c), atol=1e-3)
+    else:
+        assert np.abs(at[:2] - centre(l, r, c)[:2]).max() <= pitch / 2 + 1e-6
+if mesh is not None:
+    on_floor([t["position"] for t in labels["tiles"]], "semantic label positions")
 print(f"semantic labels: {len(table)} tiles, one per occupied cell with its code and openings")
 
 # --- ROS maps ----------------------------------------------------------------------------

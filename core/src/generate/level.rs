@@ -492,9 +492,14 @@ fn link_structures(
             let g = lvl.index(arms[b].from.0, arms[b].from.1).expect("inside");
             let seg = segment(lvl, lvl.rc(s), arms[b].from, rng);
             let guide = descriptor.guide(&seg);
-            if let Some(path) = search.route([lvl.rows, lvl.cols], s, g, &guide, |v| {
-                lvl.route_may_use(v, s, g, [owner_a, arms[b].structure])
-            }) {
+            if let Some(path) = search.route(
+                [lvl.rows, lvl.cols],
+                s,
+                g,
+                &guide,
+                descriptor.turn_cost(),
+                |v| lvl.route_may_use(v, s, g, [owner_a, arms[b].structure]),
+            ) {
                 if path.is_empty() {
                     continue; // two arms touching directly would fuse their structures
                 }
@@ -538,9 +543,18 @@ fn route_arm(
     let s = lvl.index(from.0, from.1).expect("footprint is inside");
     let id = arm.structure;
     for attempt in 0..12 {
-        let objective = p
-            .shape
-            .objective([from.0, from.1], arm.heading, lvl.rows, lvl.cols, rng);
+        let mut objective =
+            p.shape
+                .objective([from.0, from.1], arm.heading, lvl.rows, lvl.cols, rng);
+        // A descriptor that makes turns cost (mine drifts) aims an axis arm straight along
+        // its axis: the shape's sideways jitter would only add a corner before the dead end.
+        if let (true, Heading::Axis(d)) = (descriptor.turn_cost() > 0, arm.heading) {
+            if d.step().0 != 0 {
+                objective[1] = from.1;
+            } else {
+                objective[0] = from.0;
+            }
+        }
         // Shrink the reach after every few failures.
         let shrink = 1 << (attempt / 3);
         let objective = [
@@ -571,9 +585,14 @@ fn route_arm(
         };
         let seg = segment(lvl, from, lvl.rc(g), rng);
         let guide = descriptor.guide(&seg);
-        if let Some(mut path) = search.route([lvl.rows, lvl.cols], s, g, &guide, |v| {
-            lvl.route_may_use(v, s, g, [id, NONE])
-        }) {
+        if let Some(mut path) = search.route(
+            [lvl.rows, lvl.cols],
+            s,
+            g,
+            &guide,
+            descriptor.turn_cost(),
+            |v| lvl.route_may_use(v, s, g, [id, NONE]),
+        ) {
             if !lvl.occ[g] {
                 path.push(g);
             }
@@ -657,9 +676,14 @@ fn link_components(
             for &(_, a, b) in pairs.iter().take(24) {
                 let seg = segment(lvl, lvl.rc(a), lvl.rc(b), rng);
                 let guide = descriptor.guide(&seg);
-                if let Some(path) = search.route([lvl.rows, lvl.cols], a, b, &guide, |v| {
-                    lvl.route_may_use(v, a, b, [NONE; 2])
-                }) {
+                if let Some(path) = search.route(
+                    [lvl.rows, lvl.cols],
+                    a,
+                    b,
+                    &guide,
+                    descriptor.turn_cost(),
+                    |v| lvl.route_may_use(v, a, b, [NONE; 2]),
+                ) {
                     lvl.commit(&path);
                     linked = true;
                     break;

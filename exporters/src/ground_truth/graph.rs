@@ -1,8 +1,9 @@
 //! `graph`: the topological graph as `ground_truth/graph.json` and `ground_truth/graph.graphml`.
 //!
 //! Nodes are the junctions, intersections, dead ends and shaft ends (kind, cell, level, world
-//! position on the floor); edges are corridors and shafts with their length in metres and the
-//! corridor's centreline through its cell centres in the world frame. The GraphML declares a
+//! position on the floor of the tile's own passage); edges are corridors and shafts with their
+//! length in metres (along the grid) and the corridor's centreline along the middle of its
+//! passage, in the world frame (see `axis.rs`; without a mesh, through the cell centres). The GraphML declares a
 //! typed `<key>` for every attribute, so `networkx.read_graphml` gives numbers as numbers; it is
 //! an undirected graph, and a multigraph when two corridors join the same two nodes.
 
@@ -12,6 +13,8 @@ use subtgraph_core::export::{ExportError, Exporter, WorldWriter, write_file};
 use subtgraph_core::graph::EdgeKind;
 
 use super::FRAME;
+use super::axis::Axes;
+use super::inside::Passages;
 use crate::text::{push_fixed, push_uint};
 
 /// Writes `ground_truth/graph.json` and `ground_truth/graph.graphml`.
@@ -58,14 +61,18 @@ fn edge_kind(k: EdgeKind) -> &'static str {
     }
 }
 
-fn document(world: &World) -> Document {
+fn document(world: &World, axes: &Axes) -> Document {
     let g = &world.graph;
     Document {
         format: "subtgraph-graph/1",
         seed: world.resolved.seed,
         frame: FRAME,
         units: "metres",
-        positions: "tile centres on their level's nominal floor; a polyline runs through the cell centres of its corridor, a shaft's from the foot to the landing",
+        positions: if axes.is_empty() {
+            "tile centres on their level's nominal floor; a polyline runs through the cell centres of its corridor, a shaft's from the foot to the landing"
+        } else {
+            "on the floor of each tile's own passage (its axis, from the collision surface's free space): a node where its tile's passage meets its openings (a dead end where its passage ends), a corridor's polyline along the middle of its passage through every tile, a shaft's from the foot to the landing"
+        },
         start: world
             .start
             .and_then(|s| g.nodes.iter().find(|n| n.cell == s).map(|n| n.id)),
@@ -78,7 +85,7 @@ fn document(world: &World) -> Document {
                 level: n.cell.level,
                 row: n.cell.row,
                 col: n.cell.col,
-                position: n.position,
+                position: axes.position(world, n.cell),
             })
             .collect(),
         edges: g
@@ -91,7 +98,7 @@ fn document(world: &World) -> Document {
                 to: e.to,
                 length_m: e.length_m,
                 length_cells: e.length_cells,
-                polyline: e.cells.iter().map(|&c| world.cell_position(c)).collect(),
+                polyline: axes.polyline(world, &e.cells),
             })
             .collect(),
     }
@@ -202,7 +209,19 @@ xsi:schemaLocation=\"http://graphml.graphdrawing.org/xmlns http://graphml.graphd
 
 impl Exporter for GraphFiles {
     fn export(&self, world: &World, out: &mut dyn WorldWriter) -> Result<(), ExportError> {
-        let doc = document(world);
+        self.write(world, &Axes::of(world, &Passages::of(world)), out)
+    }
+}
+
+impl GraphFiles {
+    /// Writes the files from passage axes already found (`ground-truth` finds them once).
+    pub(crate) fn write(
+        &self,
+        world: &World,
+        axes: &Axes,
+        out: &mut dyn WorldWriter,
+    ) -> Result<(), ExportError> {
+        let doc = document(world, axes);
         crate::write_json(out, "ground_truth/graph.json", &doc)?;
         write_file(out, "ground_truth/graph.graphml", &graphml(&doc))
     }

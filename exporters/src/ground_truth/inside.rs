@@ -327,6 +327,99 @@ fn mesh_raster<T: Send>(
     cols: &Columns,
     row: impl Fn(usize, &[Span], &[u32]) -> T + Sync,
 ) -> Raster<T> {
+    let results: Vec<(Vec<T>, usize)> = band_hits(mesh, xy, ranges, cols, |first, last, hits| {
+        let mut open = 0;
+        let mut out = Vec::with_capacity(last - first);
+        let mut k = 0;
+        let mut spans = Vec::new();
+        let mut open_here = Vec::new();
+        for j in first..last {
+            spans.clear();
+            open_here.clear();
+            while k < hits.len() && hits[k].j as usize == j {
+                let i = hits[k].i;
+                let n = hits[k..].partition_point(|h| h.j as usize == j && h.i == i);
+                let line = &hits[k..k + n];
+                if n % 2 == 1 {
+                    open += 1;
+                    open_here.push(i);
+                }
+                for pair in line.chunks_exact(2) {
+                    spans.push(Span {
+                        i,
+                        z0: pair[0].z,
+                        z1: pair[1].z,
+                    });
+                }
+                k += n;
+            }
+            out.push(row(j, &spans, &open_here));
+        }
+        (out, open)
+    });
+    let mut rows = Vec::with_capacity(cols.ny);
+    let mut open_lines = 0;
+    for (r, o) in results {
+        rows.extend(r);
+        open_lines += o;
+    }
+    Raster { rows, open_lines }
+}
+
+/// Where a vertical line crosses a triangle: row `j`, line `i`, height `z`, and whether the
+/// triangle is wound counter-clockwise seen from above (its normal points up).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct Hit {
+    pub j: u32,
+    pub i: u32,
+    pub z: f64,
+    pub up: bool,
+}
+
+impl Passages<'_> {
+    /// Every crossing of the lines of `cols` with the surface, row by row: `row(j, hits)` with
+    /// the row's hits sorted by line then height. Unlike [`raster`](Self::raster) this does not
+    /// rely on the surface being closed (a mesh whose tiles leave gaps or overlap, like the
+    /// DARPA tiles): callers read floors from the triangles' facing. `None` without a mesh.
+    pub fn crossings_within<T: Send>(
+        &self,
+        cols: &Columns,
+        bounds: [f64; 4],
+        row: impl Fn(usize, &[Hit]) -> T + Sync,
+    ) -> Option<Vec<T>> {
+        let Passages::Mesh { mesh, xy, tiles } = self else {
+            return None;
+        };
+        let ranges: Vec<Range<usize>> = tiles
+            .iter()
+            .filter(|(b, _)| {
+                b[0] <= bounds[2] && b[2] >= bounds[0] && b[1] <= bounds[3] && b[3] >= bounds[1]
+            })
+            .map(|(_, r)| r.clone())
+            .collect();
+        let bands = band_hits(mesh, xy, &ranges, cols, |first, last, hits| {
+            let mut out = Vec::with_capacity(last - first);
+            let mut k = 0;
+            for j in first..last {
+                let n = hits[k..].partition_point(|h| h.j as usize == j);
+                out.push(row(j, &hits[k..k + n]));
+                k += n;
+            }
+            out
+        });
+        Some(bands.into_iter().flatten().collect())
+    }
+}
+
+/// The crossings of the triangles in `ranges` with the lines of `cols`, band by band in
+/// parallel: `band(first_row, end_row, hits)` per band, hits sorted by row, line, height.
+fn band_hits<B: Send>(
+    mesh: &Mesh,
+    xy: &[[i64; 2]],
+    ranges: &[Range<usize>],
+    cols: &Columns,
+    band: impl Fn(usize, usize, &[Hit]) -> B + Sync,
+) -> Vec<B> {
     let bands = cols.ny.div_ceil(BAND);
     let lx: Vec<i64> = (0..cols.nx).map(|i| snap(cols.x(i))).collect();
     let ly: Vec<i64> = (0..cols.ny).map(|j| snap(cols.y(j))).collect();
@@ -359,17 +452,18 @@ fn mesh_raster<T: Send>(
             }
         }
     }
-    let results: Vec<(Vec<T>, usize)> = per_band
+    per_band
         .par_iter()
         .enumerate()
-        .map(|(band, tris)| {
-            let first = band * BAND;
+        .map(|(b, tris)| {
+            let first = b * BAND;
             let last = (first + BAND).min(cols.ny);
-            let mut hits: Vec<(u32, u32, f64)> = Vec::new();
+            let mut hits: Vec<Hit> = Vec::new();
             for &t in tris {
                 let idx = mesh.triangles[t as usize];
                 let [a, b, c] = idx.map(|v| xy[v as usize]);
                 let z = idx.map(|v| mesh.positions[v as usize][2]);
+                let up = orient(a, b, c) > 0;
                 let rows = span_of(
                     a[1].min(b[1]).min(c[1]),
                     a[1].max(b[1]).max(c[1]),
@@ -386,49 +480,25 @@ fn mesh_raster<T: Send>(
                 for (j, &y) in ly.iter().enumerate().take(js.end).skip(js.start) {
                     for (i, &x) in lx.iter().enumerate().take(xs.end).skip(xs.start) {
                         if let Some(h) = crossing(a, b, c, z, [x, y]) {
-                            hits.push((j as u32, i as u32, h));
+                            hits.push(Hit {
+                                j: j as u32,
+                                i: i as u32,
+                                z: h,
+                                up,
+                            });
                         }
                     }
                 }
             }
-            hits.sort_unstable_by(|p, q| (p.0, p.1).cmp(&(q.0, q.1)).then(p.2.total_cmp(&q.2)));
-            let mut open = 0;
-            let mut out = Vec::with_capacity(last - first);
-            let mut k = 0;
-            let mut spans = Vec::new();
-            let mut open_here = Vec::new();
-            for j in first..last {
-                spans.clear();
-                open_here.clear();
-                while k < hits.len() && hits[k].0 as usize == j {
-                    let i = hits[k].1;
-                    let n = hits[k..].partition_point(|h| h.0 as usize == j && h.1 == i);
-                    let line = &hits[k..k + n];
-                    if n % 2 == 1 {
-                        open += 1;
-                        open_here.push(i);
-                    }
-                    for pair in line.chunks_exact(2) {
-                        spans.push(Span {
-                            i,
-                            z0: pair[0].2,
-                            z1: pair[1].2,
-                        });
-                    }
-                    k += n;
-                }
-                out.push(row(j, &spans, &open_here));
-            }
-            (out, open)
+            hits.sort_unstable_by(|p, q| {
+                (p.j, p.i)
+                    .cmp(&(q.j, q.i))
+                    .then(p.z.total_cmp(&q.z))
+                    .then(p.up.cmp(&q.up))
+            });
+            band(first, last, &hits)
         })
-        .collect();
-    let mut rows = Vec::with_capacity(cols.ny);
-    let mut open_lines = 0;
-    for (r, o) in results {
-        rows.extend(r);
-        open_lines += o;
-    }
-    Raster { rows, open_lines }
+        .collect()
 }
 
 #[cfg(test)]

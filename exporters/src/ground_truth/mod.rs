@@ -23,6 +23,7 @@ use subtgraph_core::error::ConfigError;
 use subtgraph_core::export::{ExportError, Exporter, WorldWriter};
 use subtgraph_core::params::Params;
 
+pub(crate) mod axis;
 mod free_space;
 mod graph;
 pub(crate) mod inside;
@@ -136,12 +137,13 @@ impl GroundTruth {
 impl Exporter for GroundTruth {
     fn export(&self, world: &World, out: &mut dyn WorldWriter) -> Result<(), ExportError> {
         let s = &self.settings;
-        GraphFiles.export(world, out)?;
-        SemanticLabels.export(world, out)?;
         let passages = inside::Passages::of(world);
+        let axes = axis::Axes::of(world, &passages);
+        GraphFiles.write(world, &axes, out)?;
+        SemanticLabels.write(world, &axes, out)?;
         RosMap::from_settings(s).write(world, &passages, out)?;
         FreeSpace::from_settings(s).write(world, &passages, out)?;
-        SpawnPoses::from_settings(s).write(world, &passages, out)
+        SpawnPoses::from_settings(s).write(world, &passages, &axes, out)
     }
 }
 

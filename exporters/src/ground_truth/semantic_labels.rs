@@ -5,7 +5,8 @@
 //! user's words (`dead-end`, `straight` = a straight corridor, `corner`, `t-junction`,
 //! `intersection`, `shaft-up`, `shaft-landing`), the original's spatial code, its rotation
 //! (quarter turns counter-clockwise from the kind's base orientation), its openings, and the
-//! world position of the tile centre on its level's floor. The CSV holds the same rows; its
+//! world position of the tile's node: on the floor of its own passage (see `axis.rs`; the tile
+//! centre on its level's floor without a mesh). The CSV holds the same rows; its
 //! metadata (seed, frame) is in the JSON, as CSV has no place for it.
 
 use serde::Serialize;
@@ -14,6 +15,8 @@ use subtgraph_core::export::{ExportError, Exporter, WorldWriter, write_file};
 use subtgraph_core::grid::Direction;
 
 use super::FRAME;
+use super::axis::Axes;
+use super::inside::Passages;
 use crate::text::{push_fixed, push_uint};
 
 /// Writes `ground_truth/semantic_labels.json` and `.csv`.
@@ -54,7 +57,7 @@ fn direction_name(d: Direction) -> &'static str {
     }
 }
 
-fn labels(world: &World) -> Vec<Label> {
+fn labels(world: &World, axes: &Axes) -> Vec<Label> {
     world
         .occupancy
         .cells()
@@ -72,7 +75,7 @@ fn labels(world: &World) -> Vec<Label> {
                     .filter(|d| t.openings & d.bit() != 0)
                     .map(direction_name)
                     .collect(),
-                position: world.cell_position(c),
+                position: axes.position(world, c),
                 start: world.start == Some(c),
             })
         })
@@ -105,6 +108,18 @@ fn csv(labels: &[Label]) -> Vec<u8> {
 
 impl Exporter for SemanticLabels {
     fn export(&self, world: &World, out: &mut dyn WorldWriter) -> Result<(), ExportError> {
+        self.write(world, &Axes::of(world, &Passages::of(world)), out)
+    }
+}
+
+impl SemanticLabels {
+    /// Writes the files from passage axes already found (`ground-truth` finds them once).
+    pub(crate) fn write(
+        &self,
+        world: &World,
+        axes: &Axes,
+        out: &mut dyn WorldWriter,
+    ) -> Result<(), ExportError> {
         let doc = Document {
             format: "subtgraph-semantic-labels/1",
             seed: world.resolved.seed,
@@ -113,7 +128,7 @@ impl Exporter for SemanticLabels {
             tile_pitch_m: world.resolved.tile_pitch,
             level_height_m: world.resolved.level_height,
             kinds: subtgraph_core::tile::TileKind::ALL.map(|k| k.name()),
-            tiles: labels(world),
+            tiles: labels(world, axes),
         };
         write_file(out, "ground_truth/semantic_labels.csv", &csv(&doc.tiles))?;
         crate::write_json(out, "ground_truth/semantic_labels.json", &doc)

@@ -24,6 +24,7 @@ use subtgraph_core::export::{ExportError, Exporter, WorldWriter};
 use subtgraph_core::grid::{Cell, Direction};
 use subtgraph_core::tile::TileKind;
 
+use super::axis::Axes;
 use super::inside::{Columns, Passages, Span, cell_at};
 use super::{FRAME, Settings};
 
@@ -133,6 +134,7 @@ impl SpawnPoses {
         &self,
         world: &World,
         passages: &Passages,
+        axes: &Axes,
         start: Cell,
     ) -> Result<Vec<[f64; 3]>, ExportError> {
         let pitch = world.resolved.tile_pitch;
@@ -187,7 +189,9 @@ impl SpawnPoses {
             let n = row[a..].partition_point(|s| s.i as usize == i);
             &row[a..a + n]
         };
-        let nominal = world.cell_position(start)[2];
+        // The cast starts above the floor of the start's own passage (its axis), which may lie
+        // above or below the level's nominal floor.
+        let nominal = axes.position(world, start)[2];
         let floor = |i: usize, j: usize| {
             let z = nominal + PROBE;
             line(i, j)
@@ -205,7 +209,7 @@ impl SpawnPoses {
             .flat_map(|dj| (-reach..=reach).map(move |di| (di, dj)))
             .filter(|&(di, dj)| ((di * di + dj * dj) as f64).sqrt() * step <= self.clearance)
             .collect();
-        let centre = world.cell_position(start);
+        let centre = axes.position(world, start);
         let mut candidates: Vec<(f64, usize, usize)> = (0..cols.ny)
             .flat_map(|j| (0..cols.nx).map(move |i| (i, j)))
             .filter(|&(i, j)| {
@@ -257,7 +261,7 @@ impl SpawnPoses {
     }
 
     /// The goals: nodes by decreasing path length from the start node.
-    fn goals(&self, world: &World, passages: &Passages, start: Cell) -> Vec<Goal> {
+    fn goals(&self, world: &World, passages: &Passages, axes: &Axes, start: Cell) -> Vec<Goal> {
         let g = &world.graph;
         let Some(source) = g.nodes.iter().position(|n| n.cell == start) else {
             return Vec::new();
@@ -299,7 +303,7 @@ impl SpawnPoses {
             .into_iter()
             .map(|n| {
                 let node = &g.nodes[n];
-                let [x, y, nominal] = node.position;
+                let [x, y, nominal] = axes.position(world, node.cell);
                 let z = passages.floor(x, y, nominal, PROBE).unwrap_or(nominal);
                 let e = &g.edges[via[n]];
                 let (a, b) = if e.to == n {
@@ -328,7 +332,8 @@ impl SpawnPoses {
 
 impl Exporter for SpawnPoses {
     fn export(&self, world: &World, out: &mut dyn WorldWriter) -> Result<(), ExportError> {
-        self.write(world, &Passages::of(world), out)
+        let passages = Passages::of(world);
+        self.write(world, &passages, &Axes::of(world, &passages), out)
     }
 }
 
@@ -338,6 +343,7 @@ impl SpawnPoses {
         &self,
         world: &World,
         passages: &Passages,
+        axes: &Axes,
         out: &mut dyn WorldWriter,
     ) -> Result<(), ExportError> {
         let start = world.start.ok_or_else(|| {
@@ -348,8 +354,8 @@ impl SpawnPoses {
             .into_iter()
             .find(|d| openings & d.bit() != 0)
             .unwrap_or(Direction::East);
-        let spawns = self.spawns(world, passages, start)?;
-        let goals = self.goals(world, passages, start);
+        let spawns = self.spawns(world, passages, axes, start)?;
+        let goals = self.goals(world, passages, axes, start);
         if goals.is_empty() {
             return Err(ExportError::Unsupported(
                 "spawn-poses: the graph has no node to go to besides the start".into(),
@@ -400,9 +406,10 @@ mod tests {
     fn robots_spawn_apart_on_the_floor_and_go_far() {
         let world = super::super::tests::world_with_mesh();
         let passages = Passages::of(&world);
+        let axes = Axes::of(&world, &passages);
         let start = world.start.unwrap();
         let sp = SpawnPoses::default();
-        let spawns = sp.spawns(&world, &passages, start).unwrap();
+        let spawns = sp.spawns(&world, &passages, &axes, start).unwrap();
         assert_eq!(spawns.len(), 4);
         for (k, a) in spawns.iter().enumerate() {
             for b in &spawns[k + 1..] {
@@ -412,7 +419,7 @@ mod tests {
             let f = passages.floor(a[0], a[1], 0.0, PROBE).unwrap();
             assert!((f - a[2]).abs() < 1e-9, "{a:?} vs {f}");
         }
-        let goals = sp.goals(&world, &passages, start);
+        let goals = sp.goals(&world, &passages, &axes, start);
         assert_eq!(goals.len(), 4);
         assert!(
             goals
@@ -420,6 +427,6 @@ mod tests {
                 .all(|w| w[0].path_length_m >= w[1].path_length_m)
         );
         let too_many = SpawnPoses { robots: 200, ..sp };
-        assert!(too_many.spawns(&world, &passages, start).is_err());
+        assert!(too_many.spawns(&world, &passages, &axes, start).is_err());
     }
 }
