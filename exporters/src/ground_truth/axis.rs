@@ -34,14 +34,22 @@ use subtgraph_core::tile::TileKind;
 
 use super::inside::{Columns, Passages};
 
-/// Lines per tile side.
+/// Least lines per tile side.
 pub(crate) const PIXELS: usize = 64;
+/// Most metres between neighbouring lines: a ball of 0.3 m (a small robot's wheel) is stopped
+/// by a ridge of rock narrower than a coarser spacing could see (the DARPA tiles' 80 m pitch
+/// at 64 lines puts them 1.25 m apart, and their floors hold boulders 0.8 m across).
+const SPACING: f64 = 0.4;
 /// Least free height over a drivable line's floor, metres (a ground robot's body).
 pub(crate) const BODY: f64 = 1.0;
-/// How deep into a tile an opening's entry is looked for, in lines.
-const ENTRY_DEPTH: usize = 8;
+/// How deep into a tile an opening's entry is looked for, as a share of the tile's side.
+const ENTRY_DEPTH: usize = 8; // of PIXELS lines
 /// A path point is kept about every this many metres (and at the ends).
 const KEEP_M: f64 = 2.5;
+/// ... and wherever the straight line between kept points would stray more than this many
+/// metres from the path (round a boulder or a bend: a body driven from point to point in
+/// straight lines must stay where the path found room).
+const CHORD: f64 = 0.25;
 /// What a metre of floor height between neighbouring lines costs, in metres along.
 const CLIMB: u64 = 10;
 /// How strongly paths keep away from walls: a step next to a wall costs `1 + WALL` times a step
@@ -145,17 +153,23 @@ fn towards(a: Cell, b: Cell) -> Option<Direction> {
     })
 }
 
+/// Lines per tile side for a tile pitch: [`PIXELS`], or more where that would put them more
+/// than [`SPACING`] apart.
+pub(crate) fn lines_per_side(pitch: f64) -> usize {
+    PIXELS.max((pitch / SPACING).ceil() as usize)
+}
+
 /// The lines of one tile: per line its floor (NaN where not drivable).
-fn floors(world: &World, passages: &Passages, c: Cell) -> (Columns, Vec<f64>) {
+fn floors(world: &World, passages: &Passages, c: Cell, n: usize) -> (Columns, Vec<f64>) {
     let pitch = world.resolved.tile_pitch;
     let centre = world.cell_position(c);
-    let step = pitch / PIXELS as f64;
+    let step = pitch / n as f64;
     let cols = Columns {
         x0: centre[0] - 0.5 * pitch,
         y0: centre[1] - 0.5 * pitch,
         step,
-        nx: PIXELS,
-        ny: PIXELS,
+        nx: n,
+        ny: n,
     };
     let half = 0.45 * world.resolved.level_height;
     let nominal = centre[2];
@@ -167,7 +181,7 @@ fn floors(world: &World, passages: &Passages, c: Cell) -> (Columns, Vec<f64>) {
     // are floors wherever a line crosses anything.
     let lines: Vec<Vec<(f64, bool)>> = passages
         .crossings_within(&cols, bounds, |_, hits| {
-            let mut row = vec![Vec::new(); PIXELS];
+            let mut row = vec![Vec::new(); n];
             for h in hits {
                 row[h.i as usize].push((h.z, h.up));
             }
@@ -183,8 +197,15 @@ fn floors(world: &World, passages: &Passages, c: Cell) -> (Columns, Vec<f64>) {
         .map(|l| {
             let mut best = f64::NAN;
             for w in l.windows(2) {
-                let ((z0, up), (z1, _)) = (w[0], w[1]);
-                if up != floor_faces_up || z1 - z0 < BODY || (z0 - nominal).abs() > half {
+                // A floor is the top of the rock below it: the next crossing up must be a
+                // ceiling. Two floors in a row (the DARPA tiles' flat plate under a mound of
+                // their rock) have rock between them, not a passage the ball could enter.
+                let ((z0, up), (z1, next_up)) = (w[0], w[1]);
+                if up != floor_faces_up
+                    || next_up == floor_faces_up
+                    || z1 - z0 < BODY
+                    || (z0 - nominal).abs() > half
+                {
                     continue;
                 }
                 if best.is_nan() || (z0 - nominal).abs() < (best - nominal).abs() {
@@ -194,16 +215,20 @@ fn floors(world: &World, passages: &Passages, c: Cell) -> (Columns, Vec<f64>) {
             best
         })
         .collect::<Vec<f64>>();
-    if floors.len() != PIXELS * PIXELS {
-        return (cols, vec![f64::NAN; PIXELS * PIXELS]);
+    if floors.len() != n * n {
+        return (cols, vec![f64::NAN; n * n]);
     }
     (cols, floors)
 }
 
+/// The most a path climbs (or drops) from one line to the next, metres: 31 degrees.
+fn climb_per_line(step: f64) -> f64 {
+    (0.6 * step).max(0.25)
+}
+
 /// Chamfer distance (3-4) of every drivable line to the nearest undrivable one, in thirds of
 /// a line spacing. The tile's border is not a wall: the passage goes on beyond it.
-fn clearance(free: &[bool]) -> Vec<u32> {
-    let n = PIXELS;
+fn clearance(free: &[bool], n: usize) -> Vec<u32> {
     let big = u32::MAX / 4;
     let mut d: Vec<u32> = free.iter().map(|&f| if f { big } else { 0 }).collect();
     let at = |i: i64, j: i64| {
@@ -239,15 +264,15 @@ fn paths(
     floor: &[f64],
     clear: &[u32],
     step: f64,
+    n: usize,
     source: usize,
 ) -> (Vec<u64>, Vec<u32>) {
-    let n = PIXELS;
     let mut dist = vec![u64::MAX; n * n];
     let mut parent = vec![u32::MAX; n * n];
     let mut heap = BinaryHeap::new();
     dist[source] = 0;
     heap.push(Reverse((0u64, source as u32)));
-    let climb = (0.6 * step).max(0.25);
+    let climb = climb_per_line(step);
     while let Some(Reverse((d, u))) = heap.pop() {
         let u = u as usize;
         if d > dist[u] {
@@ -273,7 +298,21 @@ fn paths(
             if !free[v] || rise > climb {
                 continue;
             }
-            let c = u64::from(clear[v].min(3 * PIXELS as u32)) + 3;
+            // No diagonal step past a line that could not be stepped to itself (rock, or a
+            // floor a step up or down): the rock of the two may meet between them (the DARPA
+            // tiles' floors hold blocks of rock touching at a corner).
+            if di != 0 && dj != 0 {
+                let side = [j as usize * n + a as usize, b as usize * n + i as usize];
+                if side
+                    .iter()
+                    .any(|&m| !free[m] || (floor[m] - floor[u]).abs() > climb)
+                {
+                    continue;
+                }
+            }
+            // Clearance in thirds of a tile's side over [`PIXELS`] (as with the coarsest
+            // lines), so paths keep as far from the walls in metres at any line count.
+            let c = u64::from(clear[v].min(3 * n as u32)) * PIXELS as u64 / n as u64 + 3;
             // Rough floor costs too: a metre up or down is worth [`CLIMB`] metres along.
             let rough = (rise / step * CLIMB as f64 * len as f64) as u64;
             let nd = d + len * (c + 3 * WALL) / c + rough;
@@ -290,13 +329,32 @@ fn paths(
 /// The axis of one tile, or `None` when it has no drivable line or an opening is not reached.
 fn tile_axis(world: &World, passages: &Passages, c: Cell) -> Option<TileAxis> {
     let tile = world.tiles.get(c).as_ref()?;
-    let n = PIXELS;
-    let (cols, floor) = floors(world, passages, c);
+    let n = lines_per_side(world.resolved.tile_pitch);
+    let (cols, floor) = floors(world, passages, c, n);
     let free: Vec<bool> = floor.iter().map(|f| !f.is_nan()).collect();
     if !free.iter().any(|&f| f) {
         return None;
     }
-    let clear = clearance(&free);
+    let step = cols.step;
+    // Walls are rock, and the edges of a step up or down that no path climbs: a line next to
+    // one has no clearance (a body keeps off a ledge as off a wall).
+    let climb = climb_per_line(step);
+    let roomy: Vec<bool> = (0..n * n)
+        .map(|k| {
+            let (i, j) = (k % n, k / n);
+            free[k]
+                && [(1, 0), (-1, 0), (0, 1), (0, -1)].iter().all(|&(di, dj)| {
+                    let (a, b) = (i as i64 + di, j as i64 + dj);
+                    if a < 0 || b < 0 || a >= n as i64 || b >= n as i64 {
+                        return true;
+                    }
+                    let m = b as usize * n + a as usize;
+                    !free[m] || (floor[m] - floor[k]).abs() <= climb
+                })
+        })
+        .collect();
+    let clear = clearance(&roomy, n);
+    let entry_depth = ENTRY_DEPTH * n / PIXELS;
     // Each opening's entry: the widest drivable line on that seam, nearest its middle; where
     // the seam's own lines are not drivable (a tile whose passage ends short of its border),
     // the nearest drivable line within [`ENTRY_DEPTH`] lines of it.
@@ -312,7 +370,7 @@ fn tile_axis(world: &World, passages: &Passages, c: Cell) -> Option<TileAxis> {
             Direction::North => (n - 1 - depth) * n + t,
             Direction::South => depth * n + t,
         };
-        let found = (0..ENTRY_DEPTH).find_map(|depth| {
+        let found = (0..entry_depth).find_map(|depth| {
             (0..n)
                 .filter(|&t| free[line(depth, t)])
                 .min_by_key(|&t| (Reverse(clear[line(depth, t)]), (2 * t).abs_diff(n - 1), t))
@@ -325,11 +383,10 @@ fn tile_axis(world: &World, passages: &Passages, c: Cell) -> Option<TileAxis> {
     if entries.is_empty() {
         return None;
     }
-    let step = cols.step;
     let runs: Vec<(Direction, usize, Vec<u64>, Vec<u32>)> = entries
         .iter()
         .map(|&(d, e)| {
-            let (dist, parent) = paths(&free, &floor, &clear, step, e);
+            let (dist, parent) = paths(&free, &floor, &clear, step, n, e);
             (d, e, dist, parent)
         })
         .collect();
@@ -392,15 +449,11 @@ fn tile_axis(world: &World, passages: &Passages, c: Cell) -> Option<TileAxis> {
             k = parent[k] as usize;
             path.push(k);
         }
-        let out: Vec<[f64; 3]> = path
-            .iter()
-            .enumerate()
-            .skip(1)
-            .filter(|&(i, _)| i % keep == 0 || i + 1 == path.len())
-            .map(|(_, &k)| point(k))
+        let line: Vec<[f64; 2]> = path.iter().map(|&k| xy(k)).collect();
+        exits[*d as usize] = kept(&line, keep)
+            .into_iter()
+            .map(|i| point(path[i]))
             .collect();
-
-        exits[*d as usize] = out;
     }
     // An opening whose drivable lines do not meet the anchor's on the floor (a climb steeper
     // than a robot drives): its entry line, on its floor; the way between is unknown.
@@ -411,6 +464,35 @@ fn tile_axis(world: &World, passages: &Passages, c: Cell) -> Option<TileAxis> {
         anchor: point(anchor),
         exits,
     })
+}
+
+/// The indices of `line`'s points to keep (the first excluded, the last included): every
+/// `keep`-th point since the last kept one, and the point before any point whose straight line
+/// from the last kept one strays more than [`CHORD`] from the points between.
+fn kept(line: &[[f64; 2]], keep: usize) -> Vec<usize> {
+    let strays = |a: [f64; 2], b: [f64; 2], p: [f64; 2]| {
+        let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
+        let len2 = dx * dx + dy * dy;
+        let t = if len2 > 0.0 {
+            (((p[0] - a[0]) * dx + (p[1] - a[1]) * dy) / len2).clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
+        let (ex, ey) = (a[0] + t * dx - p[0], a[1] + t * dy - p[1]);
+        ex * ex + ey * ey > CHORD * CHORD
+    };
+    let mut out = Vec::new();
+    let mut last = 0;
+    for i in 1..line.len() {
+        let next = i + 1;
+        let cut =
+            next < line.len() && (last + 1..=i).any(|j| strays(line[last], line[next], line[j]));
+        if i + 1 == line.len() || i - last >= keep || cut {
+            out.push(i);
+            last = i;
+        }
+    }
+    out
 }
 
 impl Axes {

@@ -2,7 +2,9 @@
 //! surface, and so which stretches of it are passage (free) and which are rock.
 //!
 //! The collision surface is closed, so along any vertical line its crossings alternate between
-//! entering and leaving the passages (ray parity). Each triangle is rasterised to the columns
+//! entering and leaving the passages (ray parity); where a surface is not (the DARPA tiles'
+//! overlap themselves and each other), the triangles' facing tells floors from ceilings
+//! ([`stretches`]). Each triangle is rasterised to the columns
 //! of a regular grid whose centres it covers, so a whole grid costs O(triangles + columns),
 //! bands of rows run in parallel, and the result does not depend on the thread count.
 //!
@@ -344,13 +346,7 @@ fn mesh_raster<T: Send>(
                     open += 1;
                     open_here.push(i);
                 }
-                for pair in line.chunks_exact(2) {
-                    spans.push(Span {
-                        i,
-                        z0: pair[0].z,
-                        z1: pair[1].z,
-                    });
-                }
+                stretches(line, |z0, z1| spans.push(Span { i, z0, z1 }));
                 k += n;
             }
             out.push(row(j, &spans, &open_here));
@@ -364,6 +360,33 @@ fn mesh_raster<T: Send>(
         open_lines += o;
     }
     Raster { rows, open_lines }
+}
+
+/// The free stretches along one line, from its crossings sorted bottom up: `push(z0, z1)` for
+/// each. On a closed surface the crossings alternate between a floor and a ceiling, whatever
+/// the winding, and the stretches are the pairs (ray parity). Where they do not alternate, the
+/// surface overlaps itself or is open (the DARPA tiles' collision meshes hold a flat plate
+/// under the rock's own floor, so a line through a mound crosses two floors and one ceiling):
+/// parity would then call rock what is passage and the other way round, so the facing decides,
+/// with the convention every tile set follows (normals point into the passage; a floor faces
+/// up). A stretch starts at the highest floor of a run of floors (below it lies rock: the
+/// space between two floors is under one) and ends at the lowest ceiling of a run of ceilings.
+fn stretches(line: &[Hit], mut push: impl FnMut(f64, f64)) {
+    let alternating = line.len() % 2 == 0 && line.windows(2).all(|w| w[0].up != w[1].up);
+    if alternating {
+        for pair in line.chunks_exact(2) {
+            push(pair[0].z, pair[1].z);
+        }
+        return;
+    }
+    let mut floor: Option<f64> = None;
+    for h in line {
+        if h.up {
+            floor = Some(h.z);
+        } else if let Some(z0) = floor.take() {
+            push(z0, h.z);
+        }
+    }
 }
 
 /// Where a vertical line crosses a triangle: row `j`, line `i`, height `z`, and whether the
