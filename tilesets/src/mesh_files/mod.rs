@@ -622,7 +622,13 @@ impl TileSet for MeshFiles {
                 visual.append(&place(&cap.mesh));
             }
         }
-        let collision = simplify(&visual, 0.04 * ctx.world.resolved.tile_pitch as f32);
+        // The snapping grid starts at the tile's south-west corner, so its lines fall on the
+        // tile's edges: both tiles of a seam snap their edge vertices onto the seam itself.
+        // (On a grid from the world's origin an 80 m tile's edges fall half way between lines,
+        // 25 cells of 3.2 m to a tile, and the vertices each side of a seam rounded away from
+        // it: a 3.2 m gap in the floor, or rock across the passage, at many seams.)
+        let pitch = ctx.world.resolved.tile_pitch as f32;
+        let collision = simplify(&visual, 0.04 * pitch, [x - 0.5 * pitch, y - 0.5 * pitch, z]);
         Ok(TileGeometry {
             visual,
             collision,
@@ -703,9 +709,9 @@ impl TileSet for MeshFiles {
     }
 }
 
-/// A lighter copy for collision: vertices snapped to a grid of `cell` metres and merged,
-/// triangles that collapse dropped.
-pub fn simplify(mesh: &Mesh, cell: f32) -> Mesh {
+/// A lighter copy for collision: vertices snapped to a grid of `cell` metres from `origin` and
+/// merged, triangles that collapse dropped.
+pub fn simplify(mesh: &Mesh, cell: f32, origin: [f32; 3]) -> Mesh {
     use std::collections::HashMap;
     use subtgraph_core::mesh::BuildFastHash;
     let mut index: HashMap<[i32; 3], u32, BuildFastHash> =
@@ -715,9 +721,10 @@ pub fn simplify(mesh: &Mesh, cell: f32) -> Mesh {
         .positions
         .iter()
         .map(|p| {
-            let key = p.map(|v| (v / cell).round() as i32);
+            let key = [0, 1, 2].map(|a| ((p[a] - origin[a]) / cell).round() as i32);
             *index.entry(key).or_insert_with(|| {
-                out.positions.push(key.map(|k| k as f32 * cell));
+                out.positions
+                    .push([0, 1, 2].map(|a| origin[a] + key[a] as f32 * cell));
                 out.positions.len() as u32 - 1
             })
         })
