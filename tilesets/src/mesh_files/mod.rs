@@ -710,8 +710,93 @@ impl TileSet for MeshFiles {
 }
 
 /// A lighter copy for collision: vertices snapped to a grid of `cell` metres from `origin` and
-/// merged, triangles that collapse dropped.
+/// merged, triangles that collapse dropped, and so are the *fins* the snapping leaves: a bump
+/// of the floor whose top snaps down onto the floor keeps its front as a vertical triangle up to
+/// a cell high, standing in the passage with free space on both sides. Rays cast down do not
+/// see it, but it stops a body (PyBullet's ball on the DARPA cave, at 1842.6, 382.4).
 pub fn simplify(mesh: &Mesh, cell: f32, origin: [f32; 3]) -> Mesh {
+    let mut out = snap(mesh, cell, origin);
+    let fins: Vec<bool> = out
+        .triangles
+        .iter()
+        .map(|&t| is_fin(&out, t, cell))
+        .collect();
+    let mut k = 0;
+    out.triangles.retain(|_| {
+        k += 1;
+        !fins[k - 1]
+    });
+    out
+}
+
+/// Whether triangle `t` of `mesh` stands vertical with free space on both sides of it half way
+/// up (free: between a floor below and a ceiling above, by the facing of the triangles crossed
+/// along the vertical line; normals point into the passage).
+fn is_fin(mesh: &Mesh, t: [u32; 3], cell: f32) -> bool {
+    let p = t.map(|i| mesh.positions[i as usize].map(f64::from));
+    let (u, v) = (sub(p[1], p[0]), sub(p[2], p[0]));
+    let n = [
+        u[1] * v[2] - u[2] * v[1],
+        u[2] * v[0] - u[0] * v[2],
+        u[0] * v[1] - u[1] * v[0],
+    ];
+    let h = (n[0] * n[0] + n[1] * n[1]).sqrt();
+    if h == 0.0 || n[2].abs() > 1e-6 * h {
+        return false;
+    }
+    let c = [0, 1, 2].map(|a| (p[0][a] + p[1][a] + p[2][a]) / 3.0);
+    // Off the grid's lines and diagonals, so the probe lines cross the floor inside triangles.
+    let (off, along) = (0.2371 * f64::from(cell), 0.0137 * f64::from(cell));
+    let (nx, ny) = (n[0] / h, n[1] / h);
+    [1.0, -1.0].iter().all(|&side| {
+        let q = [
+            c[0] + side * off * nx - along * ny,
+            c[1] + side * off * ny + along * nx,
+        ];
+        free_at(mesh, q, c[2])
+    })
+}
+
+fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+}
+
+/// Whether height `z` on the vertical line through `q` lies between a floor and a ceiling.
+fn free_at(mesh: &Mesh, q: [f64; 2], z: f64) -> bool {
+    let mut hits: Vec<(f64, bool)> = Vec::new();
+    for t in &mesh.triangles {
+        let p = t.map(|i| mesh.positions[i as usize].map(f64::from));
+        let area =
+            (p[1][0] - p[0][0]) * (p[2][1] - p[0][1]) - (p[1][1] - p[0][1]) * (p[2][0] - p[0][0]);
+        if area == 0.0 {
+            continue;
+        }
+        let w = [
+            ((p[1][0] - q[0]) * (p[2][1] - q[1]) - (p[1][1] - q[1]) * (p[2][0] - q[0])) / area,
+            ((p[2][0] - q[0]) * (p[0][1] - q[1]) - (p[2][1] - q[1]) * (p[0][0] - q[0])) / area,
+        ];
+        let w = [w[0], w[1], 1.0 - w[0] - w[1]];
+        if w.iter().all(|&a| a >= 0.0) {
+            hits.push((w[0] * p[0][2] + w[1] * p[1][2] + w[2] * p[2][2], area > 0.0));
+        }
+    }
+    hits.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+    let mut floor = None;
+    for (h, up) in hits {
+        if up {
+            floor = Some(h);
+        } else if let Some(f) = floor.take() {
+            if f < z && z < h {
+                return true;
+            }
+        }
+    }
+    false
+}
+
+/// Vertices snapped to a grid of `cell` metres from `origin` and merged, triangles that
+/// collapse (or repeat) dropped.
+fn snap(mesh: &Mesh, cell: f32, origin: [f32; 3]) -> Mesh {
     use std::collections::HashMap;
     use subtgraph_core::mesh::BuildFastHash;
     let mut index: HashMap<[i32; 3], u32, BuildFastHash> =
