@@ -637,6 +637,33 @@ pub(crate) mod tests {
     }
 
     #[test]
+    fn overlapping_floors_are_read_by_their_facing() {
+        // A box (floor at 0, ceiling at 2) with its floor repeated (two coplanar floors, as
+        // vertex snapping leaves them) and a plate facing up at 0.5 over its western half (the
+        // top of a mound whose sides snapped away): three floors and one ceiling on a line.
+        let mut mesh = box_mesh([0.0, 0.0, 0.0], [2.0, 2.0, 2.0]);
+        let (first, second) = (mesh.triangles[0], mesh.triangles[1]);
+        mesh.triangles.push(first);
+        mesh.triangles.push(second);
+        let base = mesh.positions.len() as u32;
+        for p in [
+            [0.0, 0.0, 0.5],
+            [1.0, 0.0, 0.5],
+            [1.0, 2.0, 0.5],
+            [0.0, 2.0, 0.5],
+        ] {
+            mesh.positions.push(p);
+        }
+        mesh.triangles.push([base, base + 1, base + 2]); // CCW from above: faces up
+        mesh.triangles.push([base, base + 2, base + 3]);
+        let p = passages(&mesh);
+        // Parity would pair the two floors (a stretch of no height) and leave the ceiling alone.
+        assert_eq!(p.column(1.5, 1.3), vec![[0.0, 2.0]]);
+        // Under the plate is rock: the passage starts on it.
+        assert_eq!(p.column(0.5, 1.3), vec![[0.5, 2.0]]);
+    }
+
+    #[test]
     fn lines_through_shared_vertices_of_a_fan_cross_once() {
         // A box whose top and bottom are fans around a centre vertex at (2, 1.5): the line
         // through it touches six triangles of each face and must cross each face once.

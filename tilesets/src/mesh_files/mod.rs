@@ -838,3 +838,77 @@ pub fn shipped_manifest(name: &str) -> Option<PathBuf> {
     let p = dir.join(format!("{name}.toml"));
     p.is_file().then_some(p)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A floor (facing up) and a ceiling 4 m above it (facing down) over `[x0, x1] x [0, 8]`.
+    fn slab(m: &mut Mesh, x0: f32, x1: f32) {
+        let b = m.positions.len() as u32;
+        for z in [0.0, 4.0] {
+            for p in [[x0, 0.0], [x1, 0.0], [x1, 8.0], [x0, 8.0]] {
+                m.positions.push([p[0], p[1], z]);
+            }
+        }
+        m.triangles.extend([[b, b + 1, b + 2], [b, b + 2, b + 3]]);
+        m.triangles
+            .extend([[b + 4, b + 6, b + 5], [b + 4, b + 7, b + 6]]);
+    }
+
+    fn vertical(m: &mut Mesh, tri: [[f32; 3]; 3]) -> [f32; 3] {
+        let b = m.positions.len() as u32;
+        m.positions.extend(tri);
+        m.triangles.push([b, b + 1, b + 2]);
+        tri[2]
+    }
+
+    #[test]
+    fn the_collision_copy_drops_fins_and_keeps_walls() {
+        let mut m = Mesh::default();
+        slab(&mut m, 0.0, 8.0);
+        // A bump's front snapped vertical, standing in the room; a wall on the room's edge.
+        let fin = vertical(&mut m, [[4.0, 2.0, 0.0], [4.0, 6.0, 0.0], [4.1, 4.0, 1.2]]);
+        let wall = vertical(&mut m, [[0.0, 2.0, 0.0], [0.0, 6.0, 0.0], [0.1, 4.0, 2.1]]);
+        let out = simplify(&m, 1.0, [0.0; 3]);
+        let apexes: Vec<[f32; 3]> = out
+            .triangles
+            .iter()
+            .filter_map(|t| {
+                let p = t.map(|i| out.positions[i as usize]);
+                (p[0][0] == p[1][0] && p[1][0] == p[2][0]).then_some(p[2])
+            })
+            .collect();
+        assert_eq!(
+            apexes,
+            vec![[0.0, 4.0, 2.0]],
+            "{fin:?} dropped, {wall:?} kept"
+        );
+        assert_eq!(out.triangles.len(), 5);
+    }
+
+    #[test]
+    fn tiles_snapped_from_their_corners_meet_at_the_seam() {
+        // Two tiles 4 m wide whose seam is at x = 4.5, half way between the lines of a grid
+        // from the origin; their edges carry rounding noise either side of it.
+        let (mut a, mut b) = (Mesh::default(), Mesh::default());
+        slab(&mut a, 0.5, 4.4999);
+        slab(&mut b, 4.5001, 8.5);
+        let edge = |m: &Mesh, max: bool| {
+            let xs = m.positions.iter().map(|p| p[0]);
+            if max {
+                xs.fold(f32::MIN, f32::max)
+            } else {
+                xs.fold(f32::MAX, f32::min)
+            }
+        };
+        let (sa, sb) = (
+            simplify(&a, 1.0, [0.5, 0.0, 0.0]),
+            simplify(&b, 1.0, [4.5, 0.0, 0.0]),
+        );
+        assert_eq!((edge(&sa, true), edge(&sb, false)), (4.5, 4.5));
+        // From the world's origin the seam opens a cell wide.
+        let (sa, sb) = (simplify(&a, 1.0, [0.0; 3]), simplify(&b, 1.0, [0.0; 3]));
+        assert_eq!((edge(&sa, true), edge(&sb, false)), (4.0, 5.0));
+    }
+}
