@@ -716,10 +716,11 @@ impl TileSet for MeshFiles {
 /// see it, but it stops a body (PyBullet's ball on the DARPA cave, at 1842.6, 382.4).
 pub fn simplify(mesh: &Mesh, cell: f32, origin: [f32; 3]) -> Mesh {
     let mut out = snap(mesh, cell, origin);
+    let flat = Flat::new(&out, cell);
     let fins: Vec<bool> = out
         .triangles
         .iter()
-        .map(|&t| is_fin(&out, t, cell))
+        .map(|&t| is_fin(&out, &flat, t, cell))
         .collect();
     let mut k = 0;
     out.triangles.retain(|_| {
@@ -732,7 +733,7 @@ pub fn simplify(mesh: &Mesh, cell: f32, origin: [f32; 3]) -> Mesh {
 /// Whether triangle `t` of `mesh` stands vertical with free space on both sides of it half way
 /// up (free: between a floor below and a ceiling above, by the facing of the triangles crossed
 /// along the vertical line; normals point into the passage).
-fn is_fin(mesh: &Mesh, t: [u32; 3], cell: f32) -> bool {
+fn is_fin(mesh: &Mesh, flat: &Flat, t: [u32; 3], cell: f32) -> bool {
     let p = t.map(|i| mesh.positions[i as usize].map(f64::from));
     let (u, v) = (sub(p[1], p[0]), sub(p[2], p[0]));
     let n = [
@@ -753,7 +754,7 @@ fn is_fin(mesh: &Mesh, t: [u32; 3], cell: f32) -> bool {
             c[0] + side * off * nx - along * ny,
             c[1] + side * off * ny + along * nx,
         ];
-        free_at(mesh, q, c[2])
+        flat.free_at(q, c[2])
     })
 }
 
@@ -761,37 +762,77 @@ fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
     [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
 }
 
-/// Whether height `z` on the vertical line through `q` lies between a floor and a ceiling.
-fn free_at(mesh: &Mesh, q: [f64; 2], z: f64) -> bool {
-    let mut hits: Vec<(f64, bool)> = Vec::new();
-    for t in &mesh.triangles {
-        let p = t.map(|i| mesh.positions[i as usize].map(f64::from));
-        let area =
-            (p[1][0] - p[0][0]) * (p[2][1] - p[0][1]) - (p[1][1] - p[0][1]) * (p[2][0] - p[0][0]);
-        if area == 0.0 {
-            continue;
+/// The triangles of a mesh that a vertical line can cross (not vertical), bucketed by squares
+/// of the snapping grid for the probes of [`is_fin`].
+struct Flat {
+    cell: f64,
+    triangles: Vec<[[f64; 3]; 3]>,
+    buckets: std::collections::HashMap<[i64; 2], Vec<u32>>,
+}
+
+impl Flat {
+    fn new(mesh: &Mesh, cell: f32) -> Flat {
+        let cell = f64::from(cell);
+        let mut flat = Flat {
+            cell,
+            triangles: Vec::new(),
+            buckets: std::collections::HashMap::new(),
+        };
+        for t in &mesh.triangles {
+            let p = t.map(|i| mesh.positions[i as usize].map(f64::from));
+            if area(&p) == 0.0 {
+                continue;
+            }
+            let k = flat.triangles.len() as u32;
+            let lo = [0, 1].map(|a| (p[0][a].min(p[1][a]).min(p[2][a]) / cell).floor() as i64);
+            let hi = [0, 1].map(|a| (p[0][a].max(p[1][a]).max(p[2][a]) / cell).floor() as i64);
+            for bx in lo[0]..=hi[0] {
+                for by in lo[1]..=hi[1] {
+                    flat.buckets.entry([bx, by]).or_default().push(k);
+                }
+            }
+            flat.triangles.push(p);
         }
-        let w = [
-            ((p[1][0] - q[0]) * (p[2][1] - q[1]) - (p[1][1] - q[1]) * (p[2][0] - q[0])) / area,
-            ((p[2][0] - q[0]) * (p[0][1] - q[1]) - (p[2][1] - q[1]) * (p[0][0] - q[0])) / area,
-        ];
-        let w = [w[0], w[1], 1.0 - w[0] - w[1]];
-        if w.iter().all(|&a| a >= 0.0) {
-            hits.push((w[0] * p[0][2] + w[1] * p[1][2] + w[2] * p[2][2], area > 0.0));
-        }
+        flat
     }
-    hits.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
-    let mut floor = None;
-    for (h, up) in hits {
-        if up {
-            floor = Some(h);
-        } else if let Some(f) = floor.take() {
-            if f < z && z < h {
-                return true;
+
+    /// Whether height `z` on the vertical line through `q` lies between a floor and a ceiling.
+    fn free_at(&self, q: [f64; 2], z: f64) -> bool {
+        let key = [0, 1].map(|a| (q[a] / self.cell).floor() as i64);
+        let Some(bucket) = self.buckets.get(&key) else {
+            return false;
+        };
+        let mut hits: Vec<(f64, bool)> = Vec::new();
+        for &k in bucket {
+            let p = &self.triangles[k as usize];
+            let a = area(p);
+            let w = [
+                ((p[1][0] - q[0]) * (p[2][1] - q[1]) - (p[1][1] - q[1]) * (p[2][0] - q[0])) / a,
+                ((p[2][0] - q[0]) * (p[0][1] - q[1]) - (p[2][1] - q[1]) * (p[0][0] - q[0])) / a,
+            ];
+            let w = [w[0], w[1], 1.0 - w[0] - w[1]];
+            if w.iter().all(|&b| b >= 0.0) {
+                hits.push((w[0] * p[0][2] + w[1] * p[1][2] + w[2] * p[2][2], a > 0.0));
             }
         }
+        hits.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+        let mut floor = None;
+        for (h, up) in hits {
+            if up {
+                floor = Some(h);
+            } else if let Some(f) = floor.take() {
+                if f < z && z < h {
+                    return true;
+                }
+            }
+        }
+        false
     }
-    false
+}
+
+/// Twice the signed area of a triangle seen from above (positive: its normal points up).
+fn area(p: &[[f64; 3]; 3]) -> f64 {
+    (p[1][0] - p[0][0]) * (p[2][1] - p[0][1]) - (p[1][1] - p[0][1]) * (p[2][0] - p[0][0])
 }
 
 /// Vertices snapped to a grid of `cell` metres from `origin` and merged, triangles that
