@@ -4,10 +4,12 @@
 //! A tile's passage need not pass through its centre: a DARPA cave tile's corner arcs away from
 //! it and its straight tiles wind (on `examples/darpa-cave.toml`, 54 % of the corner tiles and
 //! 38 % of the dead ends have no surface at all on the vertical line through their centre). So
-//! every tile is looked at on a grid of [`PIXELS`] x [`PIXELS`] vertical lines: a line is
+//! every tile is looked at on a grid of vertical lines (at least [`PIXELS`] x [`PIXELS`], at
+//! most [`SPACING`] apart, so a ridge of rock a ball cannot cross lies on a line): a line is
 //! drivable where one of its free stretches starts within the level (its floor) and is at least
 //! [`BODY`] high. Over the drivable lines, a clearance-weighted shortest path (steps away from
-//! the walls are cheaper, so paths keep to the middle of the passage) joins each opening of the
+//! the walls and from ledges are cheaper, so paths keep to the middle of the passage; no
+//! diagonal step passes between two lines it could not step to) joins each opening of the
 //! tile (the widest drivable line of the seam, nearest the seam's middle) to the tile's
 //! *anchor*: for a tile with two or more openings the point nearest all of them along the
 //! passage (the middle of a corridor tile, the meeting point of a junction), for a dead end
@@ -15,6 +17,8 @@
 //! for a shaft foot or landing the drivable line nearest the shaft's axis. Paths climb at most
 //! 0.6 of the line spacing per line (31 degrees) and pay for every metre up or down.
 //!
+//! The paths' points are kept every [`KEEP_M`] and wherever the straight line between kept
+//! points would stray more than [`CHORD`] from the path (a body is driven point to point).
 //! The graph's node positions, its corridor polylines (anchor, path to the opening, the next
 //! tile's path from its opening, its anchor, ...), the tiles' positions in the semantic labels and the spawn
 //! and goal poses all use these, with the floor's own height. A tile where nothing is drivable
