@@ -420,6 +420,42 @@ enum PartCollision<'a> {
     Fields(&'a [TileField]),
 }
 
+/// The artifacts as free bodies (a box each, resting on the floor at its recorded pose): a
+/// robot can push them, and `body` names them `artifact-<name>`. A contact margin of 1 cm
+/// softens its contact with the height fields.
+///
+/// Each stands on its pad, `artifact-pad-<name>` ([`Artifact::pad`](crate::artifacts::Artifact::pad)).
+fn artifact_bodies(s: &mut String, artifacts: &[crate::artifacts::Artifact]) {
+    if artifacts.is_empty() {
+        return;
+    }
+    s.push_str("  <worldbody>\n");
+    for a in artifacts {
+        let [x, y, z] = a.position;
+        let [qx, qy, qz, qw] = a.quaternion_xyzw();
+        let [l, w, h] = a.size;
+        let [r, g, b] = a.class.colour();
+        let pad = a.pad();
+        let _ = std::fmt::Write::write_fmt(
+            s,
+            format_args!(
+                "    <geom name=\"artifact-pad-{n}\" type=\"box\" size=\"{:.4} {:.4} {:.4}\" pos=\"{x:.4} {y:.4} {:.4}\" quat=\"{qw:.6} {qx:.6} {qy:.6} {qz:.6}\" rgba=\"0.35 0.33 0.3 1\"/>\n    <body name=\"artifact-{n}\" pos=\"{x:.4} {y:.4} {z:.4}\" quat=\"{qw:.6} {qx:.6} {qy:.6} {qz:.6}\">\n      <freejoint name=\"artifact-{n}\"/>\n      <geom name=\"artifact-{n}\" type=\"box\" size=\"{:.4} {:.4} {:.4}\" pos=\"0 0 {:.4}\" mass=\"{}\" margin=\"0.01\" rgba=\"{r:.3} {g:.3} {b:.3} 1\"/>\n    </body>\n",
+                0.5 * pad.1[0],
+                0.5 * pad.1[1],
+                0.5 * pad.1[2],
+                pad.0[2],
+                0.5 * l,
+                0.5 * w,
+                0.5 * h,
+                0.5 * h,
+                a.class.mass(),
+                n = a.name,
+            ),
+        );
+    }
+    s.push_str("  </worldbody>\n");
+}
+
 impl Exporter for Mjcf {
     fn export(&self, world: &World, out: &mut dyn WorldWriter) -> Result<(), ExportError> {
         let Some(mesh) = &world.mesh else {
@@ -523,6 +559,7 @@ impl Exporter for Mjcf {
                 w.write_all(b"  </worldbody>\n</mujoco>\n")
             })?;
         }
+        artifact_bodies(&mut main, &crate::artifacts::place(world)?);
         main.push_str("</mujoco>\n");
         write_file(out, "mujoco/world.xml", main.as_bytes())
     }
