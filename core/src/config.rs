@@ -57,6 +57,9 @@ pub struct Pipeline {
     /// Objects to find (`[artifacts]`); none without the section.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub artifacts: Option<crate::artifacts::ArtifactsSection>,
+    /// Floor hazards (`[hazards]`); none without the section.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub hazards: Option<crate::hazards::HazardsSection>,
     /// Written by the tool into a world's `world.toml`; ignored when generating.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub generated: Option<Provenance>,
@@ -76,6 +79,7 @@ impl Default for Pipeline {
             export: Vec::new(),
             plugins: PluginsSection::default(),
             artifacts: None,
+            hazards: None,
             generated: None,
         }
     }
@@ -550,6 +554,9 @@ impl Pipeline {
         }
         if w.attempts == 0 || w.attempts > 10_000 {
             return Err(err("world.attempts", "must be between 1 and 10000".into()));
+        }
+        if let Some((key, message)) = self.hazards.as_ref().and_then(|h| h.problem()) {
+            return Err(err(key, message));
         }
         if let Some((key, message)) = self.artifacts.as_ref().and_then(|a| a.problem()) {
             return Err(err(key, message));

@@ -28,6 +28,7 @@ pub mod export;
 pub mod generate;
 pub mod graph;
 pub mod grid;
+pub mod hazards;
 pub mod import;
 pub mod mesh;
 pub mod npy;

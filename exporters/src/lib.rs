@@ -22,6 +22,7 @@ pub mod artifacts;
 pub mod convex_pieces;
 mod gltf;
 pub mod ground_truth;
+pub mod hazards;
 pub mod heightfields;
 mod instances;
 mod level_maps;
@@ -167,6 +168,9 @@ pub fn write_world_files(
     }
     if world.pipeline.artifacts.is_some() {
         ground_truth::artifacts::write(world, &artifacts::place(world)?, out)?;
+    }
+    if world.pipeline.hazards.is_some() {
+        hazards::write(world, out)?;
     }
     Ok(())
 }

@@ -383,7 +383,14 @@ fn field_asset(buf: &mut Vec<u8>, part: &str, t: usize, f: &TileField, roof: boo
 
 /// The geom placing a height field: the floor's base at its lowest sample, the roof upside
 /// down at its highest.
-fn field_geom(buf: &mut Vec<u8>, part: &str, t: usize, f: &TileField, roof: bool) {
+fn field_geom(
+    buf: &mut Vec<u8>,
+    part: &str,
+    t: usize,
+    f: &TileField,
+    roof: bool,
+    friction: Option<f64>,
+) {
     let z = if roof { &f.roof } else { &f.floor };
     let at = if roof {
         z.iter().copied().fold(f32::MIN, f32::max)
@@ -404,6 +411,10 @@ fn field_geom(buf: &mut Vec<u8>, part: &str, t: usize, f: &TileField, roof: bool
     }
     if roof {
         buf.extend_from_slice(b"\" quat=\"0 1 0 0");
+    }
+    if let Some(mu) = friction {
+        // A floor patch (`[hazards]`): MuJoCo's sliding, torsional and rolling friction.
+        buf.extend_from_slice(format!("\" friction=\"{mu} 0.005 0.0001").as_bytes());
     }
     buf.extend_from_slice(b"\" group=\"3\" rgba=\"0.5 0.5 0.5 0.4\"/>\n");
 }
@@ -486,6 +497,19 @@ impl Exporter for Mjcf {
                 .collect(),
         };
         let base = self.pieces.thickness;
+        // Floor friction per mesh tile, from the floor patches.
+        let mut friction: Vec<Option<f64>> = vec![None; mesh.tiles.len()];
+        let patches = crate::hazards::patches(world);
+        for (t, tile) in mesh.tiles.iter().enumerate() {
+            if let Ok(k) = patches
+                .binary_search_by_key(&(tile.cell.level, tile.cell.row, tile.cell.col), |p| {
+                    (p.cell.level, p.cell.row, p.cell.col)
+                })
+            {
+                friction[t] = Some(patches[k].friction);
+            }
+        }
+        let friction = &friction;
         let compiler = "  <compiler angle=\"radian\" meshdir=\"..\"/>\n";
         let what = match self.collision {
             Collision::Slabs => "collision slabs (convex, in the rock)",
@@ -531,7 +555,15 @@ impl Exporter for Mjcf {
                 PartCollision::Slabs(p) => piece_geom(b, &name, k, &p[k]),
                 PartCollision::Fields(f) => {
                     let t = part.tiles[k / 2];
-                    field_geom(b, &name, t, &f[t], k % 2 == 1);
+                    let roof = k % 2 == 1;
+                    field_geom(
+                        b,
+                        &name,
+                        t,
+                        &f[t],
+                        roof,
+                        if roof { None } else { friction[t] },
+                    );
                 }
             };
             stream_file(out, &path, |w| {
