@@ -8,7 +8,8 @@
 //! (dead end; T-junction or intersection for a chamber; any tile but a shaft's end for wall
 //! and floor) at least `min_distance_from_start` metres from the start along the graph, and a
 //! spot in it. A spot is checked on the exact passages (`ground_truth/inside.rs`): every
-//! vertical line under the artifact's footprint (sampled every `STEP` metres at most) finds
+//! vertical line under the artifact's footprint (on a raster `STEP` metres apart, then cast
+//! exactly every `EXACT` metres, corners and edges included) finds
 //! floor within `FLAT` metres of the highest, the artifact stands on that highest floor, and
 //! its whole box plus `CLEAR` above is free, as is the rock-free margin `GAP` around it at the
 //! height `PROBE_Z` above its base (height-field simulators let a wall stand up to half a
@@ -33,7 +34,9 @@ use subtgraph_core::tile::TileKind;
 use crate::ground_truth::inside::{Columns, Passages, Span, cell_at};
 
 /// Coarsest spacing of the lines sampled under an artifact, metres.
-const STEP: f64 = 0.125;
+const STEP: f64 = 0.25;
+/// Spacing of the exact casts under a chosen spot's footprint, metres.
+const EXACT: f64 = 0.1;
 /// Most the floor may vary under an artifact, metres.
 const FLAT: f64 = 0.1;
 /// Free space required above an artifact's top, metres.
@@ -349,7 +352,25 @@ fn spot_in(
     rng.shuffle(&mut candidates);
     let samples = |n: f64| ((n / step).ceil() as usize).max(1) + 1;
     let (su, sv) = (samples(size[0]), samples(size[1]));
-    let ring = (reach / step).ceil() as i64;
+    // Line offsets around a spot by their distance beyond the footprint's circle, nearest first.
+    let r = (reach / step).ceil() as i64;
+    let mut ring: Vec<(f64, i64, i64)> = (-r..=r)
+        .flat_map(|dj| (-r..=r).map(move |di| (di, dj)))
+        .map(|(di, dj)| {
+            (
+                ((di * di + dj * dj) as f64).sqrt() * step - half_diag,
+                di,
+                dj,
+            )
+        })
+        .filter(|o| o.0 <= GAP + WALL.max(OPEN))
+        .collect();
+    ring.sort_by(|a, b| a.0.total_cmp(&b.0).then((a.1, a.2).cmp(&(b.1, b.2))));
+    let look = match rule {
+        Placement::Wall => GAP + WALL,
+        Placement::Floor => GAP + OPEN,
+        Placement::DeadEnd | Placement::Chamber => GAP,
+    };
     for &k in candidates.iter().take(TRIES) {
         let (x, y) = (cols.x(k % nx), cols.y(k / nx));
         let yaw = rng.unit() * TAU;
@@ -394,18 +415,14 @@ fn spot_in(
         let z = hi + PROBE_Z;
         let rock = |l: usize| !level_span[l].is_some_and(|s| s[0] <= z && z <= s[1]);
         let (ci, cj) = ((k % nx) as i64, (k / nx) as i64);
+        // The nearest rock line, looked for only as far as the rule needs.
         let mut nearest = f64::INFINITY;
-        for dj in -ring..=ring {
-            for di in -ring..=ring {
-                let d = ((di * di + dj * dj) as f64).sqrt() * step - half_diag;
-                if d > GAP + WALL.max(OPEN) || d >= nearest {
-                    continue;
-                }
-                let (i, j) = (ci + di, cj + dj);
-                let outside = i < 0 || j < 0 || i as usize >= nx || j as usize >= ny;
-                if outside || rock(j as usize * nx + i as usize) {
-                    nearest = d;
-                }
+        for &(d, di, dj) in &ring[..ring.partition_point(|r| r.0 <= look)] {
+            let (i, j) = (ci + di, cj + dj);
+            let outside = i < 0 || j < 0 || i as usize >= nx || j as usize >= ny;
+            if outside || rock(j as usize * nx + i as usize) {
+                nearest = d;
+                break;
             }
         }
         let fits = nearest > GAP
@@ -420,11 +437,14 @@ fn spot_in(
         // The raster's lines are `step` apart: the floor between them, under the footprint's
         // exact corners and edges, may stand a little higher. Cast there and stand on the
         // highest, a millimetre above it.
-        let mut stretches = Vec::with_capacity(su * sv);
-        for u in 0..su {
-            for v in 0..sv {
-                let lx = size[0] * (u as f64 / (su - 1) as f64 - 0.5);
-                let ly = size[1] * (v as f64 / (sv - 1) as f64 - 0.5);
+        // Every `EXACT` metres at most, quarters of each side included.
+        let exact = |n: f64| 4 * ((n / (4.0 * EXACT)).ceil() as usize).max(1) + 1;
+        let (eu, ev) = (exact(size[0]), exact(size[1]));
+        let mut stretches = Vec::with_capacity(eu * ev);
+        for u in 0..eu {
+            for v in 0..ev {
+                let lx = size[0] * (u as f64 / (eu - 1) as f64 - 0.5);
+                let ly = size[1] * (v as f64 / (ev - 1) as f64 - 0.5);
                 let column = passages.column(x + cos * lx - sin * ly, y + sin * lx + cos * ly);
                 stretches.push(
                     column

@@ -227,12 +227,10 @@ pub fn measure(
     };
     let mut hits = Bits::empty(grid.n);
     let mut outside = 0;
-    let mut voxels = Vec::with_capacity(points.len());
     for p in points {
         match voxel_of(p) {
             Some(x) => {
                 hits.set(x);
-                voxels.push(x);
             }
             None => outside += 1,
         }
@@ -243,9 +241,10 @@ pub fn measure(
     let near_free = free.dilate(reach);
     let near_rock = free.not().dilate(reach);
     let errors = outside
-        + voxels
+        + points
             .iter()
-            .filter(|&&x| {
+            .filter_map(voxel_of)
+            .filter(|&x| {
                 // Beyond the grid is rock.
                 let edge = (0..3).any(|k| x[k] < reach || x[k] + reach >= grid.n[k]);
                 !(near_free.get(x) && (edge || near_rock.get(x)))
