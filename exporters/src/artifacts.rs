@@ -440,19 +440,23 @@ fn spot_in(
         // Every `EXACT` metres at most, quarters of each side included.
         let exact = |n: f64| 4 * ((n / (4.0 * EXACT)).ceil() as usize).max(1) + 1;
         let (eu, ev) = (exact(size[0]), exact(size[1]));
-        let mut stretches = Vec::with_capacity(eu * ev);
+        let mut points = Vec::with_capacity(eu * ev);
         for u in 0..eu {
             for v in 0..ev {
                 let lx = size[0] * (u as f64 / (eu - 1) as f64 - 0.5);
                 let ly = size[1] * (v as f64 / (ev - 1) as f64 - 0.5);
-                let column = passages.column(x + cos * lx - sin * ly, y + sin * lx + cos * ly);
-                stretches.push(
-                    column
-                        .into_iter()
-                        .find(|s| s[0] <= hi + FLAT && hi + FLAT <= s[1]),
-                );
+                points.push([x + cos * lx - sin * ly, y + sin * lx + cos * ly]);
             }
         }
+        let stretches: Vec<Option<[f64; 2]>> = passages
+            .columns_at(&points)
+            .into_iter()
+            .map(|column| {
+                column
+                    .into_iter()
+                    .find(|s| s[0] <= hi + FLAT && hi + FLAT <= s[1])
+            })
+            .collect();
         let Some((low, exact)) = stretches
             .iter()
             .map(|s| s.map(|s| s[0]))
@@ -521,6 +525,20 @@ mod tests {
                     .sum::<f64>();
                 assert!(d.sqrt() >= 5.0, "{} and {} too close", x.name, y.name);
             }
+        }
+        // The batched exact casts agree with casting line by line.
+        let pts: Vec<[f64; 2]> = a
+            .iter()
+            .flat_map(|x| {
+                let p = x.position;
+                [[p[0] + 0.03, p[1] - 0.02], [p[0] - 0.31, p[1] + 0.17]]
+            })
+            .collect();
+        let one_by_one: Vec<Vec<[f64; 2]>> =
+            pts.iter().map(|p| passages.column(p[0], p[1])).collect();
+        assert_eq!(passages.columns_at(&pts[..2]), one_by_one[..2]);
+        for (p, want) in pts.iter().zip(&one_by_one) {
+            assert_eq!(&passages.columns_at(&[*p])[0], want);
         }
         let too_many = ArtifactsSection {
             min_spacing: 60.0,
