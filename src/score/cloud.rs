@@ -345,7 +345,7 @@ fn pcd(path: &Path, bytes: &[u8]) -> Result<Points> {
 fn npy(path: &Path, bytes: &[u8], grid: Option<&Grid>) -> Result<Points> {
     let grid = grid.with_context(|| {
         format!(
-            "{}: an occupancy .npy map is read on the world's free-space grid: generate the world with --format free-space (or ground-truth)",
+            "{}: an occupancy .npy map is read on the world's free-space grid: make the world again with `subtgraph generate PIPELINE --format free-space` (or ground-truth), PIPELINE being its world.toml",
             path.display()
         )
     })?;

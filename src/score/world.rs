@@ -296,7 +296,7 @@ struct FreeSpaceJson {
 
 /// Reads `ground_truth/free_space.npy` and its `.json`: the grid and its free voxels.
 pub fn free_space(world: &Path) -> Result<(Grid, Bits)> {
-    let hint = "scoring a map needs the world's free space: generate it with --format free-space (or ground-truth)";
+    let hint = "scoring a map needs the world's free space: make it again with `subtgraph generate PIPELINE --format free-space` (or ground-truth), PIPELINE being its world.toml";
     let doc: FreeSpaceJson = read_json(world, "ground_truth/free_space.json", hint)?;
     let path = world.join("ground_truth/free_space.npy");
     let bytes = std::fs::read(&path).with_context(|| {
