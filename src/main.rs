@@ -164,6 +164,32 @@ enum Command {
     },
     /// List the built-in presets.
     Presets,
+    /// Grade a robot's run against a world's ground truth: artifact reports by the DARPA
+    /// rule (same class within 5 m, each artifact once), and a map's coverage of the free
+    /// space (per level and graph edge) and error. JSON, CSV, a picture per level.
+    Score {
+        /// A world folder generated with [artifacts] (and free-space ground truth for --map).
+        world: PathBuf,
+        /// The team's reports: CSV with columns time,class,x,y,z, or a JSON list of them.
+        #[arg(long)]
+        reports: PathBuf,
+        /// The robot's map in the world frame: a PLY or PCD point cloud, or an occupancy .npy
+        /// on the grid of ground_truth/free_space.npy.
+        #[arg(long, value_name = "CLOUD")]
+        map: Option<PathBuf>,
+        /// A free voxel within this many metres of a mapped point counts as covered.
+        #[arg(long, default_value_t = 1.0, value_name = "METRES")]
+        radius: f64,
+        /// A mapped point farther than this many metres from the surface is a map error.
+        #[arg(long, default_value_t = 0.5, value_name = "METRES")]
+        tolerance: f64,
+        /// The score folder (must not exist, unless --force and the tool wrote it).
+        #[arg(long)]
+        out: PathBuf,
+        /// Replace a score folder written earlier.
+        #[arg(long)]
+        force: bool,
+    },
     /// Draw a shaded perspective picture of a world's mesh (no GPU needed).
     Preview {
         /// A world folder generated with a tile set.
@@ -407,6 +433,27 @@ fn run(cli: Cli) -> Result<()> {
                 world.resolved.cols,
                 world.occupancy.occupied_count()
             );
+            Ok(())
+        }
+        Command::Score {
+            world,
+            reports,
+            map,
+            radius,
+            tolerance,
+            out,
+            force,
+        } => {
+            let summary = subtgraph::score::run(&subtgraph::score::Options {
+                world,
+                reports,
+                map,
+                radius,
+                tolerance,
+                out,
+                force,
+            })?;
+            println!("{summary}");
             Ok(())
         }
         Command::Preview {

@@ -11,10 +11,11 @@ mod common;
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
 
-const COMMANDS: [&str; 7] = [
+const COMMANDS: [&str; 8] = [
     "generate",
     "dataset",
     "stats",
+    "score",
     "validate",
     "preview",
     "presets",
@@ -182,6 +183,7 @@ fn reached_by(file: &str, src: &str, pos: usize) -> Vec<&'static str> {
         }
         f if f.starts_with("src/dataset/") => vec!["dataset"],
         f if f.starts_with("src/stats/") => vec!["stats"],
+        f if f.starts_with("src/score/") => vec!["score"],
         "src/preview.rs" => vec!["preview"],
         // dataset writes world folders without --force and words its own message when one
         // is in the way (src/dataset/mod.rs, tested in tests/dataset.rs), so the folder

@@ -54,6 +54,12 @@ pub struct Pipeline {
     /// Shared libraries to load components from.
     #[serde(default, skip_serializing_if = "PluginsSection::is_empty")]
     pub plugins: PluginsSection,
+    /// Objects to find (`[artifacts]`); none without the section.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub artifacts: Option<crate::artifacts::ArtifactsSection>,
+    /// Floor hazards (`[hazards]`); none without the section.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub hazards: Option<crate::hazards::HazardsSection>,
     /// Written by the tool into a world's `world.toml`; ignored when generating.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub generated: Option<Provenance>,
@@ -72,6 +78,8 @@ impl Default for Pipeline {
             tileset: None,
             export: Vec::new(),
             plugins: PluginsSection::default(),
+            artifacts: None,
+            hazards: None,
             generated: None,
         }
     }
@@ -552,6 +560,12 @@ impl Pipeline {
         if w.attempts == 0 || w.attempts > 10_000 {
             return Err(err("world.attempts", "must be between 1 and 10000".into()));
         }
+        if let Some((key, message)) = self.hazards.as_ref().and_then(|h| h.problem()) {
+            return Err(err(key, message));
+        }
+        if let Some((key, message)) = self.artifacts.as_ref().and_then(|a| a.problem()) {
+            return Err(err(key, message));
+        }
         let t = &self.topology;
         if !t.per_level.is_empty() {
             if let IntRange::Between(..) = w.levels {
@@ -622,6 +636,9 @@ impl Pipeline {
         p.world.max_width = FloatRange::Fixed(max_width);
         let level_height = p.world.level_height.unwrap_or(0.8 * p.world.tile_pitch);
         p.world.level_height = Some(level_height);
+        if let Some(a) = &mut p.artifacts {
+            a.resolve(p.world.seed);
+        }
 
         let per_level: Vec<Vec<(String, u32)>> = if p.topology.per_level.is_empty() {
             let mut ranges: Vec<(String, IntRange)> = BUILT_IN_STRUCTURES

@@ -18,6 +18,7 @@
 //! [`export::WorldWriter`]. That keeps the core usable from tests, services and batch jobs, and
 //! lets the command line make world folders atomic.
 
+pub mod artifacts;
 pub mod assembly;
 pub mod budget;
 pub mod components;
@@ -27,6 +28,7 @@ pub mod export;
 pub mod generate;
 pub mod graph;
 pub mod grid;
+pub mod hazards;
 pub mod import;
 pub mod mesh;
 pub mod npy;

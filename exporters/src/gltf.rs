@@ -20,6 +20,7 @@
 
 use std::io::Write;
 
+use crate::artifacts::Artifact;
 use serde_json::{Value, json};
 use subtgraph_core::World;
 use subtgraph_core::error::ConfigError;
@@ -91,7 +92,13 @@ fn sizes(m: &Mesh, materials: usize) -> Sizes {
 }
 
 /// The JSON document and the binary chunk's length.
-fn document(names: &[&Part], sizes: &[Sizes], materials: &[Value]) -> (Value, usize) {
+fn document(
+    names: &[&Part],
+    sizes: &[Sizes],
+    materials: &[Value],
+    artifacts: &[Artifact],
+) -> (Value, usize) {
+    let mut materials = materials.to_vec();
     let mut views = Vec::new();
     let mut accessors = Vec::new();
     let mut meshes = Vec::new();
@@ -133,11 +140,49 @@ fn document(names: &[&Part], sizes: &[Sizes], materials: &[Value]) -> (Value, us
         }
         meshes.push(json!({"name": part.name, "primitives": primitives}));
     }
-    let nodes: Vec<Value> = names
+    let mut nodes: Vec<Value> = names
         .iter()
         .enumerate()
         .map(|(i, p)| json!({"name": p.name, "mesh": i}))
         .collect();
+    if !artifacts.is_empty() {
+        // One unit cube (24 vertices with flat normals, 36 indices), a mesh per class using
+        // it with the class's material, and a node per artifact scaling it to its box.
+        let v = view(24 * 12, 34962, &mut views);
+        accessors.push(json!({"bufferView": v, "componentType": 5126, "count": 24,
+            "type": "VEC3", "min": [-0.5, -0.5, -0.5], "max": [0.5, 0.5, 0.5]}));
+        let position = accessors.len() - 1;
+        let v = view(24 * 12, 34962, &mut views);
+        accessors
+            .push(json!({"bufferView": v, "componentType": 5126, "count": 24, "type": "VEC3"}));
+        let normal = accessors.len() - 1;
+        let v = view(36 * 4, 34963, &mut views);
+        accessors
+            .push(json!({"bufferView": v, "componentType": 5125, "count": 36, "type": "SCALAR"}));
+        let indices = accessors.len() - 1;
+        let mut mesh_of = std::collections::BTreeMap::new();
+        for a in artifacts {
+            let mesh = *mesh_of.entry(a.class).or_insert_with(|| {
+                let [r, g, b] = a.class.colour();
+                materials.push(json!({"name": format!("artifact-{}", a.class.name()),
+                    "pbrMetallicRoughness": {"baseColorFactor": [r, g, b, 1.0],
+                    "metallicFactor": 0.0, "roughnessFactor": 0.6}}));
+                meshes.push(
+                    json!({"name": format!("artifact-{}", a.class.name()), "primitives": [{
+                    "attributes": {"POSITION": position, "NORMAL": normal},
+                    "indices": indices, "mode": 4, "material": materials.len() - 1}]}),
+                );
+                meshes.len() - 1
+            });
+            let [x, y, z] = a.centre();
+            let [l, w, h] = a.size;
+            let half = 0.5 * a.yaw;
+            // Z up to Y up: a turn about z is the same turn about Y.
+            nodes.push(json!({"name": format!("artifact-{}", a.name), "mesh": mesh,
+                "translation": [x, z, -y], "rotation": [0.0, half.sin(), 0.0, half.cos()],
+                "scale": [l, h, w], "extras": {"class": a.class.name()}}));
+        }
+    }
     let doc = json!({
         "asset": {
             "version": "2.0",
@@ -207,6 +252,42 @@ fn write_part(w: &mut dyn Write, m: &Mesh, s: &Sizes) -> std::io::Result<()> {
     Ok(())
 }
 
+/// The unit cube of the artifacts, in glTF's Y-up frame: positions, normals, indices.
+fn write_cube(w: &mut dyn Write) -> std::io::Result<()> {
+    let mut positions = Vec::with_capacity(24);
+    let mut normals = Vec::with_capacity(24);
+    for axis in 0..3 {
+        for sign in [-1.0f32, 1.0] {
+            let (u, v) = ((axis + 1) % 3, (axis + 2) % 3);
+            // Corners counter-clockwise seen from outside.
+            let corners: [[f32; 2]; 4] = if sign > 0.0 {
+                [[-0.5, -0.5], [0.5, -0.5], [0.5, 0.5], [-0.5, 0.5]]
+            } else {
+                [[-0.5, -0.5], [-0.5, 0.5], [0.5, 0.5], [0.5, -0.5]]
+            };
+            for [a, b] in corners {
+                let mut p = [0f32; 3];
+                p[axis] = 0.5 * sign;
+                p[u] = a;
+                p[v] = b;
+                positions.push(p);
+                let mut n = [0f32; 3];
+                n[axis] = sign;
+                normals.push(n);
+            }
+        }
+    }
+    floats(w, 24, 3, |i, v| v.copy_from_slice(&positions[i]))?;
+    floats(w, 24, 3, |i, v| v.copy_from_slice(&normals[i]))?;
+    let mut buf = Vec::with_capacity(36 * 4);
+    for f in 0..6u32 {
+        for k in [0, 1, 2, 0, 2, 3] {
+            buf.extend_from_slice(&(4 * f + k).to_le_bytes());
+        }
+    }
+    w.write_all(&buf)
+}
+
 impl Exporter for Gltf {
     fn export(&self, world: &World, out: &mut dyn WorldWriter) -> Result<(), ExportError> {
         let Some(mesh) = &world.mesh else {
@@ -232,7 +313,8 @@ impl Exporter for Gltf {
             })
             .collect();
         let refs: Vec<&Part> = ps.iter().collect();
-        let (doc, bin_len) = document(&refs, &sized, &materials);
+        let artifacts = crate::artifacts::place(world)?;
+        let (doc, bin_len) = document(&refs, &sized, &materials, &artifacts);
         let mut text = serde_json::to_vec(&doc).expect("JSON of plain values");
         while text.len() % 4 != 0 {
             text.push(b' ');
@@ -255,6 +337,9 @@ impl Exporter for Gltf {
             w.write_all(b"BIN\0")?;
             for (p, s) in ps.iter().zip(&sized) {
                 write_part(w, &p.visual(mesh), s)?;
+            }
+            if !artifacts.is_empty() {
+                write_cube(w)?;
             }
             Ok(())
         })

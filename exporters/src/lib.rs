@@ -9,6 +9,7 @@
 //! | `topology.json` | the graph, and requested against achieved counts per level |
 //! | `maps/level-N.png` | a top-down picture per level, tile kinds in distinct colours |
 //! | `mesh/world.obj`, `mesh/world.mtl`, `mesh/collision.obj` | the geometry, when the pipeline has a `[tileset]` |
+//! | `ground_truth/artifacts.json`, `.csv` | the artifacts' classes and poses, when the pipeline has `[artifacts]` ([`artifacts`]) |
 //!
 //! The `[[export]]` exporters (one file each) register in [`register`]. Those that write
 //! geometry for simulators cut large worlds into [`parts`] and share per-part meshes.
@@ -17,9 +18,11 @@ use subtgraph_core::World;
 use subtgraph_core::export::{ExportError, Exporter, WorldWriter};
 use subtgraph_core::registry::{DuplicateName, Registry};
 
+pub mod artifacts;
 pub mod convex_pieces;
 mod gltf;
 pub mod ground_truth;
+pub mod hazards;
 pub mod heightfields;
 mod instances;
 mod level_maps;
@@ -162,6 +165,12 @@ pub fn write_world_files(
     }
     if obj && world.mesh.is_some() {
         Obj::default().export(world, out)?;
+    }
+    if world.pipeline.artifacts.is_some() {
+        ground_truth::artifacts::write(world, &artifacts::place(world)?, out)?;
+    }
+    if world.pipeline.hazards.is_some() {
+        hazards::write(world, out)?;
     }
     Ok(())
 }

@@ -23,6 +23,7 @@ use subtgraph_core::error::ConfigError;
 use subtgraph_core::export::{ExportError, Exporter, WorldWriter};
 use subtgraph_core::params::Params;
 
+pub(crate) mod artifacts;
 pub(crate) mod axis;
 mod free_space;
 mod graph;
