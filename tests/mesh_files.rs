@@ -76,7 +76,7 @@ fn cave(pitch: f64) -> World {
     let mut p = subtgraph::presets::load("cave").unwrap();
     p.world.tile_pitch = pitch;
     p.tileset = None;
-    layout(&p, &subtgraph::registry()).unwrap()
+    World::from(layout(&p, &subtgraph::registry()).unwrap())
 }
 
 #[test]

@@ -172,7 +172,7 @@ impl Params {
                 let span = e.span()?;
                 // A span that starts the document is about the section as a whole.
                 (span.start > 0 || !text[span.clone()].contains('\n'))
-                    .then(|| crate::config::key_at(&text, span.start))
+                    .then(|| crate::error::key_at(&text, span.start))
             })
             .unwrap_or_default();
         match (located.is_empty(), missing) {

@@ -209,7 +209,7 @@ fn write_part(w: &mut dyn Write, m: &Mesh, s: &Sizes) -> std::io::Result<()> {
 
 impl Exporter for Gltf {
     fn export(&self, world: &World, out: &mut dyn WorldWriter) -> Result<(), ExportError> {
-        let Some(mesh) = &world.mesh else {
+        let Some(mesh) = world.mesh() else {
             return Err(ExportError::Unsupported(
                 "the glTF exporter needs geometry: add a [tileset] to the pipeline (or drop --no-mesh)".into(),
             ));

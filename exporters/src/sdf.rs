@@ -187,7 +187,7 @@ fn lights_xml(s: &mut String, world: &World, lights: Lights) {
 
 impl Exporter for Sdf {
     fn export(&self, world: &World, out: &mut dyn WorldWriter) -> Result<(), ExportError> {
-        let Some(mesh) = &world.mesh else {
+        let Some(mesh) = world.mesh() else {
             return Err(ExportError::Unsupported(
                 "the SDF exporter needs geometry: add a [tileset] to the pipeline (or drop --no-mesh)".into(),
             ));

@@ -50,7 +50,7 @@ impl Urdf {
 
 impl Exporter for Urdf {
     fn export(&self, world: &World, out: &mut dyn WorldWriter) -> Result<(), ExportError> {
-        let Some(mesh) = &world.mesh else {
+        let Some(mesh) = world.mesh() else {
             return Err(ExportError::Unsupported(
                 "the URDF exporter needs geometry: add a [tileset] to the pipeline (or drop --no-mesh)".into(),
             ));

@@ -37,7 +37,7 @@ use std::path::{Path, PathBuf};
 use std::sync::{Arc, Mutex};
 
 use serde::Deserialize;
-use subtgraph_core::World;
+use subtgraph_core::Layout;
 use subtgraph_core::budget::TileTriangles;
 use subtgraph_core::error::ConfigError;
 use subtgraph_core::grid::{Direction, Openings, rotate_openings};
@@ -587,17 +587,14 @@ fn describe(o: Openings) -> String {
 impl TileSet for MeshFiles {
     fn tile(&self, ctx: &TileContext<'_>) -> Result<TileGeometry, TileSetError> {
         let kind = ctx.tile.kind;
-        let entry = self.entry(kind).ok_or_else(|| {
-            TileSetError(format!(
-                "{} has no tile for '{}'",
-                self.manifest_path.display(),
-                kind.name()
-            ))
+        let entry = self.entry(kind).ok_or_else(|| TileSetError::MissingKinds {
+            tileset: self.manifest_path.display().to_string(),
+            kinds: vec![kind.name().to_owned()],
         })?;
         let mut rng = WorldRng::new(ctx.seed, "mesh-file", 0);
         let asset = &entry.assets[rng.below(entry.assets.len() as u64) as usize];
         let s =
-            (ctx.world.resolved.tile_pitch / (self.manifest.pitch * self.manifest.scale)) as f32;
+            (ctx.layout.resolved.tile_pitch / (self.manifest.pitch * self.manifest.scale)) as f32;
         let [x, y, z] = ctx.position.map(|v| v as f32);
         let q = ctx.tile.rotation;
         let place = |m: &Mesh| Mesh {
@@ -622,7 +619,7 @@ impl TileSet for MeshFiles {
                 visual.append(&place(&cap.mesh));
             }
         }
-        let collision = simplify(&visual, 0.04 * ctx.world.resolved.tile_pitch as f32);
+        let collision = simplify(&visual, 0.04 * ctx.layout.resolved.tile_pitch as f32);
         Ok(TileGeometry {
             visual,
             collision,
@@ -639,7 +636,7 @@ impl TileSet for MeshFiles {
         Some(self.manifest.pitch * self.manifest.scale)
     }
 
-    fn estimate(&self, _world: &World, kind: TileKind) -> Option<TileTriangles> {
+    fn estimate(&self, _world: &Layout, kind: TileKind) -> Option<TileTriangles> {
         // The files' own triangles (the mean over a kind's files, plus its cap); collision is
         // the same surface snapped to a coarser grid, measured at about a third of it on the
         // DARPA tiles, counted at half to stay on the safe side.
@@ -660,7 +657,7 @@ impl TileSet for MeshFiles {
         })
     }
 
-    fn check(&self, world: &World) -> Result<(), TileSetError> {
+    fn check(&self, world: &Layout) -> Result<(), TileSetError> {
         let mut missing = Vec::new();
         for c in world.occupancy.cells() {
             if let Some(t) = world.tiles.get(c) {
@@ -670,11 +667,10 @@ impl TileSet for MeshFiles {
             }
         }
         if !missing.is_empty() {
-            return Err(TileSetError(format!(
-                "{} has no tile for {} but the world needs them; add [[tile]] entries with those kinds",
-                self.manifest_path.display(),
-                missing.join(", ")
-            )));
+            return Err(TileSetError::MissingKinds {
+                tileset: self.manifest_path.display().to_string(),
+                kinds: missing.into_iter().map(str::to_owned).collect(),
+            });
         }
         if let Some(rise) = self.manifest.shaft_rise {
             let scaled = rise * self.manifest.scale * world.resolved.tile_pitch
@@ -692,11 +688,14 @@ impl TileSet for MeshFiles {
                         self.manifest.pitch * self.manifest.scale
                     )
                 };
-                return Err(TileSetError(format!(
-                    "{}: shaft tiles climb {scaled} m at this pitch but levels are {} m apart; {fix}",
-                    self.manifest_path.display(),
-                    world.resolved.level_height
-                )));
+                return Err(TileSetError::Unsuited {
+                    what: format!(
+                        "{}: shaft tiles climb {scaled} m at this pitch but levels are {} m apart",
+                        self.manifest_path.display(),
+                        world.resolved.level_height
+                    ),
+                    fix,
+                });
             }
         }
         Ok(())
