@@ -147,7 +147,10 @@ fn bad_manifests_are_refused_naming_the_file_and_what_to_change() {
         let err = MeshFiles::open(&manifest(dir.path(), body))
             .err()
             .expect(body);
-        assert!(format!("{err:?}").starts_with(variant), "{variant}: {err:?}");
+        assert!(
+            format!("{err:?}").starts_with(variant),
+            "{variant}: {err:?}"
+        );
         let err = err.to_string();
         assert!(err.contains(want), "want '{want}' in: {err}");
         assert!(err.contains("tiles.toml"), "names the manifest: {err}");

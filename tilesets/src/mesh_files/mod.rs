@@ -376,8 +376,9 @@ impl MeshFiles {
             cache.insert(full, mesh?);
             *loads.lock().expect("not poisoned") += 1;
         }
-        let read =
-            |file: &str| -> Result<Arc<Mesh>, ManifestError> { Ok(cache[&root.join(file)].clone()) };
+        let read = |file: &str| -> Result<Arc<Mesh>, ManifestError> {
+            Ok(cache[&root.join(file)].clone())
+        };
         let mut entries = BTreeMap::new();
         for t in &manifest.tiles {
             let kind = kind_named(&t.kind).ok_or_else(|| ManifestError::UnknownKind {
