@@ -25,10 +25,10 @@
 
 use std::io::Write;
 
-use serde_json::{Value, json};
 use gltf_json::accessor::{FLOAT, UNSIGNED_INT};
 use gltf_json::buffer::{ARRAY_BUFFER, ELEMENT_ARRAY_BUFFER};
 use gltf_json::mesh::TRIANGLES;
+use serde_json::{Value, json};
 use subtgraph_core::World;
 use subtgraph_core::error::ConfigError;
 use subtgraph_core::export::{ExportError, Exporter, WorldWriter, stream_file};
@@ -307,9 +307,12 @@ mod tests {
         let root: gltf_json::Root =
             gltf_json::deserialize::from_slice(&glb[20..20 + json_len]).unwrap();
         let mut problems = Vec::new();
-        gltf_json::validation::Validate::validate(&root, &root, gltf_json::Path::new, &mut |p, e| {
-            problems.push(format!("{}: {e}", p()))
-        });
+        gltf_json::validation::Validate::validate(
+            &root,
+            &root,
+            gltf_json::Path::new,
+            &mut |p, e| problems.push(format!("{}: {e}", p())),
+        );
         assert!(problems.is_empty(), "{problems:?}");
         assert_eq!(root.meshes.len(), 2);
     }

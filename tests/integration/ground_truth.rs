@@ -2,7 +2,7 @@
 //! have (numpy, PIL, yaml, networkx, csv, json) against the grid and against an independent
 //! ray parity on the collision surface: `tests/readers/ground_truth_check.py`.
 
-mod common;
+use crate::common;
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
