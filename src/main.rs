@@ -7,7 +7,7 @@ use std::time::Instant;
 use anyhow::{Context, Result, anyhow, bail};
 use clap::{Parser, Subcommand};
 
-use subtgraph::core::{Pipeline, World, import, npy};
+use subtgraph::core::{Layout, Pipeline, World, import, npy};
 use subtgraph::presets;
 
 /// Procedural subterranean worlds with controlled topology, for robot simulation.
@@ -223,20 +223,20 @@ use subtgraph::make::{self, registry_with};
 fn validate_layout(
     p: &Pipeline,
     registry: &subtgraph::core::Registry,
-) -> Result<World, subtgraph::core::Error> {
+) -> Result<Layout, subtgraph::core::Error> {
     let components = p.build(registry)?;
-    let world =
+    let layout =
         subtgraph::core::layout_with(p, &components, &subtgraph::core::Budget::unlimited())?;
     if let Some(t) = &components.tileset {
         t.tileset
-            .check(&world)
+            .check(&layout)
             .map_err(|e| subtgraph::core::Error::Component {
                 component: "tile set",
                 name: t.name.clone(),
-                message: e.0,
+                message: e.to_string(),
             })?;
     }
-    Ok(world)
+    Ok(layout)
 }
 
 fn main() -> ExitCode {
@@ -291,18 +291,19 @@ fn run(cli: Cli) -> Result<()> {
             let started = Instant::now();
             let world = match occupancy {
                 Some(npy_path) => {
-                    let mut world = import_world(&npy_path, &p, &budget)?;
-                    if let Some(t) = &components.tileset {
-                        world.mesh = Some(
+                    let layout = import_world(&npy_path, &p, &budget)?;
+                    let mesh = match &components.tileset {
+                        Some(t) => Some(
                             subtgraph::core::assembly::assemble_within(
-                                &world,
+                                &layout,
                                 t.tileset.as_ref(),
                                 &budget,
                             )
                             .map_err(|e| anyhow!("tile set '{}': {e}", t.name))?,
-                        );
-                    }
-                    world
+                        ),
+                        None => None,
+                    };
+                    World::new(layout, mesh)
                 }
                 None => make::generate(&p, &components, &source, &budget)?,
             };
@@ -519,7 +520,7 @@ fn list(r: &subtgraph::core::Registry) {
     rows(&r.exporters);
 }
 
-fn import_world(path: &Path, p: &Pipeline, budget: &subtgraph::core::Budget) -> Result<World> {
+fn import_world(path: &Path, p: &Pipeline, budget: &subtgraph::core::Budget) -> Result<Layout> {
     use subtgraph::core::budget;
     let bytes = std::fs::read(path).with_context(|| format!("reading {}", path.display()))?;
     let name = path.display().to_string();
@@ -621,7 +622,7 @@ fn summarize(
             }
         )?;
     }
-    if let Some(m) = &world.mesh {
+    if let Some(m) = world.mesh() {
         writeln!(
             f,
             "  mesh: {} tiles, {} visual triangles, {} collision triangles",

@@ -10,7 +10,12 @@
 //!
 //! Written by hand (a GLB is a 12-byte header, a JSON chunk and a binary chunk) and streamed:
 //! a first pass cuts each part once to size its arrays, a second cuts it again and writes it,
-//! so memory holds one part at a time, never a second copy of the world.
+//! so memory holds one part at a time, never a second copy of the world. The JSON is a
+//! `serde_json` value with `gltf-json`'s named constants for the GL enums; `gltf-json`'s own
+//! `Root` is not used to write it, because its serialization is not ours: it writes keys in
+//! struct order and writes defaults we leave out (`alphaMode`, `doubleSided`,
+//! `emissiveFactor` on every material) while dropping the `mode` we state, so every GLB would
+//! change for no reader's benefit (the test reads the document back with `gltf-json`).
 //!
 //! ```toml
 //! [[export]]
@@ -21,6 +26,9 @@
 use std::io::Write;
 
 use crate::artifacts::Artifact;
+use gltf_json::accessor::{FLOAT, UNSIGNED_INT};
+use gltf_json::buffer::{ARRAY_BUFFER, ELEMENT_ARRAY_BUFFER};
+use gltf_json::mesh::TRIANGLES;
 use serde_json::{Value, json};
 use subtgraph_core::World;
 use subtgraph_core::error::ConfigError;
@@ -110,29 +118,29 @@ fn document(
     };
     for (part, s) in names.iter().zip(sizes) {
         let mut attributes = serde_json::Map::new();
-        let v = view(s.vertices * 12, 34962, &mut views);
+        let v = view(s.vertices * 12, ARRAY_BUFFER, &mut views);
         accessors.push(
-            json!({"bufferView": v, "componentType": 5126, "count": s.vertices,
+            json!({"bufferView": v, "componentType": FLOAT, "count": s.vertices,
             "type": "VEC3", "min": s.min, "max": s.max}),
         );
         attributes.insert("POSITION".into(), json!(accessors.len() - 1));
         if s.normals {
-            let v = view(s.vertices * 12, 34962, &mut views);
-            accessors.push(json!({"bufferView": v, "componentType": 5126, "count": s.vertices, "type": "VEC3"}));
+            let v = view(s.vertices * 12, ARRAY_BUFFER, &mut views);
+            accessors.push(json!({"bufferView": v, "componentType": FLOAT, "count": s.vertices, "type": "VEC3"}));
             attributes.insert("NORMAL".into(), json!(accessors.len() - 1));
         }
         if s.uvs {
-            let v = view(s.vertices * 8, 34962, &mut views);
-            accessors.push(json!({"bufferView": v, "componentType": 5126, "count": s.vertices, "type": "VEC2"}));
+            let v = view(s.vertices * 8, ARRAY_BUFFER, &mut views);
+            accessors.push(json!({"bufferView": v, "componentType": FLOAT, "count": s.vertices, "type": "VEC2"}));
             attributes.insert("TEXCOORD_0".into(), json!(accessors.len() - 1));
         }
         let mut primitives = Vec::new();
         for (m, &n) in s.per_material.iter().enumerate().filter(|(_, n)| **n > 0) {
-            let v = view(n * 12, 34963, &mut views);
+            let v = view(n * 12, ELEMENT_ARRAY_BUFFER, &mut views);
             accessors.push(
-                json!({"bufferView": v, "componentType": 5125, "count": n * 3, "type": "SCALAR"}),
+                json!({"bufferView": v, "componentType": UNSIGNED_INT, "count": n * 3, "type": "SCALAR"}),
             );
-            let mut p = json!({"attributes": attributes.clone(), "indices": accessors.len() - 1, "mode": 4});
+            let mut p = json!({"attributes": attributes.clone(), "indices": accessors.len() - 1, "mode": TRIANGLES});
             if m < materials.len() {
                 p["material"] = json!(m);
             }
@@ -290,7 +298,7 @@ fn write_cube(w: &mut dyn Write) -> std::io::Result<()> {
 
 impl Exporter for Gltf {
     fn export(&self, world: &World, out: &mut dyn WorldWriter) -> Result<(), ExportError> {
-        let Some(mesh) = &world.mesh else {
+        let Some(mesh) = world.mesh() else {
             return Err(ExportError::Unsupported(
                 "the glTF exporter needs geometry: add a [tileset] to the pipeline (or drop --no-mesh)".into(),
             ));
@@ -380,5 +388,17 @@ mod tests {
             2,
             "a node per level"
         );
+        // The document is glTF as gltf-json reads it, and valid by its checks.
+        let root: gltf_json::Root =
+            gltf_json::deserialize::from_slice(&glb[20..20 + json_len]).unwrap();
+        let mut problems = Vec::new();
+        gltf_json::validation::Validate::validate(
+            &root,
+            &root,
+            gltf_json::Path::new,
+            &mut |p, e| problems.push(format!("{}: {e}", p())),
+        );
+        assert!(problems.is_empty(), "{problems:?}");
+        assert_eq!(root.meshes.len(), 2);
     }
 }

@@ -163,7 +163,7 @@ pub fn write_world_files(
     for e in always {
         e.export(world, out)?;
     }
-    if obj && world.mesh.is_some() {
+    if obj && world.mesh().is_some() {
         Obj::default().export(world, out)?;
     }
     if world.pipeline.artifacts.is_some() {
@@ -178,7 +178,7 @@ pub fn write_world_files(
 /// A small two-level world with a coarse cave mesh, for the exporters' tests.
 #[cfg(test)]
 pub(crate) fn test_world_with_mesh() -> World {
-    let mut world = test_world_from("level_height = 40.0");
+    let layout = test_world_from("level_height = 40.0").into_parts().0;
     let spec = subtgraph_core::params::ComponentSpec {
         type_name: "cave".into(),
         params: subtgraph_core::params::Params::from_table(
@@ -190,8 +190,8 @@ pub(crate) fn test_world_with_mesh() -> World {
     let mut registry = Registry::empty();
     subtgraph_tilesets::register(&mut registry).unwrap();
     let tileset = registry.tilesets.build(&spec).unwrap();
-    world.mesh = Some(subtgraph_core::assembly::assemble(&world, tileset.as_ref()).unwrap());
-    world
+    let mesh = subtgraph_core::assembly::assemble(&layout, tileset.as_ref()).unwrap();
+    World::new(layout, Some(mesh))
 }
 
 /// A small two-level world for the exporters' tests.
@@ -220,7 +220,7 @@ fn test_world_from(world_keys: &str) -> World {
             }),
         )
         .unwrap();
-    subtgraph_core::layout(&p, &registry).unwrap()
+    World::new(subtgraph_core::layout(&p, &registry).unwrap(), None)
 }
 
 #[cfg(test)]

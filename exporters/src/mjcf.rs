@@ -469,7 +469,7 @@ fn artifact_bodies(s: &mut String, artifacts: &[crate::artifacts::Artifact]) {
 
 impl Exporter for Mjcf {
     fn export(&self, world: &World, out: &mut dyn WorldWriter) -> Result<(), ExportError> {
-        let Some(mesh) = &world.mesh else {
+        let Some(mesh) = world.mesh() else {
             return Err(ExportError::Unsupported(
                 "the MJCF exporter needs geometry: add a [tileset] to the pipeline (or drop --no-mesh)".into(),
             ));
@@ -647,7 +647,7 @@ mod tests {
                 .skip(1)
                 .map(|s| &s[..s.find('"').unwrap()])
                 .collect();
-            let count = parts(&world, world.mesh.as_ref().unwrap(), split).len();
+            let count = parts(&world, world.mesh().unwrap(), split).len();
             assert_eq!(includes.len(), count, "{split:?}");
             let mut slabs = 0;
             for inc in includes {

@@ -218,7 +218,7 @@ fn artifact_models(s: &mut String, artifacts: &[crate::artifacts::Artifact]) {
 
 impl Exporter for Sdf {
     fn export(&self, world: &World, out: &mut dyn WorldWriter) -> Result<(), ExportError> {
-        let Some(mesh) = &world.mesh else {
+        let Some(mesh) = world.mesh() else {
             return Err(ExportError::Unsupported(
                 "the SDF exporter needs geometry: add a [tileset] to the pipeline (or drop --no-mesh)".into(),
             ));

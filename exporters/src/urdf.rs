@@ -70,7 +70,7 @@ fn artifact_link(s: &mut String, a: &crate::artifacts::Artifact) {
 
 impl Exporter for Urdf {
     fn export(&self, world: &World, out: &mut dyn WorldWriter) -> Result<(), ExportError> {
-        let Some(mesh) = &world.mesh else {
+        let Some(mesh) = world.mesh() else {
             return Err(ExportError::Unsupported(
                 "the URDF exporter needs geometry: add a [tileset] to the pipeline (or drop --no-mesh)".into(),
             ));

@@ -345,7 +345,7 @@ fn artifact_prims(s: &mut String, artifacts: &[crate::artifacts::Artifact]) {
 
 impl Exporter for Usd {
     fn export(&self, world: &World, out: &mut dyn WorldWriter) -> Result<(), ExportError> {
-        let Some(mesh) = &world.mesh else {
+        let Some(mesh) = world.mesh() else {
             return Err(ExportError::Unsupported(
                 "the USD exporter needs geometry: add a [tileset] to the pipeline (or drop --no-mesh)".into(),
             ));

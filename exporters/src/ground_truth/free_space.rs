@@ -97,7 +97,7 @@ impl FreeSpace {
 
     fn voxels(&self, world: &World) -> Result<Voxels, ExportError> {
         let [x0, y0, x1, y1] = extent(world);
-        let (z0, z1) = match &world.mesh {
+        let (z0, z1) = match world.mesh() {
             Some(m) if !m.collision.positions.is_empty() => m
                 .collision
                 .positions

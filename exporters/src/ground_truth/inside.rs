@@ -146,7 +146,7 @@ pub(crate) struct Raster<T> {
 impl<'a> Passages<'a> {
     /// The world's collision surface when it has one, else its grid.
     pub fn of(world: &'a World) -> Self {
-        let Some(m) = &world.mesh else {
+        let Some(m) = world.mesh() else {
             return Passages::Grid(world);
         };
         let mesh = &m.collision;

@@ -2,7 +2,7 @@
 //! export by MuJoCo itself (`tests/readers/hazards_check.py`), their shares as asked, and bad
 //! sections refused.
 
-mod common;
+use crate::common;
 
 use common::{arg, fails, ok, read_with_python, small_cave_pipeline};
 

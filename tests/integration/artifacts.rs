@@ -3,7 +3,7 @@
 //! read them find them (MuJoCo, PyBullet, usd-core, trimesh, libsdformat), and at rest where
 //! the ground truth says after a drop. The checks are `tests/readers/artifacts_check.py`.
 
-mod common;
+use crate::common;
 
 use std::path::{Path, PathBuf};
 use std::process::Command;

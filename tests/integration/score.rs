@@ -3,7 +3,7 @@
 //! maps sampled from the free space of some graph edges only, in every cloud format, which
 //! must give exactly those edges' coverage; and bad input refused naming the row or point.
 
-mod common;
+use crate::common;
 
 use std::path::{Path, PathBuf};
 
