@@ -17,7 +17,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::config::IntRange;
+use crate::range::IntRange;
 use crate::rng::WorldRng;
 
 /// The DARPA SubT artifact classes.

@@ -36,6 +36,7 @@ pub mod layout;
 pub mod mesh;
 pub mod npy;
 pub mod params;
+pub mod range;
 pub mod registry;
 pub mod rng;
 pub mod route;

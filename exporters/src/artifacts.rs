@@ -31,7 +31,7 @@ use subtgraph_core::grid::Cell;
 use subtgraph_core::rng::WorldRng;
 use subtgraph_core::tile::TileKind;
 
-use crate::ground_truth::inside::{Columns, Passages, Span, cell_at};
+use crate::inside::{Columns, Passages, Span, cell_at};
 
 /// Coarsest spacing of the lines sampled under an artifact, metres.
 const STEP: f64 = 0.25;

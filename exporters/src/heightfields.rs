@@ -23,7 +23,7 @@ use rayon::prelude::*;
 use subtgraph_core::World;
 use subtgraph_core::assembly::WorldMesh;
 
-use crate::ground_truth::inside::{Columns, Passages};
+use crate::inside::{Columns, Passages};
 
 /// The heights of one tile's floor and roof.
 #[derive(Clone, Debug, PartialEq)]

@@ -24,6 +24,7 @@ mod gltf;
 pub mod ground_truth;
 pub mod hazards;
 pub mod heightfields;
+pub(crate) mod inside;
 mod instances;
 mod level_maps;
 mod mjcf;

@@ -27,7 +27,6 @@ pub(crate) mod artifacts;
 pub(crate) mod axis;
 mod free_space;
 mod graph;
-pub(crate) mod inside;
 mod ros_map;
 mod semantic_labels;
 mod spawn_poses;
@@ -138,7 +137,7 @@ impl GroundTruth {
 impl Exporter for GroundTruth {
     fn export(&self, world: &World, out: &mut dyn WorldWriter) -> Result<(), ExportError> {
         let s = &self.settings;
-        let passages = inside::Passages::of(world);
+        let passages = crate::inside::Passages::of(world);
         let axes = axis::Axes::of(world, &passages);
         GraphFiles.write(world, &axes, out)?;
         SemanticLabels.write(world, &axes, out)?;
