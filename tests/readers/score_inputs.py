@@ -118,7 +118,10 @@ for step in (0, 1):
         hit = reg != -1
         level_of[idx[hit]] = L
         edge_of[idx[hit]] = np.where(reg[hit] >= 0, reg[hit], -2)
-corridors = [e["id"] for e in topo["edges"] if e["kind"] == "corridor"]
+# A corridor between two neighbouring nodes has no cells, so no free space, of its own (its
+# share is 0 of 0): only corridors with space of their own can be covered.
+with_space = set(np.unique(edge_of[edge_of >= 0]).tolist())
+corridors = [e["id"] for e in topo["edges"] if e["kind"] == "corridor" and e["id"] in with_space]
 chosen = set(corridors[::2])
 pick = np.isin(edge_of, list(chosen))
 pts = np.stack([cx[pick], cy[pick], cz[pick]], 1).astype("<f4")
