@@ -14,7 +14,8 @@ fn presets(c: &mut Criterion) {
         c.bench_function(&format!("generate/{name}"), |b| {
             b.iter(|| generate(black_box(&pipeline), &registry).expect("generates"))
         });
-        let world = generate(&pipeline, &registry).expect("generates");
+        let world =
+            subtgraph::core::World::from(generate(&pipeline, &registry).expect("generates"));
         c.bench_function(&format!("world-folder/{name}"), |b| {
             b.iter(|| {
                 let mut out = MemoryWriter::default();

@@ -23,6 +23,7 @@ pub mod make;
 pub mod memory;
 pub mod presets;
 pub mod preview;
+pub mod score;
 pub mod stats;
 
 use subtgraph_core::Registry;

@@ -7,7 +7,7 @@ use std::time::Instant;
 use anyhow::{Context, Result, anyhow, bail};
 use clap::{Parser, Subcommand};
 
-use subtgraph::core::{Pipeline, World, import, npy};
+use subtgraph::core::{Layout, Pipeline, World, import, npy};
 use subtgraph::presets;
 
 /// Procedural subterranean worlds with controlled topology, for robot simulation.
@@ -164,6 +164,32 @@ enum Command {
     },
     /// List the built-in presets.
     Presets,
+    /// Grade a robot's run against a world's ground truth: artifact reports by the DARPA
+    /// rule (same class within 5 m, each artifact once), and a map's coverage of the free
+    /// space (per level and graph edge) and error. JSON, CSV, a picture per level.
+    Score {
+        /// A world folder generated with [artifacts] (and free-space ground truth for --map).
+        world: PathBuf,
+        /// The team's reports: CSV with columns time,class,x,y,z, or a JSON list of them.
+        #[arg(long)]
+        reports: PathBuf,
+        /// The robot's map in the world frame: a PLY or PCD point cloud, or an occupancy .npy
+        /// on the grid of ground_truth/free_space.npy.
+        #[arg(long, value_name = "CLOUD")]
+        map: Option<PathBuf>,
+        /// A free voxel within this many metres of a mapped point counts as covered.
+        #[arg(long, default_value_t = 1.0, value_name = "METRES")]
+        radius: f64,
+        /// A mapped point farther than this many metres from the surface is a map error.
+        #[arg(long, default_value_t = 0.5, value_name = "METRES")]
+        tolerance: f64,
+        /// The score folder (must not exist, unless --force and the tool wrote it).
+        #[arg(long)]
+        out: PathBuf,
+        /// Replace a score folder written earlier.
+        #[arg(long)]
+        force: bool,
+    },
     /// Draw a shaded perspective picture of a world's mesh (no GPU needed).
     Preview {
         /// A world folder generated with a tile set.
@@ -197,20 +223,20 @@ use subtgraph::make::{self, registry_with};
 fn validate_layout(
     p: &Pipeline,
     registry: &subtgraph::core::Registry,
-) -> Result<World, subtgraph::core::Error> {
+) -> Result<Layout, subtgraph::core::Error> {
     let components = p.build(registry)?;
-    let world =
+    let layout =
         subtgraph::core::layout_with(p, &components, &subtgraph::core::Budget::unlimited())?;
     if let Some(t) = &components.tileset {
         t.tileset
-            .check(&world)
+            .check(&layout)
             .map_err(|e| subtgraph::core::Error::Component {
                 component: "tile set",
                 name: t.name.clone(),
-                message: e.0,
+                message: e.to_string(),
             })?;
     }
-    Ok(world)
+    Ok(layout)
 }
 
 fn main() -> ExitCode {
@@ -265,18 +291,19 @@ fn run(cli: Cli) -> Result<()> {
             let started = Instant::now();
             let world = match occupancy {
                 Some(npy_path) => {
-                    let mut world = import_world(&npy_path, &p, &budget)?;
-                    if let Some(t) = &components.tileset {
-                        world.mesh = Some(
+                    let layout = import_world(&npy_path, &p, &budget)?;
+                    let mesh = match &components.tileset {
+                        Some(t) => Some(
                             subtgraph::core::assembly::assemble_within(
-                                &world,
+                                &layout,
                                 t.tileset.as_ref(),
                                 &budget,
                             )
                             .map_err(|e| anyhow!("tile set '{}': {e}", t.name))?,
-                        );
-                    }
-                    world
+                        ),
+                        None => None,
+                    };
+                    World::new(layout, mesh)
                 }
                 None => make::generate(&p, &components, &source, &budget)?,
             };
@@ -409,6 +436,27 @@ fn run(cli: Cli) -> Result<()> {
             );
             Ok(())
         }
+        Command::Score {
+            world,
+            reports,
+            map,
+            radius,
+            tolerance,
+            out,
+            force,
+        } => {
+            let summary = subtgraph::score::run(&subtgraph::score::Options {
+                world,
+                reports,
+                map,
+                radius,
+                tolerance,
+                out,
+                force,
+            })?;
+            println!("{summary}");
+            Ok(())
+        }
         Command::Preview {
             world,
             out,
@@ -472,7 +520,7 @@ fn list(r: &subtgraph::core::Registry) {
     rows(&r.exporters);
 }
 
-fn import_world(path: &Path, p: &Pipeline, budget: &subtgraph::core::Budget) -> Result<World> {
+fn import_world(path: &Path, p: &Pipeline, budget: &subtgraph::core::Budget) -> Result<Layout> {
     use subtgraph::core::budget;
     let bytes = std::fs::read(path).with_context(|| format!("reading {}", path.display()))?;
     let name = path.display().to_string();
@@ -574,7 +622,7 @@ fn summarize(
             }
         )?;
     }
-    if let Some(m) = &world.mesh {
+    if let Some(m) = world.mesh() {
         writeln!(
             f,
             "  mesh: {} tiles, {} visual triangles, {} collision triangles",

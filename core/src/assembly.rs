@@ -11,11 +11,11 @@ use rayon::prelude::*;
 
 use crate::budget::{Budget, MeshEstimate};
 use crate::grid::Cell;
+use crate::layout::Layout;
 use crate::mesh::{Material, Mesh};
 use crate::rng::derive_seed;
 use crate::tile::TileKind;
 use crate::tileset::{Seams, TileContext, TileGeometry, TileSet, TileSetError};
-use crate::world::World;
 
 /// Where one tile's triangles are in the world meshes.
 #[derive(Clone, Debug, PartialEq)]
@@ -54,21 +54,21 @@ fn reserve(m: &mut Mesh, vertices: usize, triangles: usize) {
     m.materials.reserve(triangles);
 }
 
-/// Makes every tile of a world and joins them, with no memory budget (see
+/// Makes every tile of a layout and joins them, with no memory budget (see
 /// [`assemble_within`]).
-pub fn assemble(world: &World, tileset: &dyn TileSet) -> Result<WorldMesh, TileSetError> {
-    assemble_within(world, tileset, &Budget::unlimited())
+pub fn assemble(layout: &Layout, tileset: &dyn TileSet) -> Result<WorldMesh, TileSetError> {
+    assemble_within(layout, tileset, &Budget::unlimited())
 }
 
-/// Makes every tile of a world and joins them, refusing first a world whose meshes would need
+/// Makes every tile of a layout and joins them, refusing first a world whose meshes would need
 /// more memory than `budget`: by the tile set's estimate before any tile is made, and for tile
 /// sets without one, by the first chunk of tiles extrapolated to the world.
 pub fn assemble_within(
-    world: &World,
+    layout: &Layout,
     tileset: &dyn TileSet,
     budget: &Budget,
 ) -> Result<WorldMesh, TileSetError> {
-    tileset.check(world)?;
+    tileset.check(layout)?;
     let advice = match tileset.detail_advice() {
         Some(a) => format!(
             "{a}, make a smaller world (world.min_length, or world.rows and world.cols, and \
@@ -79,9 +79,9 @@ pub fn assemble_within(
             .to_owned(),
     };
     let grid = crate::budget::layout_bytes(
-        world.occupancy.levels(),
-        world.occupancy.rows(),
-        world.occupancy.cols(),
+        layout.occupancy.levels(),
+        layout.occupancy.rows(),
+        layout.occupancy.cols(),
     );
     let too_large = |estimate: MeshEstimate, how: &str| {
         budget
@@ -90,37 +90,33 @@ pub fn assemble_within(
                 &format!("this world's meshes ({}, {how})", estimate.describe()),
                 &advice,
             )
-            .map_err(TileSetError)
+            .map_err(TileSetError::TooLarge)
     };
-    if let Some(e) = crate::budget::mesh_estimate(world, |k| tileset.estimate(world, k)) {
+    if let Some(e) = crate::budget::mesh_estimate(layout, |k| tileset.estimate(layout, k)) {
         too_large(e, "estimated")?;
     }
-    let cells: Vec<Cell> = world
+    let cells: Vec<Cell> = layout
         .occupancy
         .cells()
-        .filter(|&c| *world.occupancy.get(c))
+        .filter(|&c| *layout.occupancy.get(c))
         .collect();
     let make = |cell: Cell| -> Result<TileGeometry, TileSetError> {
-        let tile = world.tiles.get(cell).expect("occupied cells have tiles");
+        let tile = layout.tiles.get(cell).expect("occupied cells have tiles");
         let ctx = TileContext {
-            world,
+            layout,
             cell,
             tile,
-            position: world.cell_position(cell),
+            position: layout.cell_position(cell),
             seed: derive_seed(
-                world.resolved.seed,
+                layout.resolved.seed,
                 "tile",
                 ((cell.level as u64) << 40) | ((cell.row as u64) << 20) | cell.col as u64,
             ),
         };
-        tileset.tile(&ctx).map_err(|e| {
-            TileSetError(format!(
-                "tile at level {}, row {}, column {} ({}): {e}",
-                cell.level,
-                cell.row,
-                cell.col,
-                tile.kind.name()
-            ))
+        tileset.tile(&ctx).map_err(|e| TileSetError::Tile {
+            cell,
+            kind: tile.kind,
+            source: Box::new(e),
         })
     };
     let mut out = WorldMesh {
@@ -156,7 +152,7 @@ pub fn assemble_within(
             reserve(&mut out.collision, cv, ct);
         }
         for (cell, g) in group.iter().zip(&geometry) {
-            let tile = world.tiles.get(*cell).expect("occupied");
+            let tile = layout.tiles.get(*cell).expect("occupied");
             let start = out.visual.triangle_count();
             let collision_start = out.collision.triangle_count();
             match (&mut seams, &g.seams) {

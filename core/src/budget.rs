@@ -12,8 +12,8 @@
 
 use std::fmt;
 
+use crate::layout::Layout;
 use crate::tile::TileKind;
-use crate::world::World;
 
 /// Bytes per cell of the whole world during layout and writing: occupancy, tiles, spatial
 /// codes, maps (measured: 25 bytes per cell for two levels of 1024 x 1024, with the per-level
@@ -145,11 +145,11 @@ impl MeshEstimate {
 /// Sums a per-kind estimate over the world's tiles: one call per kind, one pass over the grid.
 /// `None` when `per_kind` has no estimate for a kind the world has.
 pub fn mesh_estimate(
-    world: &World,
+    layout: &Layout,
     mut per_kind: impl FnMut(TileKind) -> Option<TileTriangles>,
 ) -> Option<MeshEstimate> {
     let mut counts = [0u64; TileKind::ALL.len()];
-    for t in world.tiles.as_slice().iter().flatten() {
+    for t in layout.tiles.as_slice().iter().flatten() {
         counts[TileKind::ALL
             .iter()
             .position(|k| *k == t.kind)

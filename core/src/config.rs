@@ -22,14 +22,13 @@
 //! out; it is what a world folder records, and it regenerates the same world.
 
 use std::collections::BTreeMap;
-use std::fmt;
 use std::sync::Arc;
 
-use serde::de::{self, Deserializer, Visitor};
-use serde::{Deserialize, Serialize, Serializer};
+use serde::{Deserialize, Serialize};
 
-use crate::error::{ConfigError, Location};
+use crate::error::{ConfigError, Location, key_at};
 use crate::params::ComponentSpec;
+pub use crate::range::{FloatRange, IntRange};
 use crate::rng::WorldRng;
 
 /// A whole pipeline file.
@@ -54,6 +53,12 @@ pub struct Pipeline {
     /// Shared libraries to load components from.
     #[serde(default, skip_serializing_if = "PluginsSection::is_empty")]
     pub plugins: PluginsSection,
+    /// Objects to find (`[artifacts]`); none without the section.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub artifacts: Option<crate::artifacts::ArtifactsSection>,
+    /// Floor hazards (`[hazards]`); none without the section.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub hazards: Option<crate::hazards::HazardsSection>,
     /// Written by the tool into a world's `world.toml`; ignored when generating.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub generated: Option<Provenance>,
@@ -72,6 +77,8 @@ impl Default for Pipeline {
             tileset: None,
             export: Vec::new(),
             plugins: PluginsSection::default(),
+            artifacts: None,
+            hazards: None,
             generated: None,
         }
     }
@@ -222,165 +229,6 @@ pub struct Provenance {
     /// The preset or file the world came from.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub source: Option<String>,
-}
-
-/// A whole number, or `[low, high]` drawn uniformly.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum IntRange {
-    /// Always this value.
-    Fixed(u32),
-    /// Uniform in `low..=high`.
-    Between(u32, u32),
-}
-
-/// A number, or `[low, high]` drawn uniformly.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum FloatRange {
-    /// Always this value.
-    Fixed(f64),
-    /// Uniform in `[low, high]`.
-    Between(f64, f64),
-}
-
-impl IntRange {
-    /// Draws a value.
-    pub fn draw(self, rng: &mut WorldRng) -> u32 {
-        match self {
-            IntRange::Fixed(v) => v,
-            IntRange::Between(lo, hi) => rng.int_in(i64::from(lo), i64::from(hi)) as u32,
-        }
-    }
-    /// The largest value it can take.
-    pub fn max(self) -> u32 {
-        match self {
-            IntRange::Fixed(v) | IntRange::Between(_, v) => v,
-        }
-    }
-}
-
-impl FloatRange {
-    /// Draws a value.
-    pub fn draw(self, rng: &mut WorldRng) -> f64 {
-        match self {
-            FloatRange::Fixed(v) => v,
-            FloatRange::Between(lo, hi) => rng.float_in(lo, hi),
-        }
-    }
-}
-
-impl Serialize for IntRange {
-    fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
-        match *self {
-            IntRange::Fixed(v) => s.serialize_u32(v),
-            IntRange::Between(a, b) => [a, b].serialize(s),
-        }
-    }
-}
-
-impl Serialize for FloatRange {
-    fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
-        match *self {
-            FloatRange::Fixed(v) => s.serialize_f64(v),
-            FloatRange::Between(a, b) => [a, b].serialize(s),
-        }
-    }
-}
-
-struct RangeVisitor<const INT: bool>;
-
-impl<'de, const INT: bool> Visitor<'de> for RangeVisitor<INT> {
-    type Value = (f64, Option<f64>);
-
-    fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
-        if INT {
-            f.write_str("a whole number >= 0 or [low, high]")
-        } else {
-            f.write_str("a number >= 0 or [low, high]")
-        }
-    }
-
-    fn visit_i64<E: de::Error>(self, v: i64) -> Result<Self::Value, E> {
-        Ok((v as f64, None))
-    }
-    fn visit_u64<E: de::Error>(self, v: u64) -> Result<Self::Value, E> {
-        Ok((v as f64, None))
-    }
-    fn visit_f64<E: de::Error>(self, v: f64) -> Result<Self::Value, E> {
-        if INT {
-            return Err(E::custom(format!(
-                "expected a whole number or [low, high], found {v}"
-            )));
-        }
-        Ok((v, None))
-    }
-    fn visit_seq<A: de::SeqAccess<'de>>(self, mut seq: A) -> Result<Self::Value, A::Error> {
-        use de::Error;
-        let bad = || A::Error::custom("a range is [low, high]: two numbers with low <= high");
-        let lo = seq.next_element::<RangeNumber>()?.ok_or_else(bad)?.0;
-        let hi = seq.next_element::<RangeNumber>()?.ok_or_else(bad)?.0;
-        if seq.next_element::<RangeNumber>()?.is_some() || lo > hi {
-            return Err(bad());
-        }
-        if INT && (lo.fract() != 0.0 || hi.fract() != 0.0) {
-            return Err(A::Error::custom("expected whole numbers in [low, high]"));
-        }
-        Ok((lo, Some(hi)))
-    }
-}
-
-struct RangeNumber(f64);
-impl<'de> Deserialize<'de> for RangeNumber {
-    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
-        struct V;
-        impl Visitor<'_> for V {
-            type Value = f64;
-            fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
-                f.write_str("a number")
-            }
-            fn visit_i64<E: de::Error>(self, v: i64) -> Result<f64, E> {
-                Ok(v as f64)
-            }
-            fn visit_u64<E: de::Error>(self, v: u64) -> Result<f64, E> {
-                Ok(v as f64)
-            }
-            fn visit_f64<E: de::Error>(self, v: f64) -> Result<f64, E> {
-                Ok(v)
-            }
-        }
-        d.deserialize_any(V).map(RangeNumber)
-    }
-}
-
-fn check_non_negative<E: de::Error>((lo, hi): (f64, Option<f64>)) -> Result<(), E> {
-    if lo < 0.0 || hi.is_some_and(|h| h < 0.0) || !lo.is_finite() {
-        return Err(E::custom("must be >= 0"));
-    }
-    Ok(())
-}
-
-impl<'de> Deserialize<'de> for IntRange {
-    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
-        let v = d.deserialize_any(RangeVisitor::<true>)?;
-        check_non_negative::<D::Error>(v)?;
-        if v.0 > f64::from(u32::MAX) || v.1.is_some_and(|h| h > 1000.0) {
-            return Err(de::Error::custom("too large"));
-        }
-        Ok(match v {
-            (x, None) => IntRange::Fixed(x as u32),
-            (a, Some(b)) => IntRange::Between(a as u32, b as u32),
-        })
-    }
-}
-
-impl<'de> Deserialize<'de> for FloatRange {
-    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
-        let v = d.deserialize_any(RangeVisitor::<false>)?;
-        check_non_negative::<D::Error>(v)?;
-        Ok(match v {
-            (x, None) => FloatRange::Fixed(x),
-            (a, Some(b)) => FloatRange::Between(a, b),
-        })
-    }
 }
 
 /// The built-in structure names and the `[topology]` keys that count them.
@@ -552,6 +400,12 @@ impl Pipeline {
         if w.attempts == 0 || w.attempts > 10_000 {
             return Err(err("world.attempts", "must be between 1 and 10000".into()));
         }
+        if let Some((key, message)) = self.hazards.as_ref().and_then(|h| h.problem()) {
+            return Err(err(key, message));
+        }
+        if let Some((key, message)) = self.artifacts.as_ref().and_then(|a| a.problem()) {
+            return Err(err(key, message));
+        }
         let t = &self.topology;
         if !t.per_level.is_empty() {
             if let IntRange::Between(..) = w.levels {
@@ -622,6 +476,9 @@ impl Pipeline {
         p.world.max_width = FloatRange::Fixed(max_width);
         let level_height = p.world.level_height.unwrap_or(0.8 * p.world.tile_pitch);
         p.world.level_height = Some(level_height);
+        if let Some(a) = &mut p.artifacts {
+            a.resolve(p.world.seed);
+        }
 
         let per_level: Vec<Vec<(String, u32)>> = if p.topology.per_level.is_empty() {
             let mut ranges: Vec<(String, IntRange)> = BUILT_IN_STRUCTURES
@@ -730,40 +587,6 @@ pub fn structure_count(spec: &ComponentSpec) -> Result<IntRange, ConfigError> {
         )),
         Some(v) => IntRange::deserialize(v.clone())
             .map_err(|e| spec.params.error("count", e.to_string().trim().to_owned())),
-    }
-}
-
-/// The dotted key whose value or name starts at `offset` in a TOML document (best effort).
-pub(crate) fn key_at(source: &str, offset: usize) -> String {
-    let offset = offset.min(source.len());
-    let line_start = source[..offset].rfind('\n').map_or(0, |i| i + 1);
-    let line_end = source[offset..]
-        .find('\n')
-        .map_or(source.len(), |i| offset + i);
-    let line = &source[line_start..line_end];
-    let key = line
-        .split('=')
-        .next()
-        .filter(|_| line.contains('='))
-        .map(|k| k.trim().trim_matches('"').to_owned())
-        .unwrap_or_default();
-    let section = source[..line_start]
-        .lines()
-        .rev()
-        .find_map(|l| {
-            let l = l.trim();
-            l.starts_with('[')
-                .then(|| l.trim_matches(|c| c == '[' || c == ']').trim().to_owned())
-        })
-        .unwrap_or_default();
-    match (section.is_empty(), key.is_empty()) {
-        (_, true) if line.trim_start().starts_with('[') => line
-            .trim()
-            .trim_matches(|c| c == '[' || c == ']')
-            .to_owned(),
-        (true, _) => key,
-        (false, true) => section,
-        (false, false) => format!("{section}.{key}"),
     }
 }
 

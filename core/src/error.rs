@@ -97,6 +97,40 @@ pub fn shorten(message: &str) -> Cow<'_, str> {
     }
 }
 
+/// The dotted key whose value or name starts at `offset` in a TOML document (best effort).
+pub(crate) fn key_at(source: &str, offset: usize) -> String {
+    let offset = offset.min(source.len());
+    let line_start = source[..offset].rfind('\n').map_or(0, |i| i + 1);
+    let line_end = source[offset..]
+        .find('\n')
+        .map_or(source.len(), |i| offset + i);
+    let line = &source[line_start..line_end];
+    let key = line
+        .split('=')
+        .next()
+        .filter(|_| line.contains('='))
+        .map(|k| k.trim().trim_matches('"').to_owned())
+        .unwrap_or_default();
+    let section = source[..line_start]
+        .lines()
+        .rev()
+        .find_map(|l| {
+            let l = l.trim();
+            l.starts_with('[')
+                .then(|| l.trim_matches(|c| c == '[' || c == ']').trim().to_owned())
+        })
+        .unwrap_or_default();
+    match (section.is_empty(), key.is_empty()) {
+        (_, true) if line.trim_start().starts_with('[') => line
+            .trim()
+            .trim_matches(|c| c == '[' || c == ']')
+            .to_owned(),
+        (true, _) => key,
+        (false, true) => section,
+        (false, false) => format!("{section}.{key}"),
+    }
+}
+
 /// A place in a pipeline file.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Location {

@@ -3,9 +3,8 @@
 
 use serde::Serialize;
 
-use crate::grid::{Cell, Direction, Grid3};
-use crate::tile::TileKind;
-use crate::world::World;
+use crate::grid::{Cell, Direction, Grid3, Occupancy, Shaft};
+use crate::tile::{Tile, TileKind};
 
 /// A node of the graph.
 #[derive(Clone, Debug, PartialEq, Serialize)]
@@ -59,10 +58,17 @@ pub struct TopologyGraph {
 }
 
 impl TopologyGraph {
-    /// Builds the graph of a world from its tiles and shafts.
-    pub fn build(world: &World) -> TopologyGraph {
-        let occ = &world.occupancy;
-        let tiles = &world.tiles;
+    /// Builds the graph of a layout from its tiles and shafts (what
+    /// [`crate::layout::Layout::new`] does): `position` places a cell in the world frame,
+    /// `pitch` and `level_height` give corridors and shafts their lengths in metres.
+    pub fn build(
+        occ: &Occupancy,
+        tiles: &Grid3<Option<Tile>>,
+        shafts: &[Shaft],
+        position: impl Fn(Cell) -> [f64; 3],
+        pitch: f64,
+        level_height: f64,
+    ) -> TopologyGraph {
         let mut node_of = Grid3::filled(occ.levels(), occ.rows(), occ.cols(), usize::MAX);
         let mut graph = TopologyGraph::default();
         let add_node = |graph: &mut TopologyGraph, c: Cell, kind: TileKind| {
@@ -71,7 +77,7 @@ impl TopologyGraph {
                 id,
                 kind,
                 cell: c,
-                position: world.cell_position(c),
+                position: position(c),
             });
             id
         };
@@ -83,7 +89,6 @@ impl TopologyGraph {
             }
         }
         let mut visited = Grid3::filled(occ.levels(), occ.rows(), occ.cols(), false);
-        let pitch = world.resolved.tile_pitch;
         let walk_from = |graph: &mut TopologyGraph,
                          node_of: &Grid3<usize>,
                          visited: &mut Grid3<bool>,
@@ -141,7 +146,7 @@ impl TopologyGraph {
                 walk_from(&mut graph, &node_of, &mut visited, c);
             }
         }
-        for s in &world.shafts {
+        for s in shafts {
             let id = graph.edges.len();
             graph.edges.push(Edge {
                 id,
@@ -150,7 +155,7 @@ impl TopologyGraph {
                 to: *node_of.get(s.landing),
                 cells: vec![s.up, s.landing],
                 length_cells: 0,
-                length_m: world.resolved.level_height,
+                length_m: level_height,
             });
         }
         graph

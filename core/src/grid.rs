@@ -1,7 +1,7 @@
 //! The occupancy grid: levels x rows x cols cells, and the compass directions between them.
 //!
 //! Rows grow southward and columns eastward, as in a picture of the level seen from above.
-//! The world frame (see [`crate::World::cell_position`]) puts x east, y north and z up.
+//! The world frame (see [`crate::layout::Layout::cell_position`]) puts x east, y north and z up.
 
 use serde::{Deserialize, Serialize};
 
@@ -62,6 +62,15 @@ pub type Openings = u8;
 pub const fn rotate_openings(mask: Openings, quarter_turns: u8) -> Openings {
     let q = quarter_turns % 4;
     ((mask << q) | (mask >> (4 - q))) & 0b1111
+}
+
+/// A vertical shaft from a dead end of one level to a dead end of the level above.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+pub struct Shaft {
+    /// The dead end at the foot of the shaft, on level `k`.
+    pub up: Cell,
+    /// The dead end where it arrives, on level `k + 1`.
+    pub landing: Cell,
 }
 
 /// A cell of the world: level, row, column.

@@ -11,7 +11,7 @@
 //! For the last two, shafts follow the original's rule: on each level the first dead end in
 //! raster order is the foot of the shaft up, and the next dead end the landing of the shaft
 //! from below. Those shafts are not stacked, so each level gets the offset that puts its
-//! landing over the foot below (see [`World::level_offsets`]).
+//! landing over the foot below (see [`Layout::level_offsets`]).
 
 use std::collections::BTreeMap;
 
@@ -20,9 +20,9 @@ use serde::Serialize;
 use crate::config::{IntRange, Pipeline, Provenance, Resolved};
 use crate::error::Error;
 use crate::grid::{Cell, Grid3, Occupancy};
+use crate::layout::{Layout, Shaft};
 use crate::npy::NpyArray;
 use crate::tile::{TileKind, classify_cell};
-use crate::world::{Shaft, World};
 
 /// How an imported grid was encoded.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
@@ -36,13 +36,13 @@ pub enum Encoding {
     Spatial,
 }
 
-/// Turns an array into a world, with the scale (pitch, level height) of `pipeline`.
+/// Turns an array into a layout, with the scale (pitch, level height) of `pipeline`.
 pub fn import_occupancy(
     array: &NpyArray,
     source_name: &str,
     pipeline: &Pipeline,
     tool_version: &str,
-) -> Result<(World, Encoding), Error> {
+) -> Result<(Layout, Encoding), Error> {
     let err = |message: String| Error::Import {
         source_name: source_name.to_owned(),
         message,
@@ -146,7 +146,7 @@ pub fn import_occupancy(
         per_level: vec![Vec::new(); levels],
         exact: false,
     };
-    let world = World::assemble(
+    let layout = Layout::new(
         p,
         resolved,
         occupancy,
@@ -155,7 +155,7 @@ pub fn import_occupancy(
         vec![None; levels],
         vec![0; levels],
     );
-    Ok((world, encoding))
+    Ok((layout, encoding))
 }
 
 /// The original's shafts: first dead end of level `k` up to the next dead end of level `k+1`.

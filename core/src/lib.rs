@@ -8,8 +8,10 @@
 //! ([`shape::ConstraintShape`]: T-junctions, intersections, loops) are placed on each level,
 //! their arms bent by a [`route::RouteDescriptor`] and laid by guided shortest paths, levels are
 //! joined by shafts, and every occupied cell is classified into a [`tile::Tile`]. The result, a
-//! [`world::World`], also carries its topological [`graph::TopologyGraph`] and a report of the
-//! requested against the achieved topology per level.
+//! [`layout::Layout`], also carries its topological [`graph::TopologyGraph`] and a report of the
+//! requested against the achieved topology per level; it is made once and only read after.
+//! A [`tileset::TileSet`] turns a layout into geometry ([`assembly`]), and a [`world::World`]
+//! is a layout plus, optionally, that geometry: what exporters write.
 //!
 //! Components are found by the `type` names of the pipeline file through one
 //! [`registry::Registry`], which built-ins and dynamically loaded plugins fill alike.
@@ -18,6 +20,7 @@
 //! [`export::WorldWriter`]. That keeps the core usable from tests, services and batch jobs, and
 //! lets the command line make world folders atomic.
 
+pub mod artifacts;
 pub mod assembly;
 pub mod budget;
 pub mod components;
@@ -27,10 +30,13 @@ pub mod export;
 pub mod generate;
 pub mod graph;
 pub mod grid;
+pub mod hazards;
 pub mod import;
+pub mod layout;
 pub mod mesh;
 pub mod npy;
 pub mod params;
+pub mod range;
 pub mod registry;
 pub mod rng;
 pub mod route;
@@ -47,5 +53,6 @@ pub use components::Components;
 pub use config::Pipeline;
 pub use error::{ConfigError, Error};
 pub use generate::{generate, generate_with, generate_within, layout, layout_with, layout_within};
+pub use layout::Layout;
 pub use registry::Registry;
 pub use world::World;

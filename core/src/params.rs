@@ -136,50 +136,38 @@ impl Params {
 
     /// Deserializes all parameters into `T`. Put `#[serde(deny_unknown_fields)]` on `T` so a
     /// misspelt key is an error, not a silently ignored setting.
+    ///
+    /// The key an error is about comes from where deserialization stopped
+    /// (`serde_path_to_error`): `amplitude` for a value of the wrong type, `shape.depth` inside a
+    /// nested table, the misspelt key itself for an unknown one. Only a missing key has no
+    /// place to stop at: serde reports it at its table, naming the field in its message
+    /// (`missing field `x``, `serde::de::Error::missing_field`), which is appended.
     pub fn deserialize<T: DeserializeOwned>(&self) -> Result<T, ConfigError> {
         let value = toml::Value::Table(self.to_table());
-        T::deserialize(value).map_err(|e| {
-            let message = e.to_string().trim().to_owned();
-            let key = self.key_of_error::<T>(&message);
-            self.error(&key, message)
-        })
-    }
-
-    /// The key (dotted below this section) a deserialization error is about. Serde names a
-    /// key only in some messages (`unknown field `x``, `missing field `x``); for the others
-    /// (a value of the wrong type, out of range) the same table is read again from TOML text,
-    /// whose errors point at the offending line. Only runs on the error path.
-    fn key_of_error<T: DeserializeOwned>(&self, message: &str) -> String {
-        let quoted = |m: &str| -> Vec<String> {
-            m.split('`').skip(1).step_by(2).map(str::to_owned).collect()
-        };
-        let missing = message
-            .strip_prefix("missing field `")
-            .and_then(|m| m.split('`').next())
-            .map(str::to_owned);
-        if missing.is_none() {
-            if let Some(k) = quoted(message)
-                .into_iter()
-                .find(|k| self.values.contains_key(k))
-            {
-                return k;
+        serde_path_to_error::deserialize(value).map_err(|e| {
+            let message = e.inner().to_string().trim().to_owned();
+            let mut key: Vec<String> = Vec::new();
+            for segment in e.path().iter() {
+                match segment {
+                    serde_path_to_error::Segment::Map { key: k }
+                    | serde_path_to_error::Segment::Enum { variant: k } => key.push(k.clone()),
+                    serde_path_to_error::Segment::Seq { index } => match key.last_mut() {
+                        Some(last) => last.push_str(&format!("[{index}]")),
+                        None => key.push(format!("[{index}]")),
+                    },
+                    serde_path_to_error::Segment::Unknown => {}
+                }
             }
-        }
-        let located = toml::to_string(&self.to_table())
-            .ok()
-            .and_then(|text| {
-                let e = toml::from_str::<T>(&text).err()?;
-                let span = e.span()?;
-                // A span that starts the document is about the section as a whole.
-                (span.start > 0 || !text[span.clone()].contains('\n'))
-                    .then(|| crate::config::key_at(&text, span.start))
-            })
-            .unwrap_or_default();
-        match (located.is_empty(), missing) {
-            (true, Some(field)) => field,
-            (false, Some(field)) => format!("{located}.{field}"),
-            (_, None) => located,
-        }
+            if let Some(field) = message
+                .lines()
+                .next()
+                .and_then(|m| m.strip_prefix("missing field `"))
+                .and_then(|m| m.strip_suffix('`'))
+            {
+                key.push(field.to_owned());
+            }
+            self.error(&key.join("."), message)
+        })
     }
 
     /// Fails on the first key not in `known`, listing the known ones.

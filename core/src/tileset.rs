@@ -2,7 +2,7 @@
 //!
 //! A tile set is asked for one tile at a time, with everything it may need in a
 //! [`TileContext`]: the tile (kind and rotation), its cell and world position, its
-//! neighbours, the world itself, and a seed of its own. It answers with a visual mesh
+//! neighbours, the world's [`Layout`], and a seed of its own. It answers with a visual mesh
 //! (materials, UVs) and a lighter collision mesh, in world coordinates. Assembly
 //! ([`crate::assembly`]) asks for every occupied cell in parallel and welds the result.
 //!
@@ -12,15 +12,15 @@
 
 use crate::budget::TileTriangles;
 use crate::grid::Cell;
+use crate::layout::Layout;
 use crate::mesh::{Material, Mesh};
 use crate::tile::{Tile, TileKind};
-use crate::world::World;
 
 /// What a tile set knows about the tile it is asked for.
 #[derive(Clone, Copy, Debug)]
 pub struct TileContext<'a> {
-    /// The whole world (grid, shafts, resolved pipeline).
-    pub world: &'a World,
+    /// The whole layout (grid, tiles, shafts, graph, resolved numbers).
+    pub layout: &'a Layout,
     /// The tile's cell.
     pub cell: Cell,
     /// Kind, rotation and openings.
@@ -35,10 +35,10 @@ impl TileContext<'_> {
     /// The neighbouring tiles on the same level, east, north, west, south.
     pub fn neighbours(&self) -> [Option<Tile>; 4] {
         crate::grid::Direction::ALL.map(|d| {
-            self.world
+            self.layout
                 .occupancy
                 .neighbour(self.cell, d)
-                .and_then(|n| *self.world.tiles.get(n))
+                .and_then(|n| *self.layout.tiles.get(n))
         })
     }
 }
@@ -82,10 +82,63 @@ pub struct CrossSection {
     pub height: f64,
 }
 
-/// Why a tile set cannot make a world's tiles. The message says what to change.
+/// Why a tile set cannot make a world's tiles. Each message says what to change.
+///
+/// It crosses the plugin boundary (a plugin's tile set returns it), so a new variant is a
+/// plugin API change; [`TileSetError::Other`] is there for what fits no other variant.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
-#[error("{0}")]
-pub struct TileSetError(pub String);
+#[non_exhaustive]
+pub enum TileSetError {
+    /// The layout does not suit the tile set. `what` says what does not fit (`"cave:
+    /// passages up to 9.1 m wide ... do not fit tiles 8 m apart"`), `fix` what to change in
+    /// the pipeline (`"use a smaller [tileset] width"`).
+    #[error("{what}; {fix}")]
+    Unsuited {
+        /// What does not fit, naming the tile set.
+        what: String,
+        /// What to change.
+        fix: String,
+    },
+    /// The tile set has no tile for these kinds (`"dead-end"`, ...), which the layout needs:
+    /// add tiles of those kinds to the tile set. `tileset` names it (a manifest's path).
+    #[error(
+        "{tileset} has no tile for {} but the world needs them; add [[tile]] entries with those kinds",
+        kinds.join(", ")
+    )]
+    MissingKinds {
+        /// The tile set, as users know it (a manifest's path).
+        tileset: String,
+        /// The kinds' names, in the order the layout first needs them.
+        kinds: Vec<String>,
+    },
+    /// The world's meshes would need more memory than the budget allows: the message (from
+    /// [`crate::budget::Budget::check`]) says how much, and what to make smaller or raise.
+    #[error("{0}")]
+    TooLarge(String),
+    /// Making one tile failed: where, and why.
+    #[error(
+        "tile at level {}, row {}, column {} ({}): {source}",
+        cell.level,
+        cell.row,
+        cell.col,
+        kind.name()
+    )]
+    Tile {
+        /// The tile's cell.
+        cell: Cell,
+        /// Its kind.
+        kind: TileKind,
+        /// Why the tile set could not make it.
+        source: Box<TileSetError>,
+    },
+    /// A plugin's tile set panicked, now or on an earlier call: the message names the plugin
+    /// and the call (fix or remove the plugin).
+    #[error("{0}")]
+    Plugin(String),
+    /// Any other reason, in a message that says what to change.
+    #[error("{0}")]
+    Other(String),
+}
 
 /// Turns tiles into 3D geometry.
 ///
@@ -105,7 +158,7 @@ pub struct TileSetError(pub String);
 /// impl TileSet for FloorPlates {
 ///     fn tile(&self, ctx: &TileContext<'_>) -> Result<TileGeometry, TileSetError> {
 ///         let [x, y, z] = ctx.position.map(|v| v as f32);
-///         let h = 0.5 * ctx.world.resolved.tile_pitch as f32;
+///         let h = 0.5 * ctx.layout.resolved.tile_pitch as f32;
 ///         let plate = Mesh {
 ///             positions: vec![[x - h, y - h, z], [x + h, y - h, z], [x + h, y + h, z], [x - h, y + h, z]],
 ///             triangles: vec![[0, 1, 2], [0, 2, 3]],
@@ -132,12 +185,13 @@ pub trait TileSet: Send + Sync {
 
     /// The cross-section at every opening in this world, when the tile set has one shape
     /// for all of them (procedural sets vary it along the passage around this nominal size).
-    fn opening(&self, _world: &World) -> Option<CrossSection> {
+    fn opening(&self, _layout: &Layout) -> Option<CrossSection> {
         None
     }
 
-    /// Checks that the world suits the tile set (pitch, level height) before any tile is made.
-    fn check(&self, _world: &World) -> Result<(), TileSetError> {
+    /// Checks that the layout suits the tile set (pitch, level height) before any tile is
+    /// made ([`TileSetError::Unsuited`], [`TileSetError::MissingKinds`]).
+    fn check(&self, _layout: &Layout) -> Result<(), TileSetError> {
         Ok(())
     }
 
@@ -145,7 +199,7 @@ pub trait TileSet: Send + Sync {
     /// world too large for the memory budget is refused before any tile is made (see
     /// [`crate::budget`]). Keep it cheap: it is called once per kind. `None` (the default):
     /// assembly measures the first tiles it makes and extrapolates instead.
-    fn estimate(&self, _world: &World, _kind: TileKind) -> Option<TileTriangles> {
+    fn estimate(&self, _layout: &Layout, _kind: TileKind) -> Option<TileTriangles> {
         None
     }
 
@@ -158,5 +212,44 @@ pub trait TileSet: Send + Sync {
     /// Metres per texture repeat for UVs computed by assembly.
     fn texture_scale(&self) -> f32 {
         4.0
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn messages_say_what_to_change_and_where() {
+        let unsuited = TileSetError::Unsuited {
+            what: "cave: the shaft does not fit the tile".into(),
+            fix: "use a smaller [tileset] width".into(),
+        };
+        assert_eq!(
+            unsuited.to_string(),
+            "cave: the shaft does not fit the tile; use a smaller [tileset] width"
+        );
+        let missing = TileSetError::MissingKinds {
+            tileset: "tiles/manifest.toml".into(),
+            kinds: vec!["corner".into(), "dead-end".into()],
+        };
+        assert_eq!(
+            missing.to_string(),
+            "tiles/manifest.toml has no tile for corner, dead-end but the world needs them; add \
+             [[tile]] entries with those kinds"
+        );
+        let at = TileSetError::Tile {
+            cell: Cell::new(1, 2, 3),
+            kind: TileKind::Corner,
+            source: Box::new(TileSetError::Other("no geometry".into())),
+        };
+        assert_eq!(
+            at.to_string(),
+            "tile at level 1, row 2, column 3 (corner): no geometry"
+        );
+        assert_eq!(
+            std::error::Error::source(&at).map(ToString::to_string),
+            Some("no geometry".to_owned())
+        );
     }
 }

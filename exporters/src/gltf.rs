@@ -10,7 +10,12 @@
 //!
 //! Written by hand (a GLB is a 12-byte header, a JSON chunk and a binary chunk) and streamed:
 //! a first pass cuts each part once to size its arrays, a second cuts it again and writes it,
-//! so memory holds one part at a time, never a second copy of the world.
+//! so memory holds one part at a time, never a second copy of the world. The JSON is a
+//! `serde_json` value with `gltf-json`'s named constants for the GL enums; `gltf-json`'s own
+//! `Root` is not used to write it, because its serialization is not ours: it writes keys in
+//! struct order and writes defaults we leave out (`alphaMode`, `doubleSided`,
+//! `emissiveFactor` on every material) while dropping the `mode` we state, so every GLB would
+//! change for no reader's benefit (the test reads the document back with `gltf-json`).
 //!
 //! ```toml
 //! [[export]]
@@ -20,6 +25,10 @@
 
 use std::io::Write;
 
+use crate::artifacts::Artifact;
+use gltf_json::accessor::{FLOAT, UNSIGNED_INT};
+use gltf_json::buffer::{ARRAY_BUFFER, ELEMENT_ARRAY_BUFFER};
+use gltf_json::mesh::TRIANGLES;
 use serde_json::{Value, json};
 use subtgraph_core::World;
 use subtgraph_core::error::ConfigError;
@@ -91,7 +100,13 @@ fn sizes(m: &Mesh, materials: usize) -> Sizes {
 }
 
 /// The JSON document and the binary chunk's length.
-fn document(names: &[&Part], sizes: &[Sizes], materials: &[Value]) -> (Value, usize) {
+fn document(
+    names: &[&Part],
+    sizes: &[Sizes],
+    materials: &[Value],
+    artifacts: &[Artifact],
+) -> (Value, usize) {
+    let mut materials = materials.to_vec();
     let mut views = Vec::new();
     let mut accessors = Vec::new();
     let mut meshes = Vec::new();
@@ -103,29 +118,29 @@ fn document(names: &[&Part], sizes: &[Sizes], materials: &[Value]) -> (Value, us
     };
     for (part, s) in names.iter().zip(sizes) {
         let mut attributes = serde_json::Map::new();
-        let v = view(s.vertices * 12, 34962, &mut views);
+        let v = view(s.vertices * 12, ARRAY_BUFFER, &mut views);
         accessors.push(
-            json!({"bufferView": v, "componentType": 5126, "count": s.vertices,
+            json!({"bufferView": v, "componentType": FLOAT, "count": s.vertices,
             "type": "VEC3", "min": s.min, "max": s.max}),
         );
         attributes.insert("POSITION".into(), json!(accessors.len() - 1));
         if s.normals {
-            let v = view(s.vertices * 12, 34962, &mut views);
-            accessors.push(json!({"bufferView": v, "componentType": 5126, "count": s.vertices, "type": "VEC3"}));
+            let v = view(s.vertices * 12, ARRAY_BUFFER, &mut views);
+            accessors.push(json!({"bufferView": v, "componentType": FLOAT, "count": s.vertices, "type": "VEC3"}));
             attributes.insert("NORMAL".into(), json!(accessors.len() - 1));
         }
         if s.uvs {
-            let v = view(s.vertices * 8, 34962, &mut views);
-            accessors.push(json!({"bufferView": v, "componentType": 5126, "count": s.vertices, "type": "VEC2"}));
+            let v = view(s.vertices * 8, ARRAY_BUFFER, &mut views);
+            accessors.push(json!({"bufferView": v, "componentType": FLOAT, "count": s.vertices, "type": "VEC2"}));
             attributes.insert("TEXCOORD_0".into(), json!(accessors.len() - 1));
         }
         let mut primitives = Vec::new();
         for (m, &n) in s.per_material.iter().enumerate().filter(|(_, n)| **n > 0) {
-            let v = view(n * 12, 34963, &mut views);
+            let v = view(n * 12, ELEMENT_ARRAY_BUFFER, &mut views);
             accessors.push(
-                json!({"bufferView": v, "componentType": 5125, "count": n * 3, "type": "SCALAR"}),
+                json!({"bufferView": v, "componentType": UNSIGNED_INT, "count": n * 3, "type": "SCALAR"}),
             );
-            let mut p = json!({"attributes": attributes.clone(), "indices": accessors.len() - 1, "mode": 4});
+            let mut p = json!({"attributes": attributes.clone(), "indices": accessors.len() - 1, "mode": TRIANGLES});
             if m < materials.len() {
                 p["material"] = json!(m);
             }
@@ -133,11 +148,49 @@ fn document(names: &[&Part], sizes: &[Sizes], materials: &[Value]) -> (Value, us
         }
         meshes.push(json!({"name": part.name, "primitives": primitives}));
     }
-    let nodes: Vec<Value> = names
+    let mut nodes: Vec<Value> = names
         .iter()
         .enumerate()
         .map(|(i, p)| json!({"name": p.name, "mesh": i}))
         .collect();
+    if !artifacts.is_empty() {
+        // One unit cube (24 vertices with flat normals, 36 indices), a mesh per class using
+        // it with the class's material, and a node per artifact scaling it to its box.
+        let v = view(24 * 12, 34962, &mut views);
+        accessors.push(json!({"bufferView": v, "componentType": 5126, "count": 24,
+            "type": "VEC3", "min": [-0.5, -0.5, -0.5], "max": [0.5, 0.5, 0.5]}));
+        let position = accessors.len() - 1;
+        let v = view(24 * 12, 34962, &mut views);
+        accessors
+            .push(json!({"bufferView": v, "componentType": 5126, "count": 24, "type": "VEC3"}));
+        let normal = accessors.len() - 1;
+        let v = view(36 * 4, 34963, &mut views);
+        accessors
+            .push(json!({"bufferView": v, "componentType": 5125, "count": 36, "type": "SCALAR"}));
+        let indices = accessors.len() - 1;
+        let mut mesh_of = std::collections::BTreeMap::new();
+        for a in artifacts {
+            let mesh = *mesh_of.entry(a.class).or_insert_with(|| {
+                let [r, g, b] = a.class.colour();
+                materials.push(json!({"name": format!("artifact-{}", a.class.name()),
+                    "pbrMetallicRoughness": {"baseColorFactor": [r, g, b, 1.0],
+                    "metallicFactor": 0.0, "roughnessFactor": 0.6}}));
+                meshes.push(
+                    json!({"name": format!("artifact-{}", a.class.name()), "primitives": [{
+                    "attributes": {"POSITION": position, "NORMAL": normal},
+                    "indices": indices, "mode": 4, "material": materials.len() - 1}]}),
+                );
+                meshes.len() - 1
+            });
+            let [x, y, z] = a.centre();
+            let [l, w, h] = a.size;
+            let half = 0.5 * a.yaw;
+            // Z up to Y up: a turn about z is the same turn about Y.
+            nodes.push(json!({"name": format!("artifact-{}", a.name), "mesh": mesh,
+                "translation": [x, z, -y], "rotation": [0.0, half.sin(), 0.0, half.cos()],
+                "scale": [l, h, w], "extras": {"class": a.class.name()}}));
+        }
+    }
     let doc = json!({
         "asset": {
             "version": "2.0",
@@ -207,9 +260,45 @@ fn write_part(w: &mut dyn Write, m: &Mesh, s: &Sizes) -> std::io::Result<()> {
     Ok(())
 }
 
+/// The unit cube of the artifacts, in glTF's Y-up frame: positions, normals, indices.
+fn write_cube(w: &mut dyn Write) -> std::io::Result<()> {
+    let mut positions = Vec::with_capacity(24);
+    let mut normals = Vec::with_capacity(24);
+    for axis in 0..3 {
+        for sign in [-1.0f32, 1.0] {
+            let (u, v) = ((axis + 1) % 3, (axis + 2) % 3);
+            // Corners counter-clockwise seen from outside.
+            let corners: [[f32; 2]; 4] = if sign > 0.0 {
+                [[-0.5, -0.5], [0.5, -0.5], [0.5, 0.5], [-0.5, 0.5]]
+            } else {
+                [[-0.5, -0.5], [-0.5, 0.5], [0.5, 0.5], [0.5, -0.5]]
+            };
+            for [a, b] in corners {
+                let mut p = [0f32; 3];
+                p[axis] = 0.5 * sign;
+                p[u] = a;
+                p[v] = b;
+                positions.push(p);
+                let mut n = [0f32; 3];
+                n[axis] = sign;
+                normals.push(n);
+            }
+        }
+    }
+    floats(w, 24, 3, |i, v| v.copy_from_slice(&positions[i]))?;
+    floats(w, 24, 3, |i, v| v.copy_from_slice(&normals[i]))?;
+    let mut buf = Vec::with_capacity(36 * 4);
+    for f in 0..6u32 {
+        for k in [0, 1, 2, 0, 2, 3] {
+            buf.extend_from_slice(&(4 * f + k).to_le_bytes());
+        }
+    }
+    w.write_all(&buf)
+}
+
 impl Exporter for Gltf {
     fn export(&self, world: &World, out: &mut dyn WorldWriter) -> Result<(), ExportError> {
-        let Some(mesh) = &world.mesh else {
+        let Some(mesh) = world.mesh() else {
             return Err(ExportError::Unsupported(
                 "the glTF exporter needs geometry: add a [tileset] to the pipeline (or drop --no-mesh)".into(),
             ));
@@ -232,7 +321,8 @@ impl Exporter for Gltf {
             })
             .collect();
         let refs: Vec<&Part> = ps.iter().collect();
-        let (doc, bin_len) = document(&refs, &sized, &materials);
+        let artifacts = crate::artifacts::place(world)?;
+        let (doc, bin_len) = document(&refs, &sized, &materials, &artifacts);
         let mut text = serde_json::to_vec(&doc).expect("JSON of plain values");
         while text.len() % 4 != 0 {
             text.push(b' ');
@@ -255,6 +345,9 @@ impl Exporter for Gltf {
             w.write_all(b"BIN\0")?;
             for (p, s) in ps.iter().zip(&sized) {
                 write_part(w, &p.visual(mesh), s)?;
+            }
+            if !artifacts.is_empty() {
+                write_cube(w)?;
             }
             Ok(())
         })
@@ -295,5 +388,17 @@ mod tests {
             2,
             "a node per level"
         );
+        // The document is glTF as gltf-json reads it, and valid by its checks.
+        let root: gltf_json::Root =
+            gltf_json::deserialize::from_slice(&glb[20..20 + json_len]).unwrap();
+        let mut problems = Vec::new();
+        gltf_json::validation::Validate::validate(
+            &root,
+            &root,
+            gltf_json::Path::new,
+            &mut |p, e| problems.push(format!("{}: {e}", p())),
+        );
+        assert!(problems.is_empty(), "{problems:?}");
+        assert_eq!(root.meshes.len(), 2);
     }
 }

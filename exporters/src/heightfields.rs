@@ -24,7 +24,7 @@ use rayon::prelude::*;
 use subtgraph_core::World;
 use subtgraph_core::assembly::WorldMesh;
 
-use crate::ground_truth::inside::{Columns, Passages};
+use crate::inside::{Columns, Passages};
 
 /// The heights of one tile's floor and roof.
 #[derive(Clone, Debug, PartialEq)]
@@ -134,7 +134,7 @@ mod tests {
     #[test]
     fn neighbours_share_their_edge_heights_and_every_tile_has_a_passage() {
         let world = crate::test_world_with_mesh();
-        let mesh = world.mesh.as_ref().unwrap();
+        let mesh = world.mesh().unwrap();
         let fields = tile_fields(&world, mesh, 1.25);
         let passages = Passages::of(&world);
         let mut centres = 0;

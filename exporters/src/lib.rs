@@ -9,6 +9,7 @@
 //! | `topology.json` | the graph, and requested against achieved counts per level |
 //! | `maps/level-N.png` | a top-down picture per level, tile kinds in distinct colours |
 //! | `mesh/world.obj`, `mesh/world.mtl`, `mesh/collision.obj` | the geometry, when the pipeline has a `[tileset]` |
+//! | `ground_truth/artifacts.json`, `.csv` | the artifacts' classes and poses, when the pipeline has `[artifacts]` ([`artifacts`]) |
 //!
 //! The `[[export]]` exporters (one file each) register in [`register`]. Those that write
 //! geometry for simulators cut large worlds into [`parts`] and share per-part meshes.
@@ -17,10 +18,13 @@ use subtgraph_core::World;
 use subtgraph_core::export::{ExportError, Exporter, WorldWriter};
 use subtgraph_core::registry::{DuplicateName, Registry};
 
+pub mod artifacts;
 pub mod convex_pieces;
 mod gltf;
 pub mod ground_truth;
+pub mod hazards;
 pub mod heightfields;
+pub(crate) mod inside;
 mod instances;
 mod level_maps;
 mod mjcf;
@@ -160,8 +164,14 @@ pub fn write_world_files(
     for e in always {
         e.export(world, out)?;
     }
-    if obj && world.mesh.is_some() {
+    if obj && world.mesh().is_some() {
         Obj::default().export(world, out)?;
+    }
+    if world.pipeline.artifacts.is_some() {
+        ground_truth::artifacts::write(world, &artifacts::place(world)?, out)?;
+    }
+    if world.pipeline.hazards.is_some() {
+        hazards::write(world, out)?;
     }
     Ok(())
 }
@@ -169,7 +179,7 @@ pub fn write_world_files(
 /// A small two-level world with a coarse cave mesh, for the exporters' tests.
 #[cfg(test)]
 pub(crate) fn test_world_with_mesh() -> World {
-    let mut world = test_world_from("level_height = 40.0");
+    let layout = test_world_from("level_height = 40.0").into_parts().0;
     let spec = subtgraph_core::params::ComponentSpec {
         type_name: "cave".into(),
         params: subtgraph_core::params::Params::from_table(
@@ -181,8 +191,8 @@ pub(crate) fn test_world_with_mesh() -> World {
     let mut registry = Registry::empty();
     subtgraph_tilesets::register(&mut registry).unwrap();
     let tileset = registry.tilesets.build(&spec).unwrap();
-    world.mesh = Some(subtgraph_core::assembly::assemble(&world, tileset.as_ref()).unwrap());
-    world
+    let mesh = subtgraph_core::assembly::assemble(&layout, tileset.as_ref()).unwrap();
+    World::new(layout, Some(mesh))
 }
 
 /// A small two-level world for the exporters' tests.
@@ -211,7 +221,7 @@ fn test_world_from(world_keys: &str) -> World {
             }),
         )
         .unwrap();
-    subtgraph_core::layout(&p, &registry).unwrap()
+    World::new(subtgraph_core::layout(&p, &registry).unwrap(), None)
 }
 
 #[cfg(test)]

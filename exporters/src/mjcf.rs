@@ -383,7 +383,14 @@ fn field_asset(buf: &mut Vec<u8>, part: &str, t: usize, f: &TileField, roof: boo
 
 /// The geom placing a height field: the floor's base at its lowest sample, the roof upside
 /// down at its highest.
-fn field_geom(buf: &mut Vec<u8>, part: &str, t: usize, f: &TileField, roof: bool) {
+fn field_geom(
+    buf: &mut Vec<u8>,
+    part: &str,
+    t: usize,
+    f: &TileField,
+    roof: bool,
+    friction: Option<f64>,
+) {
     let z = if roof { &f.roof } else { &f.floor };
     let at = if roof {
         z.iter().copied().fold(f32::MIN, f32::max)
@@ -405,6 +412,10 @@ fn field_geom(buf: &mut Vec<u8>, part: &str, t: usize, f: &TileField, roof: bool
     if roof {
         buf.extend_from_slice(b"\" quat=\"0 1 0 0");
     }
+    if let Some(mu) = friction {
+        // A floor patch (`[hazards]`): MuJoCo's sliding, torsional and rolling friction.
+        buf.extend_from_slice(format!("\" friction=\"{mu} 0.005 0.0001").as_bytes());
+    }
     buf.extend_from_slice(b"\" group=\"3\" rgba=\"0.5 0.5 0.5 0.4\"/>\n");
 }
 
@@ -420,9 +431,45 @@ enum PartCollision<'a> {
     Fields(&'a [TileField]),
 }
 
+/// The artifacts as free bodies (a box each, resting on the floor at its recorded pose): a
+/// robot can push them, and `body` names them `artifact-<name>`. A contact margin of 1 cm
+/// softens its contact with the height fields.
+///
+/// Each stands on its pad, `artifact-pad-<name>` ([`Artifact::pad`](crate::artifacts::Artifact::pad)).
+fn artifact_bodies(s: &mut String, artifacts: &[crate::artifacts::Artifact]) {
+    if artifacts.is_empty() {
+        return;
+    }
+    s.push_str("  <worldbody>\n");
+    for a in artifacts {
+        let [x, y, z] = a.position;
+        let [qx, qy, qz, qw] = a.quaternion_xyzw();
+        let [l, w, h] = a.size;
+        let [r, g, b] = a.class.colour();
+        let pad = a.pad();
+        let _ = std::fmt::Write::write_fmt(
+            s,
+            format_args!(
+                "    <geom name=\"artifact-pad-{n}\" type=\"box\" size=\"{:.4} {:.4} {:.4}\" pos=\"{x:.4} {y:.4} {:.4}\" quat=\"{qw:.6} {qx:.6} {qy:.6} {qz:.6}\" rgba=\"0.35 0.33 0.3 1\"/>\n    <body name=\"artifact-{n}\" pos=\"{x:.4} {y:.4} {z:.4}\" quat=\"{qw:.6} {qx:.6} {qy:.6} {qz:.6}\">\n      <freejoint name=\"artifact-{n}\"/>\n      <geom name=\"artifact-{n}\" type=\"box\" size=\"{:.4} {:.4} {:.4}\" pos=\"0 0 {:.4}\" mass=\"{}\" margin=\"0.01\" rgba=\"{r:.3} {g:.3} {b:.3} 1\"/>\n    </body>\n",
+                0.5 * pad.1[0],
+                0.5 * pad.1[1],
+                0.5 * pad.1[2],
+                pad.0[2],
+                0.5 * l,
+                0.5 * w,
+                0.5 * h,
+                0.5 * h,
+                a.class.mass(),
+                n = a.name,
+            ),
+        );
+    }
+    s.push_str("  </worldbody>\n");
+}
+
 impl Exporter for Mjcf {
     fn export(&self, world: &World, out: &mut dyn WorldWriter) -> Result<(), ExportError> {
-        let Some(mesh) = &world.mesh else {
+        let Some(mesh) = world.mesh() else {
             return Err(ExportError::Unsupported(
                 "the MJCF exporter needs geometry: add a [tileset] to the pipeline (or drop --no-mesh)".into(),
             ));
@@ -450,6 +497,19 @@ impl Exporter for Mjcf {
                 .collect(),
         };
         let base = self.pieces.thickness;
+        // Floor friction per mesh tile, from the floor patches.
+        let mut friction: Vec<Option<f64>> = vec![None; mesh.tiles.len()];
+        let patches = crate::hazards::patches(world);
+        for (t, tile) in mesh.tiles.iter().enumerate() {
+            if let Ok(k) = patches
+                .binary_search_by_key(&(tile.cell.level, tile.cell.row, tile.cell.col), |p| {
+                    (p.cell.level, p.cell.row, p.cell.col)
+                })
+            {
+                friction[t] = Some(patches[k].friction);
+            }
+        }
+        let friction = &friction;
         let compiler = "  <compiler angle=\"radian\" meshdir=\"..\"/>\n";
         let what = match self.collision {
             Collision::Slabs => "collision slabs (convex, in the rock)",
@@ -495,7 +555,15 @@ impl Exporter for Mjcf {
                 PartCollision::Slabs(p) => piece_geom(b, &name, k, &p[k]),
                 PartCollision::Fields(f) => {
                     let t = part.tiles[k / 2];
-                    field_geom(b, &name, t, &f[t], k % 2 == 1);
+                    let roof = k % 2 == 1;
+                    field_geom(
+                        b,
+                        &name,
+                        t,
+                        &f[t],
+                        roof,
+                        if roof { None } else { friction[t] },
+                    );
                 }
             };
             stream_file(out, &path, |w| {
@@ -523,6 +591,7 @@ impl Exporter for Mjcf {
                 w.write_all(b"  </worldbody>\n</mujoco>\n")
             })?;
         }
+        artifact_bodies(&mut main, &crate::artifacts::place(world)?);
         main.push_str("</mujoco>\n");
         write_file(out, "mujoco/world.xml", main.as_bytes())
     }
@@ -578,7 +647,7 @@ mod tests {
                 .skip(1)
                 .map(|s| &s[..s.find('"').unwrap()])
                 .collect();
-            let count = parts(&world, world.mesh.as_ref().unwrap(), split).len();
+            let count = parts(&world, world.mesh().unwrap(), split).len();
             assert_eq!(includes.len(), count, "{split:?}");
             let mut slabs = 0;
             for inc in includes {

@@ -37,7 +37,7 @@ impl Obj {
 
 impl Exporter for Obj {
     fn export(&self, world: &World, out: &mut dyn WorldWriter) -> Result<(), ExportError> {
-        let Some(mesh) = &world.mesh else {
+        let Some(mesh) = world.mesh() else {
             return Err(ExportError::Unsupported(
                 "the OBJ exporter needs geometry: add a [tileset] to the pipeline (or drop --no-mesh)".into(),
             ));

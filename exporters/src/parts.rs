@@ -244,7 +244,7 @@ mod tests {
     #[test]
     fn parts_cover_every_tile_and_triangle_once() {
         let world = test_world_with_mesh();
-        let mesh = world.mesh.as_ref().unwrap();
+        let mesh = world.mesh().unwrap();
         for split in [Split::Whole, Split::Level, Split::Region { tiles: 5 }] {
             let ps = parts(&world, mesh, split);
             let tiles: usize = ps.iter().map(|p| p.tiles.len()).sum();
@@ -272,7 +272,7 @@ mod tests {
     #[test]
     fn a_cut_part_keeps_its_triangles_and_only_its_vertices() {
         let world = test_world_with_mesh();
-        let mesh = world.mesh.as_ref().unwrap();
+        let mesh = world.mesh().unwrap();
         let p = &parts(&world, mesh, Split::Level)[1];
         let m = p.visual(mesh);
         assert_eq!(m.triangle_count(), p.visual_triangles());

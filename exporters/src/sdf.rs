@@ -185,9 +185,40 @@ fn lights_xml(s: &mut String, world: &World, lights: Lights) {
     }
 }
 
+/// The artifacts as movable models (a box each, resting on the floor at its recorded pose),
+/// named `artifact-<name>`, each on its pad, a static model `artifact-pad-<name>`
+/// ([`Artifact::pad`](crate::artifacts::Artifact::pad)).
+fn artifact_models(s: &mut String, artifacts: &[crate::artifacts::Artifact]) {
+    for a in artifacts {
+        let [x, y, z] = a.position;
+        let [l, w, h] = a.size;
+        let [r, g, b] = a.class.colour();
+        let m = a.class.mass();
+        let (ixx, iyy, izz) = (
+            m / 12.0 * (w * w + h * h),
+            m / 12.0 * (l * l + h * h),
+            m / 12.0 * (l * l + w * w),
+        );
+        let hz = 0.5 * h;
+        let ([px, py, pz], [pl, pw, ph]) = a.pad();
+        let _ = write!(
+            s,
+            "    <model name=\"artifact-pad-{n}\">\n      <static>true</static>\n      <pose>{px:.4} {py:.4} {pz:.4} 0 0 {yaw:.6}</pose>\n      <link name=\"link\">\n        <collision name=\"collision\">\n          <geometry>\n            <box>\n              <size>{pl:.4} {pw:.4} {ph:.4}</size>\n            </box>\n          </geometry>\n        </collision>\n        <visual name=\"visual\">\n          <geometry>\n            <box>\n              <size>{pl:.4} {pw:.4} {ph:.4}</size>\n            </box>\n          </geometry>\n        </visual>\n      </link>\n    </model>\n",
+            n = a.name,
+            yaw = a.yaw,
+        );
+        let _ = write!(
+            s,
+            "    <model name=\"artifact-{n}\">\n      <pose>{x:.4} {y:.4} {z:.4} 0 0 {yaw:.6}</pose>\n      <link name=\"link\">\n        <inertial>\n          <pose>0 0 {hz:.4} 0 0 0</pose>\n          <mass>{m}</mass>\n          <inertia>\n            <ixx>{ixx:.6}</ixx>\n            <ixy>0</ixy>\n            <ixz>0</ixz>\n            <iyy>{iyy:.6}</iyy>\n            <iyz>0</iyz>\n            <izz>{izz:.6}</izz>\n          </inertia>\n        </inertial>\n        <collision name=\"collision\">\n          <pose>0 0 {hz:.4} 0 0 0</pose>\n          <geometry>\n            <box>\n              <size>{l:.4} {w:.4} {h:.4}</size>\n            </box>\n          </geometry>\n        </collision>\n        <visual name=\"visual\">\n          <pose>0 0 {hz:.4} 0 0 0</pose>\n          <geometry>\n            <box>\n              <size>{l:.4} {w:.4} {h:.4}</size>\n            </box>\n          </geometry>\n          <material>\n            <ambient>{r:.3} {g:.3} {b:.3} 1</ambient>\n            <diffuse>{r:.3} {g:.3} {b:.3} 1</diffuse>\n          </material>\n        </visual>\n      </link>\n    </model>\n",
+            n = a.name,
+            yaw = a.yaw,
+        );
+    }
+}
+
 impl Exporter for Sdf {
     fn export(&self, world: &World, out: &mut dyn WorldWriter) -> Result<(), ExportError> {
-        let Some(mesh) = &world.mesh else {
+        let Some(mesh) = world.mesh() else {
             return Err(ExportError::Unsupported(
                 "the SDF exporter needs geometry: add a [tileset] to the pipeline (or drop --no-mesh)".into(),
             ));
@@ -232,6 +263,7 @@ impl Exporter for Sdf {
                 collision = xml_escape(&f.collision),
             );
         }
+        artifact_models(&mut s, &crate::artifacts::place(world)?);
         s.push_str("  </world>\n</sdf>\n");
         write_file(out, "gazebo/world.sdf", s.as_bytes())
     }

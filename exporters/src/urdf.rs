@@ -48,9 +48,29 @@ impl Urdf {
     }
 }
 
+/// An artifact as a link (a box resting on the floor at its recorded pose) fixed to the
+/// world: a URDF is one articulated body, so the artifacts cannot move in it. Their pads
+/// ([`Artifact::pad`](crate::artifacts::Artifact::pad)) are collision boxes of the world link.
+fn artifact_link(s: &mut String, a: &crate::artifacts::Artifact) {
+    let [x, y, z] = a.position;
+    let [l, w, h] = a.size;
+    let [r, g, b] = a.class.colour();
+    let m = a.class.mass();
+    let hz = 0.5 * h;
+    s.push_str(&format!(
+        "  <link name=\"artifact-{n}\">\n    <inertial>\n      <origin xyz=\"0 0 {hz:.4}\"/>\n      <mass value=\"{m}\"/>\n      <inertia ixx=\"{:.6}\" ixy=\"0\" ixz=\"0\" iyy=\"{:.6}\" iyz=\"0\" izz=\"{:.6}\"/>\n    </inertial>\n    <visual>\n      <origin xyz=\"0 0 {hz:.4}\"/>\n      <geometry>\n        <box size=\"{l:.4} {w:.4} {h:.4}\"/>\n      </geometry>\n      <material name=\"artifact-{class}\">\n        <color rgba=\"{r:.3} {g:.3} {b:.3} 1\"/>\n      </material>\n    </visual>\n    <collision>\n      <origin xyz=\"0 0 {hz:.4}\"/>\n      <geometry>\n        <box size=\"{l:.4} {w:.4} {h:.4}\"/>\n      </geometry>\n    </collision>\n  </link>\n  <joint name=\"artifact-{n}\" type=\"fixed\">\n    <parent link=\"world\"/>\n    <child link=\"artifact-{n}\"/>\n    <origin xyz=\"{x:.4} {y:.4} {z:.4}\" rpy=\"0 0 {yaw:.6}\"/>\n  </joint>\n",
+        m / 12.0 * (w * w + h * h),
+        m / 12.0 * (l * l + h * h),
+        m / 12.0 * (l * l + w * w),
+        n = a.name,
+        class = a.class.name(),
+        yaw = a.yaw,
+    ));
+}
+
 impl Exporter for Urdf {
     fn export(&self, world: &World, out: &mut dyn WorldWriter) -> Result<(), ExportError> {
-        let Some(mesh) = &world.mesh else {
+        let Some(mesh) = world.mesh() else {
             return Err(ExportError::Unsupported(
                 "the URDF exporter needs geometry: add a [tileset] to the pipeline (or drop --no-mesh)".into(),
             ));
@@ -73,7 +93,21 @@ impl Exporter for Urdf {
                 xml_escape(&file.collision)
             ));
         }
-        s.push_str("  </link>\n</robot>\n");
+        let artifacts = crate::artifacts::place(world)?;
+        for a in &artifacts {
+            // Its pad (`Artifact::pad`), part of the fixed world.
+            let ([x, y, z], [l, w, h]) = a.pad();
+            s.push_str(&format!(
+                "    <collision name=\"artifact-pad-{n}\">\n      <origin xyz=\"{x:.4} {y:.4} {z:.4}\" rpy=\"0 0 {yaw:.6}\"/>\n      <geometry>\n        <box size=\"{l:.4} {w:.4} {h:.4}\"/>\n      </geometry>\n    </collision>\n",
+                n = a.name,
+                yaw = a.yaw
+            ));
+        }
+        s.push_str("  </link>\n");
+        for a in &artifacts {
+            artifact_link(&mut s, a);
+        }
+        s.push_str("</robot>\n");
         write_file(out, "urdf/world.urdf", s.as_bytes())
     }
 

@@ -273,7 +273,12 @@ fn write_bindings(
 }
 
 /// The root layer: units, physics scene, materials, and the part layers as sublayers.
-fn root_layer(mesh: &WorldMesh, layers: &[String], materials: &[String]) -> String {
+fn root_layer(
+    mesh: &WorldMesh,
+    layers: &[String],
+    materials: &[String],
+    artifacts: &[crate::artifacts::Artifact],
+) -> String {
     let mut s = String::from(
         "#usda 1.0\n(\n    defaultPrim = \"World\"\n    doc = \"subtgraph world: metres, x east, y north, z up\"\n    metersPerUnit = 1\n    kilogramsPerUnit = 1\n    upAxis = \"Z\"\n    subLayers = [\n",
     );
@@ -300,13 +305,47 @@ fn root_layer(mesh: &WorldMesh, layers: &[String], materials: &[String]) -> Stri
             "        def Material \"{name}\"\n        {{\n            token outputs:surface.connect = </World/Looks/{name}/Surface.outputs:surface>\n\n            def Shader \"Surface\"\n            {{\n                uniform token info:id = \"UsdPreviewSurface\"\n                color3f inputs:diffuseColor = ({r:.4}, {g:.4}, {b:.4})\n                float inputs:metallic = 0\n                float inputs:roughness = 0.9\n                token outputs:surface\n            }}\n        }}\n"
         ));
     }
-    s.push_str("    }\n}\n");
+    s.push_str("    }\n");
+    artifact_prims(&mut s, artifacts);
+    s.push_str("}\n");
     s
+}
+
+/// The artifacts under `/World/Artifacts`: an `Xform` per artifact at its recorded pose (a
+/// rigid body with its mass, `subtgraph:class` naming its class) holding a `Cube` scaled to
+/// its box, a collider, resting on the floor; beside it `<name>_pad`, its pad
+/// ([`Artifact::pad`](crate::artifacts::Artifact::pad)), a static cube collider of rock.
+fn artifact_prims(s: &mut String, artifacts: &[crate::artifacts::Artifact]) {
+    if artifacts.is_empty() {
+        return;
+    }
+    s.push_str("\n    def Scope \"Artifacts\"\n    {\n");
+    for a in artifacts {
+        let [x, y, z] = a.position;
+        let [l, w, h] = a.size;
+        let [r, g, b] = a.class.colour();
+        let ([px, py, pz], [pl, pw, ph]) = a.pad();
+        s.push_str(&format!(
+            "        def Cube \"{prim}_pad\" (\n            prepend apiSchemas = [\"PhysicsCollisionAPI\", \"MaterialBindingAPI\"]\n        )\n        {{\n            double size = 1\n            color3f[] primvars:displayColor = [(0.35, 0.33, 0.3)]\n            double3 xformOp:translate = ({px:.4}, {py:.4}, {pz:.4})\n            float xformOp:rotateZ = {deg:.4}\n            float3 xformOp:scale = ({pl:.4}, {pw:.4}, {ph:.4})\n            uniform token[] xformOpOrder = [\"xformOp:translate\", \"xformOp:rotateZ\", \"xformOp:scale\"]\n            rel material:binding:physics = {ROCK}\n        }}\n",
+            prim = a.name.replace('-', "_"),
+            deg = a.yaw.to_degrees(),
+        ));
+        s.push_str(&format!(
+            "        def Xform \"{prim}\" (\n            prepend apiSchemas = [\"PhysicsRigidBodyAPI\", \"PhysicsMassAPI\"]\n        )\n        {{\n            custom string subtgraph:class = \"{class}\"\n            custom string subtgraph:name = \"{name}\"\n            float physics:mass = {mass}\n            double3 xformOp:translate = ({x:.4}, {y:.4}, {z:.4})\n            float xformOp:rotateZ = {deg:.4}\n            uniform token[] xformOpOrder = [\"xformOp:translate\", \"xformOp:rotateZ\"]\n\n            def Cube \"box\" (\n                prepend apiSchemas = [\"PhysicsCollisionAPI\"]\n            )\n            {{\n                double size = 1\n                color3f[] primvars:displayColor = [({r:.3}, {g:.3}, {b:.3})]\n                double3 xformOp:translate = (0, 0, {hz:.4})\n                float3 xformOp:scale = ({l:.4}, {w:.4}, {h:.4})\n                uniform token[] xformOpOrder = [\"xformOp:translate\", \"xformOp:scale\"]\n            }}\n        }}\n",
+            prim = a.name.replace('-', "_"),
+            class = a.class.name(),
+            name = a.name,
+            mass = a.class.mass(),
+            deg = a.yaw.to_degrees(),
+            hz = 0.5 * h,
+        ));
+    }
+    s.push_str("    }\n");
 }
 
 impl Exporter for Usd {
     fn export(&self, world: &World, out: &mut dyn WorldWriter) -> Result<(), ExportError> {
-        let Some(mesh) = &world.mesh else {
+        let Some(mesh) = world.mesh() else {
             return Err(ExportError::Unsupported(
                 "the USD exporter needs geometry: add a [tileset] to the pipeline (or drop --no-mesh)".into(),
             ));
@@ -400,7 +439,8 @@ impl Exporter for Usd {
             drop(visual);
             layers.push(file);
         }
-        let root = root_layer(mesh, &layers, &materials);
+        let artifacts = crate::artifacts::place(world)?;
+        let root = root_layer(mesh, &layers, &materials, &artifacts);
         write_file(out, "usd/world.usda", root.as_bytes())
     }
 

@@ -42,6 +42,7 @@ use subtgraph_core::World;
 use subtgraph_core::budget::TileTriangles;
 use subtgraph_core::error::ConfigError;
 use subtgraph_core::export::{ExportError, Exporter, WorldWriter};
+use subtgraph_core::layout::Layout;
 use subtgraph_core::mesh::Material;
 use subtgraph_core::params::Params;
 use subtgraph_core::registry::{Catalogue, Registry};
@@ -55,7 +56,7 @@ mod loader;
 pub use loader::{LoadedPlugin, PluginError, check_failures, load, loaded};
 
 /// The plugin API version: bumped whenever the declaration or [`Registrar`] changes.
-pub const API_VERSION: u32 = 4;
+pub const API_VERSION: u32 = 5;
 /// The compiler that built this copy of the crate.
 pub const RUSTC_VERSION: &str = env!("SUBTGRAPH_RUSTC_VERSION");
 /// The version of the subtgraph crates this copy belongs to.
@@ -431,7 +432,7 @@ impl ConstraintShape for Guarded<dyn ConstraintShape> {
 #[deny(clippy::missing_trait_methods)] // a new defaulted method must be forwarded, not skipped
 impl TileSet for Guarded<dyn TileSet> {
     fn tile(&self, ctx: &TileContext<'_>) -> Result<TileGeometry, TileSetError> {
-        self.try_call("TileSet::tile", TileSetError, |t| t.tile(ctx))
+        self.try_call("TileSet::tile", TileSetError::Plugin, |t| t.tile(ctx))
     }
     fn materials(&self) -> Vec<Material> {
         self.call("TileSet::materials", Vec::new, |t| t.materials())
@@ -439,14 +440,14 @@ impl TileSet for Guarded<dyn TileSet> {
     fn pitch(&self) -> Option<f64> {
         self.call("TileSet::pitch", || None, |t| t.pitch())
     }
-    fn opening(&self, world: &World) -> Option<CrossSection> {
-        self.call("TileSet::opening", || None, |t| t.opening(world))
+    fn opening(&self, layout: &Layout) -> Option<CrossSection> {
+        self.call("TileSet::opening", || None, |t| t.opening(layout))
     }
-    fn check(&self, world: &World) -> Result<(), TileSetError> {
-        self.try_call("TileSet::check", TileSetError, |t| t.check(world))
+    fn check(&self, layout: &Layout) -> Result<(), TileSetError> {
+        self.try_call("TileSet::check", TileSetError::Plugin, |t| t.check(layout))
     }
-    fn estimate(&self, world: &World, kind: TileKind) -> Option<TileTriangles> {
-        self.call("TileSet::estimate", || None, |t| t.estimate(world, kind))
+    fn estimate(&self, layout: &Layout, kind: TileKind) -> Option<TileTriangles> {
+        self.call("TileSet::estimate", || None, |t| t.estimate(layout, kind))
     }
     fn detail_advice(&self) -> Option<String> {
         self.call("TileSet::detail_advice", || None, |t| t.detail_advice())

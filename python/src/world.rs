@@ -81,7 +81,7 @@ fn rows<'py, T: Element, const K: usize>(
 }
 
 fn mesh_of<'a>(w: &'a World, which: &str) -> PyResult<&'a Mesh> {
-    let m = w.mesh.as_ref().ok_or_else(|| {
+    let m = w.mesh().ok_or_else(|| {
         pyo3::exceptions::PyValueError::new_err(
             "this world has no mesh: generate it with mesh=True and a pipeline that has a [tileset]",
         )
@@ -145,7 +145,7 @@ impl PyWorld {
         let mut out = Vec::new();
         for spec in specs {
             let exporter = registry.exporters.build(spec)?;
-            if exporter.needs_geometry() && self.world.mesh.is_none() {
+            if exporter.needs_geometry() && self.world.mesh().is_none() {
                 anyhow::bail!(
                     "exporter '{}' writes geometry, but this world has no mesh: generate it with mesh=True and a pipeline with a [tileset]",
                     spec.type_name
@@ -318,7 +318,7 @@ impl PyWorld {
     /// Whether the world has meshes.
     #[getter]
     fn has_mesh(&self) -> bool {
-        self.world.mesh.is_some()
+        self.world.mesh().is_some()
     }
 
     /// `(vertices float32 [n, 3], triangles uint32 [m, 3])` of the visual or collision mesh.
@@ -355,8 +355,7 @@ impl PyWorld {
     /// The tile set's material names.
     fn material_names(&self) -> Vec<String> {
         self.world
-            .mesh
-            .as_ref()
+            .mesh()
             .map(|m| m.materials.iter().map(|x| x.name.clone()).collect())
             .unwrap_or_default()
     }
@@ -387,7 +386,7 @@ impl PyWorld {
     fn mjcf<'py>(&self, py: Python<'py>, visual: bool) -> PyResult<(String, Bound<'py, PyDict>)> {
         let (xml, files) = py
             .detach(|| -> anyhow::Result<_> {
-                if self.world.mesh.is_none() {
+                if self.world.mesh().is_none() {
                     anyhow::bail!("exporter 'mjcf' writes geometry, but this world has no mesh: generate it with mesh=True and a pipeline with a [tileset]");
                 }
                 let mut table = toml::Table::new();
@@ -475,7 +474,7 @@ impl PyWorld {
             self.world.resolved.seed,
             self.world.graph.nodes.len(),
             self.world.graph.edges.len(),
-            self.world.mesh.is_some()
+            self.world.mesh().is_some()
         )
     }
 }

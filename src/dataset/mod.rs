@@ -542,8 +542,8 @@ fn make_world(source: &Source, w: &Planned, opts: &Options, replace: bool) -> Re
     let facts = RunFacts {
         generation_s,
         total_s: started.elapsed().as_secs_f64(),
-        visual_triangles: world.mesh.as_ref().map(|m| m.visual.triangle_count()),
-        collision_triangles: world.mesh.as_ref().map(|m| m.collision.triangle_count()),
+        visual_triangles: world.mesh().map(|m| m.visual.triangle_count()),
+        collision_triangles: world.mesh().map(|m| m.collision.triangle_count()),
     };
     index::write_facts(&opts.out, &w.name, &facts).map_err(|e| anyhow!(e))?;
     Ok(Made::Here)

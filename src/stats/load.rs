@@ -18,7 +18,7 @@ use anyhow::{Result, anyhow};
 
 use subtgraph_core::graph::EdgeKind;
 use subtgraph_core::tile::TileKind;
-use subtgraph_core::{Pipeline, World, import, npy};
+use subtgraph_core::{Layout, Pipeline, import, npy};
 
 use super::metrics::Mask;
 
@@ -363,7 +363,7 @@ fn load_npy(path: &Path, group: &str, pipeline: Option<&Pipeline>) -> Result<Sam
 }
 
 /// The statistics' view of a world.
-pub fn sample_of(world: &World, group: &str, name: String) -> Sample {
+pub fn sample_of(world: &Layout, group: &str, name: String) -> Sample {
     let occ = &world.occupancy;
     let levels = (0..occ.levels())
         .map(|l| {

@@ -16,7 +16,7 @@ mod font;
 mod load;
 pub mod metrics;
 pub mod plot;
-mod raster;
+pub(crate) mod raster;
 mod report;
 mod tables;
 

@@ -8,7 +8,7 @@
 //! its own level and the levels beside it, and two tiles evaluating a point on their shared
 //! face compute exactly the same number.
 
-use subtgraph_core::World;
+use subtgraph_core::Layout;
 use subtgraph_core::grid::{Cell, Direction};
 use subtgraph_core::rng::WorldRng;
 use subtgraph_core::tile::TileKind;
@@ -160,7 +160,7 @@ impl<'a> LocalField<'a> {
     /// lattice edge of a point it makes negative is inside (so edges crossing the surface are
     /// interpolated between true values), and never wider than half a pitch beyond its cell.
     pub fn around(
-        world: &World,
+        world: &Layout,
         cell: Cell,
         passage: &'a Passage,
         profile: &'a dyn Profile,

@@ -3,7 +3,7 @@
 //! resolution, collision at a coarser one).
 
 use serde::Deserialize;
-use subtgraph_core::World;
+use subtgraph_core::Layout;
 use subtgraph_core::budget::TileTriangles;
 use subtgraph_core::error::ConfigError;
 use subtgraph_core::mesh::Material;
@@ -140,7 +140,7 @@ impl Procedural {
     }
 
     /// The passage knobs in metres for a world.
-    pub fn passage(&self, world: &World) -> Passage {
+    pub fn passage(&self, world: &Layout) -> Passage {
         let pitch = world.resolved.tile_pitch;
         let s = &self.settings;
         let width = s
@@ -166,7 +166,7 @@ impl Procedural {
         (r, self.settings.collision_resolution.unwrap_or(r / 2))
     }
 
-    fn levels(&self, world: &World) -> Levels {
+    fn levels(&self, world: &Layout) -> Levels {
         let h = world.resolved.tile_pitch / f64::from(self.resolution().0);
         Levels {
             height: world.resolved.level_height,
@@ -174,7 +174,7 @@ impl Procedural {
         }
     }
 
-    fn block(world: &World, cell: subtgraph_core::grid::Cell, n: u32, levels: Levels) -> Block {
+    fn block(world: &Layout, cell: subtgraph_core::grid::Cell, n: u32, levels: Levels) -> Block {
         let n = i64::from(n);
         let h = world.resolved.tile_pitch / n as f64;
         let off = world.level_offsets[cell.level];
@@ -195,7 +195,7 @@ impl Procedural {
 
 impl TileSet for Procedural {
     fn tile(&self, ctx: &TileContext<'_>) -> Result<TileGeometry, TileSetError> {
-        let world = ctx.world;
+        let world = ctx.layout;
         let passage = self.passage(world);
         let levels = self.levels(world);
         let (visual_n, collision_n) = self.resolution();
@@ -241,7 +241,7 @@ impl TileSet for Procedural {
         self.style.materials.clone()
     }
 
-    fn opening(&self, world: &World) -> Option<CrossSection> {
+    fn opening(&self, world: &Layout) -> Option<CrossSection> {
         let p = self.passage(world);
         Some(CrossSection {
             width: p.width,
@@ -249,7 +249,7 @@ impl TileSet for Procedural {
         })
     }
 
-    fn check(&self, world: &World) -> Result<(), TileSetError> {
+    fn check(&self, world: &Layout) -> Result<(), TileSetError> {
         let p = self.passage(world);
         let pitch = world.resolved.tile_pitch;
 
@@ -258,26 +258,33 @@ impl TileSet for Procedural {
         let half_width = 0.5 * p.width * (1.0 + p.width_variation) + p.roughness;
         let room = 0.5 * pitch - 2.0 * pitch / f64::from(self.resolution().0);
         if half_width > room {
-            return Err(TileSetError(format!(
-                "{name}: passages up to {:.1} m wide (width {:.1} m with its variation and relief) do not fit \
-                 tiles {pitch} m apart; use a smaller [tileset] width or roughness, or a larger world.tile_pitch",
-                2.0 * half_width,
-                p.width
-            )));
+            return Err(TileSetError::Unsuited {
+                what: format!(
+                    "{name}: passages up to {:.1} m wide (width {:.1} m with its variation and relief) \
+                     do not fit tiles {pitch} m apart",
+                    2.0 * half_width,
+                    p.width
+                ),
+                fix: "use a smaller [tileset] width or roughness, or a larger world.tile_pitch"
+                    .into(),
+            });
         }
         if p.shaft_radius * p.width + p.roughness > room {
-            return Err(TileSetError(format!(
-                "{name}: the shaft does not fit the tile; use a smaller [tileset] width"
-            )));
+            return Err(TileSetError::Unsuited {
+                what: format!("{name}: the shaft does not fit the tile"),
+                fix: "use a smaller [tileset] width".into(),
+            });
         }
         let top = p.height * (1.0 + p.height_variation) + p.roughness + p.floor_roughness;
         let head = world.resolved.level_height - 2.0 * levels.below_floor;
         if world.resolved.levels > 1 && top > head {
-            return Err(TileSetError(format!(
-                "{name}: passages up to {top:.1} m high do not fit between levels {} m apart; \
-                 raise world.level_height or lower [tileset] height",
-                world.resolved.level_height
-            )));
+            return Err(TileSetError::Unsuited {
+                what: format!(
+                    "{name}: passages up to {top:.1} m high do not fit between levels {} m apart",
+                    world.resolved.level_height
+                ),
+                fix: "raise world.level_height or lower [tileset] height".into(),
+            });
         }
         Ok(())
     }
@@ -286,7 +293,7 @@ impl TileSet for Procedural {
         3.0
     }
 
-    fn estimate(&self, world: &World, kind: TileKind) -> Option<TileTriangles> {
+    fn estimate(&self, world: &Layout, kind: TileKind) -> Option<TileTriangles> {
         // Marching tetrahedra make about TRIANGLES_PER_CELL triangles per lattice cell of
         // surface, and a tile's surface is its half-corridors' walls (the section's perimeter
         // along half a pitch each), its shaft's and its rocks'.

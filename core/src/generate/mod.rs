@@ -19,10 +19,11 @@ use crate::components::Components;
 use crate::config::Pipeline;
 use crate::error::Error;
 use crate::grid::{Cell, Grid3};
+use crate::layout::{Counts, Layout, Shaft};
 use crate::registry::Registry;
 use crate::rng::WorldRng;
 use crate::shape::ConstraintShape;
-use crate::world::{Counts, Shaft, World};
+use crate::world::World;
 
 pub use level::structure_counts;
 pub use search::DETOUR_COST;
@@ -52,24 +53,34 @@ pub fn generate_with(
     components: &Components,
     budget: &Budget,
 ) -> Result<World, Error> {
-    let mut world = layout_with(pipeline, components, budget)?;
-    if let Some(t) = &components.tileset {
-        world.mesh = Some(
-            crate::assembly::assemble_within(&world, t.tileset.as_ref(), budget).map_err(|e| {
-                Error::Component {
-                    component: "tile set",
-                    name: t.name.clone(),
-                    message: e.0,
-                }
-            })?,
-        );
-    }
-    Ok(world)
+    let layout = layout_with(pipeline, components, budget)?;
+    let mesh = match &components.tileset {
+        Some(t) => Some(mesh_with(&layout, t, budget)?),
+        None => None,
+    };
+    Ok(World::new(layout, mesh))
+}
+
+/// The geometry of a layout by a built tile set, within `budget`: what [`generate_with`] runs
+/// after the layout, and what meshes an imported grid. A tile set's error is an
+/// [`Error::Component`] naming it.
+pub fn mesh_with(
+    layout: &Layout,
+    tileset: &crate::components::NamedTileSet,
+    budget: &Budget,
+) -> Result<crate::assembly::WorldMesh, Error> {
+    crate::assembly::assemble_within(layout, tileset.tileset.as_ref(), budget).map_err(|e| {
+        Error::Component {
+            component: "tile set",
+            name: tileset.name.clone(),
+            message: e.to_string(),
+        }
+    })
 }
 
 /// Generates a world's layout only: occupancy, tiles, shafts, graph and report, without
 /// geometry (what `--no-mesh` runs). No memory budget: see [`layout_within`].
-pub fn layout(pipeline: &Pipeline, registry: &Registry) -> Result<World, Error> {
+pub fn layout(pipeline: &Pipeline, registry: &Registry) -> Result<Layout, Error> {
     layout_within(pipeline, registry, &Budget::unlimited())
 }
 
@@ -78,7 +89,7 @@ pub fn layout_within(
     pipeline: &Pipeline,
     registry: &Registry,
     budget: &Budget,
-) -> Result<World, Error> {
+) -> Result<Layout, Error> {
     layout_with(pipeline, &pipeline.build(registry)?, budget)
 }
 
@@ -89,7 +100,7 @@ pub fn layout_with(
     pipeline: &Pipeline,
     components: &Components,
     budget: &Budget,
-) -> Result<World, Error> {
+) -> Result<Layout, Error> {
     let (resolved_pipeline, resolved) = pipeline.resolve()?;
     budget
         .check(
@@ -178,7 +189,7 @@ pub fn layout_with(
         .iter()
         .map(|l| l.iter().cloned().collect())
         .collect();
-    Ok(World::assemble(
+    Ok(Layout::new(
         resolved_pipeline,
         resolved,
         occupancy,

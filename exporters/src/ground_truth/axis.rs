@@ -36,7 +36,7 @@ use subtgraph_core::World;
 use subtgraph_core::grid::{Cell, Direction};
 use subtgraph_core::tile::TileKind;
 
-use super::inside::{Columns, Passages};
+use crate::inside::{Columns, Passages};
 
 /// Least lines per tile side.
 pub(crate) const PIXELS: usize = 64;

@@ -20,8 +20,8 @@ use serde::Serialize;
 use subtgraph_core::World;
 use subtgraph_core::export::{ExportError, Exporter, WorldWriter, stream_file};
 
-use super::inside::{Columns, Passages, grid_clear_height};
 use super::{FRAME, Settings, extent};
+use crate::inside::{Columns, Passages, grid_clear_height};
 
 /// The largest file the default voxel may make, bytes.
 const DEFAULT_BYTES: f64 = 100e6;
@@ -97,7 +97,7 @@ impl FreeSpace {
 
     fn voxels(&self, world: &World) -> Result<Voxels, ExportError> {
         let [x0, y0, x1, y1] = extent(world);
-        let (z0, z1) = match &world.mesh {
+        let (z0, z1) = match world.mesh() {
             Some(m) if !m.collision.positions.is_empty() => m
                 .collision
                 .positions
@@ -280,7 +280,7 @@ mod tests {
         };
         let lh = world.resolved.level_height;
         let tile_at = |level: usize, x: f64, y: f64| {
-            super::super::inside::cell_at(&world, level, x, y).and_then(|c| *world.tiles.get(c))
+            crate::inside::cell_at(&world, level, x, y).and_then(|c| *world.tiles.get(c))
         };
         let shaft = |t: Option<subtgraph_core::tile::Tile>| {
             t.is_some_and(|t| t.kind == subtgraph_core::tile::TileKind::ShaftUp)

@@ -14,7 +14,7 @@ use subtgraph_core::graph::EdgeKind;
 
 use super::FRAME;
 use super::axis::Axes;
-use super::inside::Passages;
+use crate::inside::Passages;
 use crate::text::{push_fixed, push_uint};
 
 /// Writes `ground_truth/graph.json` and `ground_truth/graph.graphml`.

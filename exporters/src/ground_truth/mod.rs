@@ -23,10 +23,10 @@ use subtgraph_core::error::ConfigError;
 use subtgraph_core::export::{ExportError, Exporter, WorldWriter};
 use subtgraph_core::params::Params;
 
+pub(crate) mod artifacts;
 pub(crate) mod axis;
 mod free_space;
 mod graph;
-pub(crate) mod inside;
 mod ros_map;
 mod semantic_labels;
 mod spawn_poses;
@@ -137,7 +137,7 @@ impl GroundTruth {
 impl Exporter for GroundTruth {
     fn export(&self, world: &World, out: &mut dyn WorldWriter) -> Result<(), ExportError> {
         let s = &self.settings;
-        let passages = inside::Passages::of(world);
+        let passages = crate::inside::Passages::of(world);
         let axes = axis::Axes::of(world, &passages);
         GraphFiles.write(world, &axes, out)?;
         SemanticLabels.write(world, &axes, out)?;
@@ -154,7 +154,7 @@ pub(crate) mod tests {
     /// The crate's two-level test world with a cave collision surface fine enough to keep its
     /// 7 m passages open (a 3 m lattice).
     pub(crate) fn world_with_mesh() -> World {
-        let mut world = crate::test_world_from("level_height = 40.0");
+        let layout = crate::test_world_from("level_height = 40.0").into_parts().0;
         let spec = subtgraph_core::params::ComponentSpec {
             type_name: "cave".into(),
             params: subtgraph_core::params::Params::from_table(
@@ -166,7 +166,7 @@ pub(crate) mod tests {
         let mut registry = subtgraph_core::Registry::empty();
         subtgraph_tilesets::register(&mut registry).unwrap();
         let tileset = registry.tilesets.build(&spec).unwrap();
-        world.mesh = Some(subtgraph_core::assembly::assemble(&world, tileset.as_ref()).unwrap());
-        world
+        let mesh = subtgraph_core::assembly::assemble(&layout, tileset.as_ref()).unwrap();
+        World::new(layout, Some(mesh))
     }
 }

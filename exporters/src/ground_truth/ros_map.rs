@@ -19,8 +19,8 @@
 use subtgraph_core::World;
 use subtgraph_core::export::{ExportError, Exporter, WorldWriter, write_file};
 
-use super::inside::{Columns, Passages};
 use super::{FRAME, Settings, extent};
+use crate::inside::{Columns, Passages};
 use crate::text::push_uint;
 
 /// The most pixels a level's map may have at the default resolution.
@@ -202,7 +202,7 @@ mod tests {
         for (k, &v) in img.iter().enumerate() {
             let (r, i) = (k / px.nx, k % px.nx);
             let (x, y) = (px.x(i), px.y(px.ny - 1 - r));
-            let cell = super::super::inside::cell_at(&world, 1, x, y).unwrap();
+            let cell = crate::inside::cell_at(&world, 1, x, y).unwrap();
             let occupied = *world.occupancy.get(cell);
             assert_eq!(v == FREE, occupied, "pixel ({r}, {i})");
         }

@@ -16,7 +16,7 @@ use subtgraph_core::grid::Direction;
 
 use super::FRAME;
 use super::axis::Axes;
-use super::inside::Passages;
+use crate::inside::Passages;
 use crate::text::{push_fixed, push_uint};
 
 /// Writes `ground_truth/semantic_labels.json` and `.csv`.

@@ -25,8 +25,8 @@ use subtgraph_core::grid::{Cell, Direction};
 use subtgraph_core::tile::TileKind;
 
 use super::axis::Axes;
-use super::inside::{Columns, Passages, Span, cell_at};
 use super::{FRAME, Settings};
+use crate::inside::{Columns, Passages, Span, cell_at};
 
 /// The cast starts this far above the nominal floor.
 const PROBE: f64 = 1.0;

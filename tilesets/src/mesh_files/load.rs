@@ -1,7 +1,89 @@
 //! Reading mesh files in pure Rust: Wavefront OBJ, Collada and STL through `mesh-loader`,
 //! glTF and GLB through `gltf`. Every part keeps its name, so materials can be matched.
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
+
+/// Why a mesh file cannot be loaded. Each message names the file and what to do.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum MeshFileError {
+    /// The file is not there.
+    #[error("{}: no such file", path.display())]
+    Missing {
+        /// The file.
+        path: PathBuf,
+    },
+    /// The file (or a glTF's buffer) could not be read or parsed: `reason` is the reader's.
+    #[error("{}: cannot be read: {reason}", path.display())]
+    Unreadable {
+        /// The file.
+        path: PathBuf,
+        /// What the reader reported.
+        reason: String,
+    },
+    /// A format we have no reader for.
+    #[error(
+        "{}: unsupported mesh format '.{extension}'; use OBJ, Collada (.dae), STL, glTF or GLB \
+         (formats only assimp reads, like FBX, need the `assimp` feature)",
+        path.display()
+    )]
+    Unsupported {
+        /// The file.
+        path: PathBuf,
+        /// Its extension, lower case.
+        extension: String,
+    },
+    /// A glTF file whose JSON or GLB container is not valid glTF.
+    #[error("{}: not valid glTF: {reason}", path.display())]
+    InvalidGltf {
+        /// The file.
+        path: PathBuf,
+        /// What the glTF reader reported.
+        reason: String,
+    },
+    /// A glTF feature we do not read (embedded data URIs, no scene, no binary chunk, a
+    /// primitive without positions): `what` says which and how to save the file instead.
+    #[error("{}: {what}", path.display())]
+    UnsupportedGltf {
+        /// The file.
+        path: PathBuf,
+        /// What is missing or unsupported, and what to do.
+        what: &'static str,
+    },
+    /// A glTF buffer file that cannot be read.
+    #[error("{}: buffer {}: {reason}", path.display(), buffer.display())]
+    Buffer {
+        /// The glTF file.
+        path: PathBuf,
+        /// The buffer's file.
+        buffer: PathBuf,
+        /// Why it cannot be read.
+        reason: String,
+    },
+    /// A triangle refers to a vertex the part does not have.
+    #[error(
+        "{}: part '{}' has a triangle {triangle:?} that refers past its {vertices} vertices; the \
+         file is corrupt",
+        path.display(),
+        subtgraph_core::error::excerpt(part)
+    )]
+    Corrupt {
+        /// The file.
+        path: PathBuf,
+        /// The part's name.
+        part: String,
+        /// The triangle.
+        triangle: [u32; 3],
+        /// How many vertices the part has.
+        vertices: usize,
+    },
+    /// Nothing to place.
+    #[error("{}: the file has no triangles", path.display())]
+    NoTriangles {
+        /// The file.
+        path: PathBuf,
+    },
+}
 
 /// One named part of a mesh file, in the file's own frame and units.
 #[derive(Clone, Debug, Default)]
@@ -19,7 +101,7 @@ pub struct Part {
 }
 
 /// Loads every part of a mesh file. The error says what is wrong and with which file.
-pub fn load(path: &Path) -> Result<Vec<Part>, String> {
+pub fn load(path: &Path) -> Result<Vec<Part>, MeshFileError> {
     let ext = path
         .extension()
         .and_then(|e| e.to_str())
@@ -29,11 +111,10 @@ pub fn load(path: &Path) -> Result<Vec<Part>, String> {
         "obj" | "dae" | "stl" => load_with_mesh_loader(path)?,
         "glb" | "gltf" => load_gltf(path)?,
         other => {
-            return Err(format!(
-                "{}: unsupported mesh format '.{other}'; use OBJ, Collada (.dae), STL, glTF or GLB \
-                 (formats only assimp reads, like FBX, need the `assimp` feature)",
-                path.display()
-            ));
+            return Err(MeshFileError::Unsupported {
+                path: path.to_owned(),
+                extension: other.to_owned(),
+            });
         }
     };
     // Indices come from the file: one past the vertices would panic later, not here.
@@ -44,30 +125,38 @@ pub fn load(path: &Path) -> Result<Vec<Part>, String> {
             .iter()
             .find(|t| t.iter().any(|&i| i as usize >= n))
         {
-            return Err(format!(
-                "{}: part '{}' has a triangle {t:?} that refers past its {n} vertices; the file is corrupt",
-                path.display(),
-                subtgraph_core::error::excerpt(&p.name)
-            ));
+            return Err(MeshFileError::Corrupt {
+                path: path.to_owned(),
+                part: p.name.clone(),
+                triangle: *t,
+                vertices: n,
+            });
         }
     }
     if parts.iter().all(|p| p.triangles.is_empty()) {
-        return Err(format!("{}: the file has no triangles", path.display()));
+        return Err(MeshFileError::NoTriangles {
+            path: path.to_owned(),
+        });
     }
     Ok(parts)
 }
 
-fn load_with_mesh_loader(path: &Path) -> Result<Vec<Part>, String> {
+fn load_with_mesh_loader(path: &Path) -> Result<Vec<Part>, MeshFileError> {
     if !path.is_file() {
-        return Err(format!("{}: no such file", path.display()));
+        return Err(MeshFileError::Missing {
+            path: path.to_owned(),
+        });
     }
+    let unreadable = |e: std::io::Error| MeshFileError::Unreadable {
+        path: path.to_owned(),
+        reason: e.to_string(),
+    };
     // Read once: the bytes feed both mesh-loader and the material names below (what
     // `Loader::load` does, reading the file itself, would read an OBJ twice).
-    let bytes =
-        std::fs::read(path).map_err(|e| format!("{}: cannot be read: {e}", path.display()))?;
+    let bytes = std::fs::read(path).map_err(unreadable)?;
     let scene = mesh_loader::Loader::default()
         .load_from_slice(&bytes, path)
-        .map_err(|e| format!("{}: cannot be read: {e}", path.display()))?;
+        .map_err(unreadable)?;
     let mut parts: Vec<Part> = scene
         .meshes
         .into_iter()
@@ -104,10 +193,19 @@ fn load_with_mesh_loader(path: &Path) -> Result<Vec<Part>, String> {
     Ok(parts)
 }
 
-fn load_gltf(path: &Path) -> Result<Vec<Part>, String> {
-    let bytes = std::fs::read(path).map_err(|e| format!("{}: {e}", path.display()))?;
-    let gltf = gltf::Gltf::from_slice(&bytes)
-        .map_err(|e| format!("{}: not valid glTF: {e}", path.display()))?;
+fn load_gltf(path: &Path) -> Result<Vec<Part>, MeshFileError> {
+    let unsupported = |what: &'static str| MeshFileError::UnsupportedGltf {
+        path: path.to_owned(),
+        what,
+    };
+    let bytes = std::fs::read(path).map_err(|e| MeshFileError::Unreadable {
+        path: path.to_owned(),
+        reason: e.to_string(),
+    })?;
+    let gltf = gltf::Gltf::from_slice(&bytes).map_err(|e| MeshFileError::InvalidGltf {
+        path: path.to_owned(),
+        reason: e.to_string(),
+    })?;
     let dir = path.parent().unwrap_or(Path::new("."));
     let mut buffers: Vec<Vec<u8>> = Vec::new();
     for b in gltf.buffers() {
@@ -115,17 +213,19 @@ fn load_gltf(path: &Path) -> Result<Vec<Part>, String> {
             gltf::buffer::Source::Bin => gltf
                 .blob
                 .clone()
-                .ok_or_else(|| format!("{}: missing binary chunk", path.display()))?,
+                .ok_or_else(|| unsupported("missing binary chunk"))?,
             gltf::buffer::Source::Uri(uri) => {
                 if uri.starts_with("data:") {
-                    return Err(format!(
-                        "{}: embedded data URIs are not supported; save as GLB or with a .bin file",
-                        path.display()
+                    return Err(unsupported(
+                        "embedded data URIs are not supported; save as GLB or with a .bin file",
                     ));
                 }
                 let p = dir.join(uri);
-                std::fs::read(&p)
-                    .map_err(|e| format!("{}: buffer {}: {e}", path.display(), p.display()))?
+                std::fs::read(&p).map_err(|e| MeshFileError::Buffer {
+                    path: path.to_owned(),
+                    buffer: p.clone(),
+                    reason: e.to_string(),
+                })?
             }
         });
     }
@@ -133,7 +233,7 @@ fn load_gltf(path: &Path) -> Result<Vec<Part>, String> {
     let scene = gltf
         .default_scene()
         .or_else(|| gltf.scenes().next())
-        .ok_or_else(|| format!("{}: no scene", path.display()))?;
+        .ok_or_else(|| unsupported("no scene"))?;
     let mut stack: Vec<(gltf::Node, [[f32; 4]; 4])> =
         scene.nodes().map(|n| (n, identity())).collect();
     while let Some((node, parent)) = stack.pop() {
@@ -146,7 +246,7 @@ fn load_gltf(path: &Path) -> Result<Vec<Part>, String> {
                 let reader = prim.reader(|b| buffers.get(b.index()).map(Vec::as_slice));
                 let positions: Vec<[f32; 3]> = reader
                     .read_positions()
-                    .ok_or_else(|| format!("{}: a primitive has no positions", path.display()))?
+                    .ok_or_else(|| unsupported("a primitive has no positions"))?
                     .map(|p| transform(m, p, 1.0))
                     .collect();
                 let normals = reader

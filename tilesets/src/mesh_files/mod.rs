@@ -37,7 +37,7 @@ use std::path::{Path, PathBuf};
 use std::sync::{Arc, Mutex};
 
 use serde::Deserialize;
-use subtgraph_core::World;
+use subtgraph_core::Layout;
 use subtgraph_core::budget::TileTriangles;
 use subtgraph_core::error::ConfigError;
 use subtgraph_core::grid::{Direction, Openings, rotate_openings};
@@ -47,7 +47,120 @@ use subtgraph_core::rng::WorldRng;
 use subtgraph_core::tile::TileKind;
 use subtgraph_core::tileset::{Seams, TileContext, TileGeometry, TileSet, TileSetError};
 
-pub use load::{Part, load};
+pub use load::{MeshFileError, Part, load};
+
+/// Why a manifest cannot be opened. Each message names the manifest (and the file, for a
+/// mesh) and what to change.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum ManifestError {
+    /// The manifest itself cannot be read.
+    #[error("cannot read the manifest {}: {reason}", path.display())]
+    Unreadable {
+        /// The manifest.
+        path: PathBuf,
+        /// What the system reported.
+        reason: String,
+    },
+    /// Not valid TOML, or a key of the wrong type or unknown: `message` is the TOML reader's,
+    /// with its line and column.
+    #[error("{}: {message}", path.display())]
+    Syntax {
+        /// The manifest.
+        path: PathBuf,
+        /// The reader's message.
+        message: String,
+    },
+    /// A value out of its range: `problem` names the key, its value and the values allowed
+    /// (`"scale must be positive"`).
+    #[error("{}: {problem}", path.display())]
+    Value {
+        /// The manifest.
+        path: PathBuf,
+        /// The key, what is wrong with it and what to write instead.
+        problem: String,
+    },
+    /// A `[[tile]]` entry whose `kind` is not a tile kind.
+    #[error(
+        "{}: unknown tile kind '{kind}'; the kinds are {}",
+        path.display(),
+        TileKind::ALL.map(TileKind::name).join(", ")
+    )]
+    UnknownKind {
+        /// The manifest.
+        path: PathBuf,
+        /// The kind as written.
+        kind: String,
+    },
+    /// Two `[[tile]]` entries for one kind.
+    #[error("{}: two [[tile]] entries for '{kind}'", path.display())]
+    DuplicateKind {
+        /// The manifest.
+        path: PathBuf,
+        /// The kind.
+        kind: String,
+    },
+    /// A listed file that is not there.
+    #[error(
+        "{}: the file {} does not exist (root is {}); fix the path or `root`",
+        path.display(),
+        file.display(),
+        root.display()
+    )]
+    MissingFile {
+        /// The manifest.
+        path: PathBuf,
+        /// The file, joined to `root`.
+        file: PathBuf,
+        /// The folder files are relative to.
+        root: PathBuf,
+    },
+    /// A listed file that cannot be loaded.
+    #[error("{}: {source}", path.display())]
+    Mesh {
+        /// The manifest.
+        path: PathBuf,
+        /// Why the file cannot be loaded.
+        source: MeshFileError,
+    },
+    /// A tile file whose openings are not where its kind and the pitch put them.
+    #[error(
+        "{}: {file} is listed as {kind} but opens {found} at ±{half} m from its centre; check \
+         the kind, `pitch` and `scale`, or give `rotation`",
+        path.display()
+    )]
+    Openings {
+        /// The manifest.
+        path: PathBuf,
+        /// The file, as listed.
+        file: String,
+        /// The kind it is listed as.
+        kind: String,
+        /// Where it opens (`"east and west"`, `"nowhere"`).
+        found: String,
+        /// Half the pitch, metres.
+        half: f64,
+    },
+    /// A `pitch` the meshes contradict: `measured` is what they show, `suggested` the
+    /// `pitch` to write (in file units when `scale` is not 1).
+    #[error(
+        "{}: pitch = {pitch}: the meshes' openings are {measured} m apart; set pitch = \
+         {suggested}{units} (measured on the tiles that open on opposite sides)",
+        path.display()
+    )]
+    Pitch {
+        /// The manifest.
+        path: PathBuf,
+        /// The pitch as written.
+        pitch: f64,
+        /// The measured distance between openings, rounded, metres.
+        measured: String,
+        /// The pitch to write, rounded.
+        suggested: String,
+        /// `" (in file units, with scale = ...)"` or empty.
+        units: String,
+    },
+}
 
 /// The manifest file.
 #[derive(Clone, Debug, Deserialize)]
@@ -174,42 +287,45 @@ impl MeshFiles {
         }
         let s: Settings = p.deserialize()?;
         let path = p.resolve_path(&s.manifest);
-        Self::open(&path).map_err(|e| p.error("manifest", e))
+        Self::open(&path).map_err(|e| p.error("manifest", e.to_string()))
     }
 
     /// Opens a manifest and loads its meshes. The error names the file and what to change.
-    pub fn open(path: &Path) -> Result<Self, String> {
-        let text = std::fs::read_to_string(path)
-            .map_err(|e| format!("cannot read the manifest {}: {e}", path.display()))?;
-        let manifest: Manifest = toml::from_str(&text)
-            .map_err(|e| format!("{}: {}", path.display(), e.to_string().trim()))?;
+    pub fn open(path: &Path) -> Result<Self, ManifestError> {
+        let text = std::fs::read_to_string(path).map_err(|e| ManifestError::Unreadable {
+            path: path.to_owned(),
+            reason: e.to_string(),
+        })?;
+        let manifest: Manifest = toml::from_str(&text).map_err(|e| ManifestError::Syntax {
+            path: path.to_owned(),
+            message: e.to_string().trim().to_owned(),
+        })?;
+        let value = |problem: String| ManifestError::Value {
+            path: path.to_owned(),
+            problem,
+        };
         let root = path
             .parent()
             .unwrap_or(Path::new("."))
             .join(manifest.root.as_deref().unwrap_or("."));
         if !(manifest.pitch.is_finite() && manifest.pitch > 0.0) {
-            return Err(format!(
-                "{}: pitch must be a positive number of metres",
-                path.display()
-            ));
+            return Err(value("pitch must be a positive number of metres".into()));
         }
         if !(manifest.scale.is_finite() && manifest.scale > 0.0) {
-            return Err(format!("{}: scale must be positive", path.display()));
+            return Err(value("scale must be positive".into()));
         }
         if manifest.up != "y" && manifest.up != "z" {
-            return Err(format!(
-                "{}: up = \"{}\": the up axis is \"y\" or \"z\"",
-                path.display(),
+            return Err(value(format!(
+                "up = \"{}\": the up axis is \"y\" or \"z\"",
                 manifest.up
-            ));
+            )));
         }
         for t in &manifest.tiles {
             if let Some(r) = t.rotation.filter(|&r| r > 3) {
-                return Err(format!(
-                    "{}: tile '{}': rotation = {r}: give the quarter turns as 0, 1, 2 or 3",
-                    path.display(),
+                return Err(value(format!(
+                    "tile '{}': rotation = {r}: give the quarter turns as 0, 1, 2 or 3",
                     subtgraph_core::error::excerpt(&t.kind)
-                ));
+                )));
             }
         }
         let mut materials: Vec<Material> = manifest
@@ -231,7 +347,7 @@ impl MeshFiles {
         names.sort_unstable();
         names.dedup();
         let matchers = materials_of(&manifest);
-        let loaded: Vec<(PathBuf, Result<Arc<Mesh>, String>)> = {
+        let loaded: Vec<(PathBuf, Result<Arc<Mesh>, ManifestError>)> = {
             use rayon::prelude::*;
             names
                 .par_iter()
@@ -240,14 +356,16 @@ impl MeshFiles {
                     let mesh = if full.is_file() {
                         load(&full)
                             .map(|parts| Arc::new(to_metres(&parts, &manifest, &matchers)))
-                            .map_err(|e| format!("{}: {e}", path.display()))
+                            .map_err(|source| ManifestError::Mesh {
+                                path: path.to_owned(),
+                                source,
+                            })
                     } else {
-                        Err(format!(
-                            "{}: the file {} does not exist (root is {}); fix the path or `root`",
-                            path.display(),
-                            full.display(),
-                            root.display()
-                        ))
+                        Err(ManifestError::MissingFile {
+                            path: path.to_owned(),
+                            file: full.clone(),
+                            root: root.clone(),
+                        })
                     };
                     (full, mesh)
                 })
@@ -258,24 +376,17 @@ impl MeshFiles {
             cache.insert(full, mesh?);
             *loads.lock().expect("not poisoned") += 1;
         }
-        let read =
-            |file: &str| -> Result<Arc<Mesh>, String> { Ok(cache[&root.join(file)].clone()) };
+        let read = |file: &str| -> Result<Arc<Mesh>, ManifestError> {
+            Ok(cache[&root.join(file)].clone())
+        };
         let mut entries = BTreeMap::new();
         for t in &manifest.tiles {
-            let kind = kind_named(&t.kind).ok_or_else(|| {
-                format!(
-                    "{}: unknown tile kind '{}'; the kinds are {}",
-                    path.display(),
-                    t.kind,
-                    TileKind::ALL.map(TileKind::name).join(", ")
-                )
+            let kind = kind_named(&t.kind).ok_or_else(|| ManifestError::UnknownKind {
+                path: path.to_owned(),
+                kind: t.kind.clone(),
             })?;
             if t.files.is_empty() {
-                return Err(format!(
-                    "{}: tile '{}' lists no files",
-                    path.display(),
-                    t.kind
-                ));
+                return Err(value(format!("tile '{}' lists no files", t.kind)));
             }
             let shape = if t.cap.is_some() {
                 TileKind::Corner
@@ -291,15 +402,12 @@ impl MeshFiles {
                         let found = openings(&mesh, manifest.pitch * manifest.scale, shape);
                         (0..4)
                             .find(|&q| rotate_openings(shape.base_openings(), q) == found)
-                            .ok_or_else(|| {
-                                format!(
-                                    "{}: {f} is listed as {} but opens {} at ±{} m from its centre; \
-                                     check the kind, `pitch` and `scale`, or give `rotation`",
-                                    path.display(),
-                                    t.kind,
-                                    describe(found),
-                                    manifest.pitch * manifest.scale / 2.0
-                                )
+                            .ok_or_else(|| ManifestError::Openings {
+                                path: path.to_owned(),
+                                file: f.clone(),
+                                kind: t.kind.clone(),
+                                found: describe(found),
+                                half: manifest.pitch * manifest.scale / 2.0,
                             })?
                     }
                 };
@@ -320,10 +428,9 @@ impl MeshFiles {
                     let mesh = read(c)?;
                     let faces = t.cap_faces.as_deref().unwrap_or("north");
                     let d = direction_named(faces).ok_or_else(|| {
-                        format!(
-                            "{}: cap_faces = \"{faces}\": use east, north, west or south",
-                            path.display()
-                        )
+                        value(format!(
+                            "cap_faces = \"{faces}\": use east, north, west or south"
+                        ))
                     })?;
                     // Turn the cap so it faces north (into a tile from its south opening), and
                     // move it onto the south opening.
@@ -341,11 +448,10 @@ impl MeshFiles {
                 }
             };
             if entries.insert(kind, Entry { assets, cap }).is_some() {
-                return Err(format!(
-                    "{}: two [[tile]] entries for '{}'",
-                    path.display(),
-                    t.kind
-                ));
+                return Err(ManifestError::DuplicateKind {
+                    path: path.to_owned(),
+                    kind: t.kind.clone(),
+                });
             }
         }
         check_pitch(path, &manifest, &entries)?;
@@ -406,7 +512,7 @@ fn check_pitch(
     path: &Path,
     manifest: &Manifest,
     entries: &BTreeMap<TileKind, Entry>,
-) -> Result<(), String> {
+) -> Result<(), ManifestError> {
     let Some(measured) = measured_pitch(entries) else {
         return Ok(());
     };
@@ -426,14 +532,13 @@ fn check_pitch(
     } else {
         format!(" (in file units, with scale = {})", manifest.scale)
     };
-    Err(format!(
-        "{}: pitch = {}: the meshes' openings are {} m apart; set pitch = {}{units} (measured \
-         on the tiles that open on opposite sides)",
-        path.display(),
-        manifest.pitch,
-        round(measured),
-        round(measured / manifest.scale),
-    ))
+    Err(ManifestError::Pitch {
+        path: path.to_owned(),
+        pitch: manifest.pitch,
+        measured: round(measured),
+        suggested: round(measured / manifest.scale),
+        units,
+    })
 }
 
 fn materials_of(m: &Manifest) -> Vec<(String, u8)> {
@@ -587,17 +692,14 @@ fn describe(o: Openings) -> String {
 impl TileSet for MeshFiles {
     fn tile(&self, ctx: &TileContext<'_>) -> Result<TileGeometry, TileSetError> {
         let kind = ctx.tile.kind;
-        let entry = self.entry(kind).ok_or_else(|| {
-            TileSetError(format!(
-                "{} has no tile for '{}'",
-                self.manifest_path.display(),
-                kind.name()
-            ))
+        let entry = self.entry(kind).ok_or_else(|| TileSetError::MissingKinds {
+            tileset: self.manifest_path.display().to_string(),
+            kinds: vec![kind.name().to_owned()],
         })?;
         let mut rng = WorldRng::new(ctx.seed, "mesh-file", 0);
         let asset = &entry.assets[rng.below(entry.assets.len() as u64) as usize];
         let s =
-            (ctx.world.resolved.tile_pitch / (self.manifest.pitch * self.manifest.scale)) as f32;
+            (ctx.layout.resolved.tile_pitch / (self.manifest.pitch * self.manifest.scale)) as f32;
         let [x, y, z] = ctx.position.map(|v| v as f32);
         let q = ctx.tile.rotation;
         let place = |m: &Mesh| Mesh {
@@ -627,7 +729,7 @@ impl TileSet for MeshFiles {
         // (On a grid from the world's origin an 80 m tile's edges fall half way between lines,
         // 25 cells of 3.2 m to a tile, and the vertices each side of a seam rounded away from
         // it: a 3.2 m gap in the floor, or rock across the passage, at many seams.)
-        let pitch = ctx.world.resolved.tile_pitch as f32;
+        let pitch = ctx.layout.resolved.tile_pitch as f32;
         let collision = simplify(&visual, 0.04 * pitch, [x - 0.5 * pitch, y - 0.5 * pitch, z]);
         Ok(TileGeometry {
             visual,
@@ -645,7 +747,7 @@ impl TileSet for MeshFiles {
         Some(self.manifest.pitch * self.manifest.scale)
     }
 
-    fn estimate(&self, _world: &World, kind: TileKind) -> Option<TileTriangles> {
+    fn estimate(&self, _world: &Layout, kind: TileKind) -> Option<TileTriangles> {
         // The files' own triangles (the mean over a kind's files, plus its cap); collision is
         // the same surface snapped to a coarser grid, measured at about a third of it on the
         // DARPA tiles, counted at half to stay on the safe side.
@@ -666,7 +768,7 @@ impl TileSet for MeshFiles {
         })
     }
 
-    fn check(&self, world: &World) -> Result<(), TileSetError> {
+    fn check(&self, world: &Layout) -> Result<(), TileSetError> {
         let mut missing = Vec::new();
         for c in world.occupancy.cells() {
             if let Some(t) = world.tiles.get(c) {
@@ -676,11 +778,10 @@ impl TileSet for MeshFiles {
             }
         }
         if !missing.is_empty() {
-            return Err(TileSetError(format!(
-                "{} has no tile for {} but the world needs them; add [[tile]] entries with those kinds",
-                self.manifest_path.display(),
-                missing.join(", ")
-            )));
+            return Err(TileSetError::MissingKinds {
+                tileset: self.manifest_path.display().to_string(),
+                kinds: missing.into_iter().map(str::to_owned).collect(),
+            });
         }
         if let Some(rise) = self.manifest.shaft_rise {
             let scaled = rise * self.manifest.scale * world.resolved.tile_pitch
@@ -698,11 +799,14 @@ impl TileSet for MeshFiles {
                         self.manifest.pitch * self.manifest.scale
                     )
                 };
-                return Err(TileSetError(format!(
-                    "{}: shaft tiles climb {scaled} m at this pitch but levels are {} m apart; {fix}",
-                    self.manifest_path.display(),
-                    world.resolved.level_height
-                )));
+                return Err(TileSetError::Unsuited {
+                    what: format!(
+                        "{}: shaft tiles climb {scaled} m at this pitch but levels are {} m apart",
+                        self.manifest_path.display(),
+                        world.resolved.level_height
+                    ),
+                    fix,
+                });
             }
         }
         Ok(())

@@ -15,7 +15,7 @@ struct Ply;
 
 impl Exporter for Ply {
     fn export(&self, world: &World, out: &mut dyn WorldWriter) -> Result<(), ExportError> {
-        let Some(mesh) = &world.mesh else {
+        let Some(mesh) = world.mesh() else {
             return Err(ExportError::Unsupported(
                 "the ply exporter needs geometry: add a [tileset] to the pipeline".into(),
             ));

@@ -1,7 +1,7 @@
 //! The command line as a user runs it: every example pipeline, the world folder it writes,
 //! reproducibility across runs, imports, and the errors bad input gets.
 
-mod common;
+use crate::common;
 
 use std::path::{Path, PathBuf};
 use std::process::Command;

@@ -148,7 +148,7 @@ pub(crate) struct Raster<T> {
 impl<'a> Passages<'a> {
     /// The world's collision surface when it has one, else its grid.
     pub fn of(world: &'a World) -> Self {
-        let Some(m) = &world.mesh else {
+        let Some(m) = world.mesh() else {
             return Passages::Grid(world);
         };
         let mesh = &m.collision;
@@ -206,6 +206,64 @@ impl<'a> Passages<'a> {
             spans.iter().map(|s| [s.z0, s.z1]).collect::<Vec<_>>()
         });
         r.rows.into_iter().next().unwrap_or_default()
+    }
+
+    /// The free stretches along the vertical lines through a few `points` close together, as
+    /// [`column`](Self::column) gives them one at a time, with the triangles near them gathered
+    /// once. A line crossing the surface an odd number of times (an open surface) has none.
+    pub fn columns_at(&self, points: &[[f64; 2]]) -> Vec<Vec<[f64; 2]>> {
+        match self {
+            Passages::Grid(world) => points
+                .iter()
+                .map(|p| grid_column(world, p[0], p[1]))
+                .collect(),
+            Passages::Mesh { mesh, xy, tiles } => {
+                let lattice: Vec<[i64; 2]> =
+                    points.iter().map(|p| [snap(p[0]), snap(p[1])]).collect();
+                let (mut lo, mut hi) = ([i64::MAX; 2], [i64::MIN; 2]);
+                for p in &lattice {
+                    for k in 0..2 {
+                        lo[k] = lo[k].min(p[k]);
+                        hi[k] = hi[k].max(p[k]);
+                    }
+                }
+                let f = |v: i64| v as f64 / LATTICE;
+                let near: Vec<usize> = tiles
+                    .iter()
+                    .filter(|(b, _)| {
+                        b[0] <= f(hi[0]) + 1e-3
+                            && b[2] >= f(lo[0]) - 1e-3
+                            && b[1] <= f(hi[1]) + 1e-3
+                            && b[3] >= f(lo[1]) - 1e-3
+                    })
+                    .flat_map(|(_, r)| r.clone())
+                    .filter(|&t| {
+                        let [a, b, c] = mesh.triangles[t].map(|v| xy[v as usize]);
+                        (0..2).all(|k| {
+                            a[k].min(b[k]).min(c[k]) <= hi[k] && a[k].max(b[k]).max(c[k]) >= lo[k]
+                        })
+                    })
+                    .collect();
+                lattice
+                    .iter()
+                    .map(|&p| {
+                        let mut zs: Vec<f64> = near
+                            .iter()
+                            .filter_map(|&t| {
+                                let idx = mesh.triangles[t];
+                                let [a, b, c] = idx.map(|v| xy[v as usize]);
+                                crossing(a, b, c, idx.map(|v| mesh.positions[v as usize][2]), p)
+                            })
+                            .collect();
+                        if zs.len() % 2 == 1 {
+                            return Vec::new();
+                        }
+                        zs.sort_by(f64::total_cmp);
+                        zs.chunks_exact(2).map(|c| [c[0], c[1]]).collect()
+                    })
+                    .collect()
+            }
+        }
     }
 
     /// Every line of `cols`: `row(j, spans, open)` for each row `j`, south to north, spans

@@ -2,7 +2,7 @@
 //! machine, empty pipeline files, huge values in messages, tile-set manifests that disagree with
 //! their meshes, and errors in component parameters that must name their key.
 
-mod common;
+use crate::common;
 
 use std::path::{Path, PathBuf};
 

@@ -3,7 +3,7 @@
 //! generated; geometry formats without geometry refused (or skipped under `--no-mesh`); an
 //! unwritable destination or a full disk leaves nothing behind.
 
-mod common;
+use crate::common;
 
 use std::path::Path;
 

@@ -7,7 +7,12 @@ use subtgraph::core::graph::EdgeKind;
 use subtgraph::core::grid::Direction;
 use subtgraph::core::tile::TileKind;
 use subtgraph::core::world::fused_blocks;
-use subtgraph::core::{Error, Pipeline, World, layout as generate};
+use subtgraph::core::{Error, Pipeline, World, layout};
+
+/// The layout of a pipeline as a world without geometry (what the exporters take).
+fn generate(p: &Pipeline, r: &subtgraph::core::Registry) -> Result<World, Error> {
+    layout(p, r).map(World::from)
+}
 
 #[allow(clippy::too_many_arguments)]
 fn pipeline(

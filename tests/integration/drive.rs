@@ -6,7 +6,7 @@
 //! no gap and no invisible wall at the seams between tiles or parts. A world whose collision
 //! lacks one tile's floor fails the same drive (the negative control).
 
-mod common;
+use crate::common;
 
 use std::path::{Path, PathBuf};
 use std::process::Command;

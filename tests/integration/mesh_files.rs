@@ -76,7 +76,7 @@ fn cave(pitch: f64) -> World {
     let mut p = subtgraph::presets::load("cave").unwrap();
     p.world.tile_pitch = pitch;
     p.tileset = None;
-    layout(&p, &subtgraph::registry()).unwrap()
+    World::from(layout(&p, &subtgraph::registry()).unwrap())
 }
 
 #[test]
@@ -110,43 +110,55 @@ fn bad_manifests_are_refused_naming_the_file_and_what_to_change() {
     write_tiles(dir.path());
     std::fs::write(dir.path().join("broken.obj"), "v 1 2\nf 1 2 9\n").unwrap();
     std::fs::write(dir.path().join("mesh.fbx"), "binary").unwrap();
-    let cases: [(&str, &str); 6] = [
+    // (manifest body, in the message, the error's variant)
+    let cases: [(&str, &str, &str); 6] = [
         (
             "[[tile]]\nkind = \"straight\"\nfiles = [\"nope.obj\"]\n",
             "does not exist",
+            "MissingFile",
         ),
         (
             "[[tile]]\nkind = \"spiral\"\nfiles = [\"straight.obj\"]\n",
             "unknown tile kind 'spiral'",
+            "UnknownKind",
         ),
         (
             "[[tile]]\nkind = \"straight\"\nfiles = [\"broken.obj\"]\n",
             "broken.obj",
+            "Mesh { path: \"",
         ),
         (
             "[[tile]]\nkind = \"straight\"\nfiles = [\"mesh.fbx\"]\n",
             "assimp",
+            "Mesh { path: \"",
         ),
         (
             "[[tile]]\nkind = \"corner\"\nfiles = [\"straight.obj\"]\n",
             "listed as corner but opens east and west",
+            "Openings",
         ),
         (
             "[[tile]]\nkind = \"straight\"\nfiles = [\"straight.obj\"]\n[[tile]]\nkind = \"straight\"\nfiles = [\"straight.obj\"]\n",
             "two [[tile]] entries",
+            "DuplicateKind",
         ),
     ];
-    for (body, want) in cases {
+    for (body, want, variant) in cases {
         let err = MeshFiles::open(&manifest(dir.path(), body))
             .err()
             .expect(body);
+        assert!(
+            format!("{err:?}").starts_with(variant),
+            "{variant}: {err:?}"
+        );
+        let err = err.to_string();
         assert!(err.contains(want), "want '{want}' in: {err}");
         assert!(err.contains("tiles.toml"), "names the manifest: {err}");
     }
     // A pitch that does not match the meshes: no openings where the manifest says they are.
     let p = dir.path().join("wrong-pitch.toml");
     std::fs::write(&p, format!("pitch = 60.0\nup = \"z\"\n{ALL_KINDS}")).unwrap();
-    let err = MeshFiles::open(&p).err().unwrap();
+    let err = MeshFiles::open(&p).err().unwrap().to_string();
     assert!(err.contains("±30 m") && err.contains("`pitch`"), "{err}");
     // A kind the world needs but the manifest lacks.
     let m = MeshFiles::open(&manifest(
@@ -275,7 +287,7 @@ fn a_pitch_the_meshes_contradict_is_refused_with_the_measured_one() {
     let open = |head: &str, body: &str| {
         let p = dir.path().join("pitch.toml");
         std::fs::write(&p, format!("{head}\nup = \"z\"\n{body}")).unwrap();
-        MeshFiles::open(&p)
+        MeshFiles::open(&p).map_err(|e| e.to_string())
     };
     // The meshes' openings are 80 m apart: the right pitch loads.
     assert_eq!(
@@ -356,7 +368,8 @@ fn the_darpa_manifest_with_a_wrong_pitch_is_told_the_real_one() {
         std::fs::write(&p, text).unwrap();
         let err = MeshFiles::open(&p)
             .err()
-            .unwrap_or_else(|| panic!("{to} is accepted"));
+            .unwrap_or_else(|| panic!("{to} is accepted"))
+            .to_string();
         assert!(err.contains(want), "{to}: {err}");
         assert!(!err.contains("level_height"), "{err}");
     }

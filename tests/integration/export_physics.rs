@@ -3,7 +3,7 @@
 //! corridor rests on its floor, and the naive exports (one convex mesh) are shown to fail the
 //! same checks. Plus determinism across thread counts and errors naming bad keys.
 
-mod common;
+use crate::common;
 
 use std::path::Path;
 use std::process::Command;

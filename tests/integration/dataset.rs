@@ -1,7 +1,7 @@
 //! `subtgraph dataset`: worlds independent of jobs and shards, resumable, refusing bad
 //! shard specs and unwritable folders, every world reproducible from its own `world.toml`.
 
-mod common;
+use crate::common;
 
 use std::collections::BTreeSet;
 use std::path::Path;

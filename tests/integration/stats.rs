@@ -2,7 +2,7 @@
 //! computed by hand, foreign files skipped with a warning, empty input refused, and every
 //! output read back (JSON, CSV, SVG as XML, PNG with the `png` crate and Pillow).
 
-mod common;
+use crate::common;
 
 use std::path::Path;
 

@@ -6,15 +6,16 @@
 //! A flag written after a command's name (`subtgraph generate --out DIR`, or `cargo build
 //! --release`) is checked against that command instead (or not at all, for `cargo`).
 
-mod common;
+use crate::common;
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
 
-const COMMANDS: [&str; 7] = [
+const COMMANDS: [&str; 8] = [
     "generate",
     "dataset",
     "stats",
+    "score",
     "validate",
     "preview",
     "presets",
@@ -182,9 +183,10 @@ fn reached_by(file: &str, src: &str, pos: usize) -> Vec<&'static str> {
         }
         f if f.starts_with("src/dataset/") => vec!["dataset"],
         f if f.starts_with("src/stats/") => vec!["stats"],
+        f if f.starts_with("src/score/") => vec!["score"],
         "src/preview.rs" => vec!["preview"],
         // dataset writes world folders without --force and words its own message when one
-        // is in the way (src/dataset/mod.rs, tested in tests/dataset.rs), so the folder
+        // is in the way (src/dataset/mod.rs, tested in tests/integration/dataset.rs), so the folder
         // writer's messages about --force only reach generate.
         f if f.starts_with("src/folder") => vec!["generate"],
         // A dataset's per-world share of the memory budget: only `dataset` has --jobs.

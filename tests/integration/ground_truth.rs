@@ -2,7 +2,7 @@
 //! have (numpy, PIL, yaml, networkx, csv, json) against the grid and against an independent
 //! ray parity on the collision surface: `tests/readers/ground_truth_check.py`.
 
-mod common;
+use crate::common;
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -255,7 +255,7 @@ fn graph_points_stand_on_floors(p: &subtgraph::core::Pipeline, what: &str) -> us
     use subtgraph::core::export::{Exporter, MemoryWriter};
     let world = subtgraph::core::generate(p, &subtgraph::registry())
         .unwrap_or_else(|e| panic!("{what}: {e}"));
-    let mesh = &world.mesh.as_ref().expect("a mesh").collision;
+    let mesh = &world.mesh().expect("a mesh").collision;
     let soup = Soup::new(mesh, world.resolved.tile_pitch / 4.0);
     let mut out = MemoryWriter::default();
     subtgraph::exporters::GraphFiles

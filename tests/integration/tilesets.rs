@@ -12,7 +12,7 @@ use subtgraph::core::{World, layout};
 fn world(preset: &str, seed: u64) -> World {
     let mut p = subtgraph::presets::load(preset).unwrap();
     p.world.seed = seed;
-    layout(&p, &subtgraph::registry()).unwrap()
+    World::from(layout(&p, &subtgraph::registry()).unwrap())
 }
 
 fn mesh(world: &World, tileset: &str, table: &str) -> WorldMesh {

@@ -3,7 +3,7 @@
 //! (what the OBJ and GLB look like to a mesh library). A missing reader skips its test with a
 //! message, unless `scripts/test` asked for every reader.
 
-mod common;
+use crate::common;
 
 use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};

@@ -1,7 +1,6 @@
 //! Helpers shared by the integration tests: running the command line, and checking our files
 //! with the real programs that read them (Python readers from `.venv`, set up by
 //! `scripts/test`).
-#![allow(dead_code)]
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};

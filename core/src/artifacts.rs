@@ -1,0 +1,308 @@
+//! `[artifacts]`: objects a robot should find and report, as in the DARPA Subterranean
+//! Challenge, placed by seeded rules (where they go is computed by the exporters, against the
+//! collision surface: `exporters/src/artifacts.rs`).
+//!
+//! ```toml
+//! [artifacts]
+//! classes = ["survivor", "backpack", "cell-phone", "drill", "fire-extinguisher", "helmet", "rope"]
+//! count = [15, 25]                  # per world: a number or [low, high]
+//! min_distance_from_start = 50      # metres along the passages (the graph)
+//! placement = ["dead-end", "chamber", "wall", "floor"]
+//! min_spacing = 10                  # metres between any two artifacts
+//! ```
+//!
+//! The section is optional: a pipeline without it makes exactly the files it made before the
+//! section existed. The count is drawn from a stream of its own (`"artifacts"`), and a world's
+//! `world.toml` records it fixed.
+
+use serde::{Deserialize, Serialize};
+
+use crate::range::IntRange;
+use crate::rng::WorldRng;
+
+/// The DARPA SubT artifact classes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum ArtifactClass {
+    /// A sitting mannequin ("Rescue Randy").
+    Survivor,
+    /// A red backpack.
+    Backpack,
+    /// A phone lying on the floor, in a rugged case 5 cm thick (thinner boxes tunnel through
+    /// triangle-mesh floors in PyBullet when dropped).
+    CellPhone,
+    /// A power drill.
+    Drill,
+    /// A red fire extinguisher, lying on its side.
+    FireExtinguisher,
+    /// A gas source (a canister standing in for the CO2 of the DARPA worlds).
+    Gas,
+    /// A heater vent.
+    Vent,
+    /// A white helmet.
+    Helmet,
+    /// A coil of blue rope.
+    Rope,
+    /// The small cube with a radio beacon.
+    Cube,
+}
+
+impl ArtifactClass {
+    /// Every class, in the order the DARPA rules list them.
+    pub const ALL: [ArtifactClass; 10] = [
+        ArtifactClass::Survivor,
+        ArtifactClass::Backpack,
+        ArtifactClass::CellPhone,
+        ArtifactClass::Drill,
+        ArtifactClass::FireExtinguisher,
+        ArtifactClass::Gas,
+        ArtifactClass::Vent,
+        ArtifactClass::Helmet,
+        ArtifactClass::Rope,
+        ArtifactClass::Cube,
+    ];
+
+    /// The name used in pipeline files, ground truth and reports.
+    pub const fn name(self) -> &'static str {
+        match self {
+            ArtifactClass::Survivor => "survivor",
+            ArtifactClass::Backpack => "backpack",
+            ArtifactClass::CellPhone => "cell-phone",
+            ArtifactClass::Drill => "drill",
+            ArtifactClass::FireExtinguisher => "fire-extinguisher",
+            ArtifactClass::Gas => "gas",
+            ArtifactClass::Vent => "vent",
+            ArtifactClass::Helmet => "helmet",
+            ArtifactClass::Rope => "rope",
+            ArtifactClass::Cube => "cube",
+        }
+    }
+
+    /// The class with this name; also accepts `_` and spaces for `-` and any case
+    /// (`Cell Phone`, `fire_extinguisher`), as team reports spell them.
+    pub fn parse(name: &str) -> Option<ArtifactClass> {
+        let n: String = name
+            .trim()
+            .chars()
+            .map(|c| match c {
+                '_' | ' ' => '-',
+                c => c.to_ascii_lowercase(),
+            })
+            .collect();
+        ArtifactClass::ALL.into_iter().find(|c| c.name() == n)
+    }
+
+    /// Box size in metres, `[length, width, height]` (x, y, z before its yaw): the DARPA
+    /// models' extents as they lie (the survivor sitting with its legs out, the extinguisher
+    /// and the drill on their side), never taller than wide, so a dropped artifact settles
+    /// where it lands instead of toppling.
+    pub const fn size(self) -> [f64; 3] {
+        match self {
+            ArtifactClass::Survivor => [0.9, 0.6, 0.7],
+            ArtifactClass::Backpack => [0.5, 0.35, 0.25],
+            ArtifactClass::CellPhone => [0.16, 0.08, 0.05],
+            ArtifactClass::Drill => [0.3, 0.25, 0.15],
+            ArtifactClass::FireExtinguisher => [0.55, 0.18, 0.18],
+            ArtifactClass::Gas => [0.3, 0.3, 0.35],
+            ArtifactClass::Vent => [0.5, 0.3, 0.3],
+            ArtifactClass::Helmet => [0.3, 0.25, 0.18],
+            ArtifactClass::Rope => [0.4, 0.4, 0.12],
+            ArtifactClass::Cube => [0.15, 0.15, 0.15],
+        }
+    }
+
+    /// Mass in kilograms, for simulators that move them.
+    pub const fn mass(self) -> f64 {
+        match self {
+            ArtifactClass::Survivor => 20.0,
+            ArtifactClass::Backpack => 5.0,
+            ArtifactClass::CellPhone => 0.2,
+            ArtifactClass::Drill => 1.5,
+            ArtifactClass::FireExtinguisher => 6.0,
+            ArtifactClass::Gas => 4.0,
+            ArtifactClass::Vent => 3.0,
+            ArtifactClass::Helmet => 0.5,
+            ArtifactClass::Rope => 2.0,
+            ArtifactClass::Cube => 0.5,
+        }
+    }
+
+    /// A distinct colour (linear RGB, 0 to 1), so a camera can tell the classes apart.
+    pub const fn colour(self) -> [f32; 3] {
+        match self {
+            ArtifactClass::Survivor => [1.0, 0.45, 0.0],
+            ArtifactClass::Backpack => [0.8, 0.05, 0.05],
+            ArtifactClass::CellPhone => [0.05, 0.05, 0.1],
+            ArtifactClass::Drill => [1.0, 0.85, 0.0],
+            ArtifactClass::FireExtinguisher => [1.0, 0.0, 0.4],
+            ArtifactClass::Gas => [0.3, 0.9, 0.2],
+            ArtifactClass::Vent => [0.85, 0.85, 0.85],
+            ArtifactClass::Helmet => [1.0, 1.0, 1.0],
+            ArtifactClass::Rope => [0.1, 0.3, 1.0],
+            ArtifactClass::Cube => [0.6, 0.1, 0.9],
+        }
+    }
+}
+
+/// Where an artifact may go.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Placement {
+    /// In a dead-end tile (not a shaft's end).
+    DeadEnd,
+    /// In a T-junction or an intersection, where passages meet and open up.
+    Chamber,
+    /// Against a wall: rock within half a metre of its footprint, at its height.
+    Wall,
+    /// In the open on the floor: no rock within half a metre of its footprint.
+    Floor,
+}
+
+impl Placement {
+    /// Every rule.
+    pub const ALL: [Placement; 4] = [
+        Placement::DeadEnd,
+        Placement::Chamber,
+        Placement::Wall,
+        Placement::Floor,
+    ];
+
+    /// The name used in pipeline files and ground truth.
+    pub const fn name(self) -> &'static str {
+        match self {
+            Placement::DeadEnd => "dead-end",
+            Placement::Chamber => "chamber",
+            Placement::Wall => "wall",
+            Placement::Floor => "floor",
+        }
+    }
+}
+
+/// `[artifacts]`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ArtifactsSection {
+    /// Classes to place, taken in turn (each class about as often as the others).
+    #[serde(default = "all_classes")]
+    pub classes: Vec<ArtifactClass>,
+    /// How many per world.
+    #[serde(default = "default_count")]
+    pub count: IntRange,
+    /// Least distance from the start tile, metres along the graph.
+    #[serde(default = "default_distance")]
+    pub min_distance_from_start: f64,
+    /// Rules an artifact may be placed by, each drawn as often as the others.
+    #[serde(default = "all_placements")]
+    pub placement: Vec<Placement>,
+    /// Least distance between two artifacts, metres.
+    #[serde(default = "default_spacing")]
+    pub min_spacing: f64,
+}
+
+fn all_classes() -> Vec<ArtifactClass> {
+    ArtifactClass::ALL.to_vec()
+}
+fn default_count() -> IntRange {
+    IntRange::Between(15, 25)
+}
+fn default_distance() -> f64 {
+    50.0
+}
+fn all_placements() -> Vec<Placement> {
+    Placement::ALL.to_vec()
+}
+fn default_spacing() -> f64 {
+    10.0
+}
+
+impl Default for ArtifactsSection {
+    fn default() -> Self {
+        ArtifactsSection {
+            classes: all_classes(),
+            count: default_count(),
+            min_distance_from_start: default_distance(),
+            placement: all_placements(),
+            min_spacing: default_spacing(),
+        }
+    }
+}
+
+/// Most artifacts a world may ask for.
+pub const MAX_ARTIFACTS: u32 = 1000;
+
+impl ArtifactsSection {
+    /// What is wrong with the section, as `(key, message)`: the pipeline check locates the key.
+    pub fn problem(&self) -> Option<(&'static str, String)> {
+        if self.classes.is_empty() {
+            return Some((
+                "artifacts.classes",
+                "lists no class; name at least one, e.g. classes = [\"survivor\", \"backpack\"]"
+                    .into(),
+            ));
+        }
+        for (i, c) in self.classes.iter().enumerate() {
+            if self.classes[..i].contains(c) {
+                return Some((
+                    "artifacts.classes",
+                    format!("lists '{}' twice; name each class once", c.name()),
+                ));
+            }
+        }
+        if self.placement.is_empty() {
+            return Some((
+                "artifacts.placement",
+                "lists no rule; use some of \"dead-end\", \"chamber\", \"wall\", \"floor\"".into(),
+            ));
+        }
+        if self.count.max() > MAX_ARTIFACTS {
+            return Some((
+                "artifacts.count",
+                format!("must be at most {MAX_ARTIFACTS}"),
+            ));
+        }
+        for (key, v) in [
+            (
+                "artifacts.min_distance_from_start",
+                self.min_distance_from_start,
+            ),
+            ("artifacts.min_spacing", self.min_spacing),
+        ] {
+            if !(v.is_finite() && (0.0..=1e6).contains(&v)) {
+                return Some((key, "must be a number of metres from 0 to 1000000".into()));
+            }
+        }
+        None
+    }
+
+    /// Draws the count from the world's `"artifacts"` stream: resolving a pipeline fixes it.
+    pub fn resolve(&mut self, seed: u64) {
+        let mut rng = WorldRng::new(seed, "artifacts", 0);
+        self.count = IntRange::Fixed(self.count.draw(&mut rng));
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn class_names_round_trip_and_reports_may_spell_them_loosely() {
+        for c in ArtifactClass::ALL {
+            assert_eq!(ArtifactClass::parse(c.name()), Some(c));
+        }
+        assert_eq!(
+            ArtifactClass::parse(" Fire_Extinguisher "),
+            Some(ArtifactClass::FireExtinguisher)
+        );
+        assert_eq!(
+            ArtifactClass::parse("Cell Phone"),
+            Some(ArtifactClass::CellPhone)
+        );
+        assert_eq!(ArtifactClass::parse("phone"), None);
+        let colours: std::collections::BTreeSet<[u32; 3]> = ArtifactClass::ALL
+            .iter()
+            .map(|c| c.colour().map(|x| (x * 100.0) as u32))
+            .collect();
+        assert_eq!(colours.len(), ArtifactClass::ALL.len(), "distinct colours");
+    }
+}

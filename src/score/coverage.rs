@@ -1,0 +1,331 @@
+//! Map coverage and map error on the world's free-space voxels
+//! (`ground_truth/free_space.npy`, decided exactly by ray parity against the collision surface
+//! when the world was made).
+//!
+//! - A free voxel is **covered** when a mapped point lies within `radius` of it: in a voxel at
+//!   most `round(radius / voxel)` voxels away along each axis (a cube, at voxel resolution;
+//!   `radius = 0` counts the voxels holding a point). Coverage is the share of free voxels
+//!   covered, per level, per graph edge (the voxels over its corridor cells between its two
+//!   nodes) and per node (its cell).
+//! - A point is a **map error** when it is farther than `tolerance` from the collision
+//!   surface, at voxel resolution: its voxel is not within `ceil(tolerance / voxel) + 1`
+//!   voxels (along each axis) of both a free and a rock voxel (the one more because a point on
+//!   the surface can be a voxel from the centres on either side), or it lies outside the grid.
+//!
+//! The voxels are bits in 64-bit words, one run of words per `(z, y)` row, so growing a set by
+//! a radius is a few shifts and ORs per word, and a 10 M-point map of the lava-tube preset
+//! scores in about a second.
+
+use anyhow::{Result, bail};
+
+use super::cloud::{Grid, Points};
+use super::world::Cells;
+
+/// Voxels as bits, one row of `words` 64-bit words per `(z, y)`; bit `i % 64` of word `i / 64`
+/// is voxel `i` along x.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Bits {
+    /// Voxels along x, y, z.
+    pub n: [usize; 3],
+    /// Words per row.
+    pub words: usize,
+    /// Rows of words, z-major.
+    pub data: Vec<u64>,
+}
+
+impl Bits {
+    /// All clear.
+    pub fn empty(n: [usize; 3]) -> Bits {
+        let words = n[0].div_ceil(64);
+        Bits {
+            n,
+            words,
+            data: vec![0; words * n[1] * n[2]],
+        }
+    }
+
+    /// From `free_space.npy`'s packed bytes (`np.packbits` along x: the first voxel is the
+    /// high bit of its byte).
+    pub fn from_packed(n: [usize; 3], packed: &[u8]) -> Bits {
+        let mut b = Bits::empty(n);
+        let row_bytes = n[0].div_ceil(8);
+        for r in 0..n[1] * n[2] {
+            let src = &packed[r * row_bytes..(r + 1) * row_bytes];
+            let dst = &mut b.data[r * b.words..(r + 1) * b.words];
+            for (m, &byte) in src.iter().enumerate() {
+                dst[m / 8] |= u64::from(byte.reverse_bits()) << (8 * (m % 8));
+            }
+        }
+        b.mask();
+        b
+    }
+
+    fn mask(&mut self) {
+        let tail = self.n[0] % 64;
+        if tail != 0 {
+            let keep = (1u64 << tail) - 1;
+            for r in 0..self.n[1] * self.n[2] {
+                self.data[r * self.words + self.words - 1] &= keep;
+            }
+        }
+    }
+
+    /// Sets voxel `[x, y, z]`; returns whether it was clear.
+    pub fn set(&mut self, v: [usize; 3]) -> bool {
+        let w = &mut self.data[(v[2] * self.n[1] + v[1]) * self.words + v[0] / 64];
+        let bit = 1u64 << (v[0] % 64);
+        let was = *w & bit == 0;
+        *w |= bit;
+        was
+    }
+
+    /// Whether voxel `[x, y, z]` is set.
+    pub fn get(&self, v: [usize; 3]) -> bool {
+        self.data[(v[2] * self.n[1] + v[1]) * self.words + v[0] / 64] >> (v[0] % 64) & 1 == 1
+    }
+
+    /// Every voxel not set (within the grid).
+    pub fn not(&self) -> Bits {
+        let mut b = self.clone();
+        for w in &mut b.data {
+            *w = !*w;
+        }
+        b.mask();
+        b
+    }
+
+    /// Grown by `r` voxels along each axis (a cube).
+    pub fn dilate(&self, r: usize) -> Bits {
+        if r == 0 {
+            return self.clone();
+        }
+        let words = self.words;
+        let mut x = self.clone();
+        for row in x.data.chunks_exact_mut(words) {
+            for _ in 0..r {
+                let mut carry_left = 0u64; // bit 63 of the previous word, moving up
+                let prev: Vec<u64> = row.to_vec();
+                for k in 0..words {
+                    let next_low = if k + 1 < words { prev[k + 1] & 1 } else { 0 };
+                    row[k] =
+                        prev[k] | (prev[k] << 1) | carry_left | (prev[k] >> 1) | (next_low << 63);
+                    carry_left = prev[k] >> 63;
+                }
+            }
+        }
+        x.mask();
+        let [_, ny, nz] = self.n;
+        // Along y, then z: OR of the rows within r.
+        let along = |src: &Bits, stride: usize, len: usize| -> Bits {
+            let mut out = Bits::empty(src.n);
+            for r0 in 0..ny * nz {
+                let (j, k) = (r0 % ny, r0 / ny);
+                let idx = if stride == 1 { j } else { k };
+                let lo = idx.saturating_sub(r);
+                let hi = (idx + r).min(len - 1);
+                let dst = r0 * words;
+                for t in lo..=hi {
+                    let s = if stride == 1 { k * ny + t } else { t * ny + j } * words;
+                    for w in 0..words {
+                        out.data[dst + w] |= src.data[s + w];
+                    }
+                }
+            }
+            out
+        };
+        let y = along(&x, 1, ny);
+        along(&y, ny, nz)
+    }
+}
+
+/// Coverage of one region (a level, an edge or a node).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Share {
+    /// Free voxels.
+    pub free: u64,
+    /// Of which covered.
+    pub covered: u64,
+}
+
+impl Share {
+    /// `covered / free`, 0 for a region without free voxels.
+    pub fn share(&self) -> f64 {
+        if self.free == 0 {
+            0.0
+        } else {
+            self.covered as f64 / self.free as f64
+        }
+    }
+}
+
+/// What a map gives.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Coverage {
+    /// Per level.
+    pub levels: Vec<Share>,
+    /// Per edge (by id).
+    pub edges: Vec<Share>,
+    /// Per node (by id).
+    pub nodes: Vec<Share>,
+    /// The whole world.
+    pub total: Share,
+    /// Points read.
+    pub points: usize,
+    /// Points outside the free-space grid.
+    pub outside: usize,
+    /// Points farther than the tolerance from the surface (the outside ones included).
+    pub errors: usize,
+}
+
+/// Refuses a map in another frame or unit: a point more than `margin` metres outside the grid.
+pub fn check_bounds(points: &Points, grid: &Grid, margin: f64, file: &str) -> Result<()> {
+    let lo = grid.origin;
+    let hi = [0, 1, 2].map(|k| grid.origin[k] + grid.n[k] as f64 * grid.voxel);
+    for (i, p) in points.iter().enumerate() {
+        let out = (0..3).any(|k| {
+            let v = f64::from(p[k]);
+            v < lo[k] - margin || v > hi[k] + margin
+        });
+        if out {
+            bail!(
+                "{file}: point {i} ({}, {}, {}) is more than {margin:.0} m outside the world (x {:.1} to {:.1}, y {:.1} to {:.1}, z {:.1} to {:.1} m): the map must be in the world frame in metres (x east, y north, z up, as topology.json), not in millimetres or the robot's odometry frame",
+                p[0],
+                p[1],
+                p[2],
+                lo[0],
+                hi[0],
+                lo[1],
+                hi[1],
+                lo[2],
+                hi[2]
+            );
+        }
+    }
+    Ok(())
+}
+
+/// Coverage and map error of `points` on the free voxels `free`.
+pub fn measure(
+    points: &Points,
+    grid: &Grid,
+    free: &Bits,
+    cells: &Cells,
+    radius: f64,
+    tolerance: f64,
+) -> Coverage {
+    let v = grid.voxel;
+    let voxel_of = |p: &[f32; 3]| -> Option<[usize; 3]> {
+        let mut out = [0usize; 3];
+        for k in 0..3 {
+            let t = ((f64::from(p[k]) - grid.origin[k]) / v).floor();
+            if t < 0.0 || t >= grid.n[k] as f64 {
+                return None;
+            }
+            out[k] = t as usize;
+        }
+        Some(out)
+    };
+    let mut hits = Bits::empty(grid.n);
+    let mut outside = 0;
+    for p in points {
+        match voxel_of(p) {
+            Some(x) => {
+                hits.set(x);
+            }
+            None => outside += 1,
+        }
+    }
+    // One voxel more than the tolerance: a surface point and the centres of the voxels on
+    // either side of it can be a voxel apart.
+    let reach = (tolerance / v).ceil() as usize + 1;
+    let near_free = free.dilate(reach);
+    let near_rock = free.not().dilate(reach);
+    let errors = outside
+        + points
+            .iter()
+            .filter_map(voxel_of)
+            .filter(|&x| {
+                // Beyond the grid is rock.
+                let edge = (0..3).any(|k| x[k] < reach || x[k] + reach >= grid.n[k]);
+                !(near_free.get(x) && (edge || near_rock.get(x)))
+            })
+            .count();
+    let mut covered = hits.dilate((radius / v).round() as usize);
+    for (c, f) in covered.data.iter_mut().zip(&free.data) {
+        *c &= *f;
+    }
+    let mut levels = vec![Share::default(); cells.levels];
+    let mut edges = vec![Share::default(); cells.edge_count];
+    let mut nodes = vec![Share::default(); cells.node_count];
+    let mut total = Share::default();
+    let [nx, ny, nz] = grid.n;
+    let xs: Vec<f64> = (0..nx)
+        .map(|i| grid.origin[0] + (i as f64 + 0.5) * v)
+        .collect();
+    for k in 0..nz {
+        let z = grid.origin[2] + (k as f64 + 0.5) * v;
+        for j in 0..ny {
+            let y = grid.origin[1] + (j as f64 + 0.5) * v;
+            let row = (k * ny + j) * free.words;
+            for w in 0..free.words {
+                let (mut f, c) = (free.data[row + w], covered.data[row + w]);
+                while f != 0 {
+                    let b = f.trailing_zeros() as usize;
+                    f &= f - 1;
+                    let hit = c >> b & 1;
+                    total.free += 1;
+                    total.covered += hit;
+                    let i = w * 64 + b;
+                    if let Some((level, region)) = cells.region(xs[i], y, z) {
+                        levels[level].free += 1;
+                        levels[level].covered += hit;
+                        let s = match region {
+                            super::world::Region::Node(n) => &mut nodes[n],
+                            super::world::Region::Edge(e) => &mut edges[e],
+                        };
+                        s.free += 1;
+                        s.covered += hit;
+                    }
+                }
+            }
+        }
+    }
+    Coverage {
+        levels,
+        edges,
+        nodes,
+        total,
+        points: points.len(),
+        outside,
+        errors,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn dilation_grows_a_voxel_into_a_cube_across_word_boundaries() {
+        let mut b = Bits::empty([130, 5, 4]);
+        b.set([64, 2, 1]);
+        let d = b.dilate(1);
+        let mut count = 0;
+        for z in 0..4 {
+            for y in 0..5 {
+                for x in 0..130 {
+                    if d.get([x, y, z]) {
+                        count += 1;
+                        assert!((63..=65).contains(&x) && (1..=3).contains(&y) && z <= 2);
+                    }
+                }
+            }
+        }
+        assert_eq!(count, 27);
+        assert_eq!(b.not().not(), b);
+        let packed = [0b1000_0001u8, 0b0100_0000];
+        let f = Bits::from_packed([10, 1, 1], &packed);
+        let set: Vec<usize> = (0..10).filter(|&x| f.get([x, 0, 0])).collect();
+        assert_eq!(set, [0, 7, 9]);
+    }
+}

@@ -1,0 +1,27 @@
+//! The integration tests, one binary of modules (as ripgrep does): one link instead of one per
+//! file, and helpers in `common` that every module shares without `#[allow(dead_code)]` (a
+//! helper no module uses is a warning here, as it should be).
+//!
+//! Run one module's tests with `cargo test --test integration cli::` (or any part of a test's
+//! path). To add a file: put it in this folder, declare it below (`mod my_tests;`), and write
+//! `use crate::common;` at its top instead of `mod common;`.
+
+mod common;
+
+mod artifacts;
+mod cli;
+mod dataset;
+mod drive;
+mod export_physics;
+mod export_scenes;
+mod exports;
+mod ground_truth;
+mod guarantees;
+mod hazards;
+mod limits;
+mod mesh_files;
+mod messages;
+mod plugins;
+mod score;
+mod stats;
+mod tilesets;
