@@ -4,7 +4,7 @@
 //! Along every vertical line of a regular grid (`step` metres apart, lines on the tile edges so
 //! two neighbours share their edge lines), the free stretches of the closed collision surface
 //! are found exactly by ray parity, or by the triangles' facing where the surface overlaps
-//! itself (as for the free-space ground truth, `ground_truth/inside.rs`). For a tile on level `L`,
+//! itself (as for the free-space ground truth, `inside.rs`). For a tile on level `L`,
 //! the stretches meeting the level's band (from a quarter of a level height below its floor
 //! to three quarters above) give the **floor** (the lowest bottom) and the **roof** (the
 //! highest top) of that line; a line with no free stretch in the band is rock, where floor
