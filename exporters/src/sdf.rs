@@ -27,12 +27,12 @@ use std::fmt::Write as _;
 
 use subtgraph_core::World;
 use subtgraph_core::error::ConfigError;
-use subtgraph_core::export::{ExportError, Exporter, WorldWriter, write_file};
+use subtgraph_core::export::{ExportError, Exporter, WorldWriter, stream_file, write_file};
 use subtgraph_core::graph::EdgeKind;
 use subtgraph_core::params::Params;
 
 use crate::parts::{Split, parts, write_part_meshes};
-use crate::text::{push_fixed, xml_escape};
+use crate::text::{push_fixed, write_obj, xml_escape};
 
 /// How the world is lit.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -216,6 +216,26 @@ fn artifact_models(s: &mut String, artifacts: &[crate::artifacts::Artifact]) {
     }
 }
 
+/// Where the SDF's split collision meshes go when a world has floor patches.
+const SDF_HAZARDS_DIR: &str = "mesh/hazards";
+
+/// A `<collision>` with a mesh (`path` relative to the world folder) and, for a floor patch,
+/// its friction (ODE's `mu` and `mu2`, and Bullet's `friction`).
+fn collision_xml(s: &mut String, name: &str, path: &str, friction: Option<f64>) {
+    let _ = write!(
+        s,
+        "        <collision name=\"{name}\">\n          <geometry>\n            <mesh>\n              <uri>../{path}</uri>\n            </mesh>\n          </geometry>\n",
+        path = xml_escape(path),
+    );
+    if let Some(mu) = friction {
+        let _ = write!(
+            s,
+            "          <surface>\n            <friction>\n              <ode>\n                <mu>{mu}</mu>\n                <mu2>{mu}</mu2>\n              </ode>\n              <bullet>\n                <friction>{mu}</friction>\n                <friction2>{mu}</friction2>\n              </bullet>\n            </friction>\n          </surface>\n"
+        );
+    }
+    s.push_str("        </collision>\n");
+}
+
 impl Exporter for Sdf {
     fn export(&self, world: &World, out: &mut dyn WorldWriter) -> Result<(), ExportError> {
         let Some(mesh) = world.mesh() else {
@@ -243,8 +263,9 @@ impl Exporter for Sdf {
             [m] => Some(m.colour),
             _ => None,
         };
+        let patches = crate::hazards::patches(world);
         // Models are named `subt-<part>`: SDFormat reserves the name `world`.
-        for f in &files {
+        for (part, f) in ps.iter().zip(&files) {
             let _ = write!(
                 s,
                 "    <model name=\"subt-{name}\">\n      <static>true</static>\n      <link name=\"link\">\n        <visual name=\"visual\">\n          <geometry>\n            <mesh>\n              <uri>../{visual}</uri>\n            </mesh>\n          </geometry>\n",
@@ -257,11 +278,34 @@ impl Exporter for Sdf {
                     "          <material>\n            <ambient>{r:.4} {g:.4} {b:.4} 1</ambient>\n            <diffuse>{r:.4} {g:.4} {b:.4} 1</diffuse>\n            <specular>0.05 0.05 0.05 1</specular>\n          </material>\n"
                 );
             }
-            let _ = write!(
-                s,
-                "        </visual>\n        <collision name=\"collision\">\n          <geometry>\n            <mesh>\n              <uri>../{collision}</uri>\n            </mesh>\n          </geometry>\n        </collision>\n      </link>\n    </model>\n",
-                collision = xml_escape(&f.collision),
-            );
+            s.push_str("        </visual>\n");
+            match crate::hazards::split_collision(&patches, mesh, part) {
+                None => collision_xml(&mut s, "collision", &f.collision, None),
+                Some(groups) => {
+                    // Floor patches: the patched floors as collisions of their own, with
+                    // the material's friction; the rest of the rock as before.
+                    for (m, ranges) in groups {
+                        let word = crate::hazards::group_name(m);
+                        let path = format!(
+                            "{SDF_HAZARDS_DIR}/{}/{}-collision-{word}.obj",
+                            self.split.label(),
+                            part.name
+                        );
+                        if !out.contains(&path) {
+                            let cut = mesh.collision.extract(&ranges);
+                            stream_file(out, &path, |w| {
+                                write_obj(w, &cut, &format!("{}-collision-{word}", part.name), None)
+                            })?;
+                        }
+                        let name = match m {
+                            None => "collision".to_owned(),
+                            Some(m) => format!("collision-{}", m.name()),
+                        };
+                        collision_xml(&mut s, &name, &path, m.map(|m| m.friction()));
+                    }
+                }
+            }
+            s.push_str("      </link>\n    </model>\n");
         }
         artifact_models(&mut s, &crate::artifacts::place(world)?);
         s.push_str("  </world>\n</sdf>\n");

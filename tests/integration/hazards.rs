@@ -71,3 +71,70 @@ fn bad_hazard_sections_are_refused() {
         }
     }
 }
+
+#[test]
+fn friction_patches_read_back_from_sdf_and_usd() {
+    let dir = tempfile::tempdir().unwrap();
+    let p = small_cave_pipeline(
+        dir.path(),
+        2,
+        "[hazards]\nfriction = { mud = 0.2, ice = 0.1, wet-rock = 0.05 }\n",
+    );
+    let w = dir.path().join("w");
+    ok(&["generate", arg(&p), "--format", "sdf,usd", "--out", arg(&w)]);
+    let doc: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(w.join("ground_truth/hazards.json")).unwrap())
+            .unwrap();
+    let patches = doc["patches"].as_array().unwrap();
+    assert!(patches.len() > 10, "{doc}");
+    // libsdformat: each level model has its rock collision (no <surface>: the default) and a
+    // collision per material on it, with that material's friction.
+    if let Some(report) = common::sdf_report(dir.path(), &w.join("gazebo/world.sdf")) {
+        let frictions: Vec<Vec<&str>> = report
+            .lines()
+            .filter_map(|l| l.strip_prefix("friction "))
+            .map(|l| l.split(' ').collect())
+            .collect();
+        for m in ["mud", "ice", "wet-rock"] {
+            let want = patches
+                .iter()
+                .find(|p| p["material"] == m)
+                .unwrap()["friction"]
+                .as_f64()
+                .unwrap();
+            let got: Vec<f64> = frictions
+                .iter()
+                .filter(|f| f[1] == format!("collision-{m}"))
+                .map(|f| f[0].parse().unwrap())
+                .collect();
+            assert!(!got.is_empty(), "{m}: {report}");
+            assert!(got.iter().all(|&mu| (mu - want).abs() < 1e-9), "{m}: {got:?}");
+        }
+        assert!(
+            frictions
+                .iter()
+                .filter(|f| f[1] == "collision" && f[2].starts_with("subt-"))
+                .all(|f| f[0] == "default"),
+            "{report}"
+        );
+    }
+    let Some(out) = read_with_python(
+        &["numpy", "trimesh", "pxr"],
+        "hazards_usd_check.py",
+        &[arg(&w)],
+    ) else {
+        return;
+    };
+    for m in ["mud", "ice", "wet-rock"] {
+        assert!(out.contains(&format!("{m}: ")), "{out}");
+    }
+    // Without the section no trace of hazards: one collision per part, only the rock.
+    let plain = small_cave_pipeline(dir.path(), 2, "");
+    let pw = dir.path().join("plain");
+    ok(&["generate", arg(&plain), "--format", "sdf,usd", "--out", arg(&pw)]);
+    let sdf = std::fs::read_to_string(pw.join("gazebo/world.sdf")).unwrap();
+    assert!(!sdf.contains("<surface>") && !sdf.contains("-collision-"));
+    assert!(!pw.join("mesh/hazards").exists());
+    let root = std::fs::read_to_string(pw.join("usd/world.usda")).unwrap();
+    assert!(!root.contains("subtgraph:hazard"));
+}
