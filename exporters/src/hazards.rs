@@ -9,8 +9,8 @@ use std::collections::BTreeMap;
 use std::ops::Range;
 
 use serde::Serialize;
-use subtgraph_core::assembly::WorldMesh;
 use subtgraph_core::World;
+use subtgraph_core::assembly::WorldMesh;
 use subtgraph_core::export::{ExportError, WorldWriter};
 use subtgraph_core::grid::Cell;
 use subtgraph_core::hazards::FloorMaterial;
@@ -104,7 +104,11 @@ pub(crate) fn split_collision(
     part: &Part,
 ) -> Option<Vec<(Option<FloorMaterial>, Vec<Range<usize>>)>> {
     let of: BTreeMap<Cell, FloorMaterial> = patches.iter().map(|p| (p.cell, p.material)).collect();
-    if !part.tiles.iter().any(|&t| of.contains_key(&mesh.tiles[t].cell)) {
+    if !part
+        .tiles
+        .iter()
+        .any(|&t| of.contains_key(&mesh.tiles[t].cell))
+    {
         return None;
     }
     let mut groups: BTreeMap<Option<FloorMaterial>, Vec<Range<usize>>> = BTreeMap::new();

@@ -315,7 +315,8 @@ fn root_layer(
     // physics-purpose binding.
     s.push_str("    def Scope \"PhysicsMaterials\"\n    {\n        def Material \"Rock\" (\n            prepend apiSchemas = [\"PhysicsMaterialAPI\"]\n        )\n        {\n            float physics:dynamicFriction = 0.7\n            float physics:restitution = 0.1\n            float physics:staticFriction = 0.8\n        }\n");
     // Floor patches (`[hazards]`): a material each, bound to the colliders of those floors.
-    let used: std::collections::BTreeSet<FloorMaterial> = patches.iter().map(|p| p.material).collect();
+    let used: std::collections::BTreeSet<FloorMaterial> =
+        patches.iter().map(|p| p.material).collect();
     for m in used {
         let name = material_prim(m);
         let mu = m.friction();
