@@ -93,6 +93,10 @@ pub(crate) fn write(world: &World, out: &mut dyn WorldWriter) -> Result<(), Expo
     crate::write_json(out, "ground_truth/hazards.json", &doc)
 }
 
+/// A collision group: its floor material (`None`: rock) and its triangles in
+/// [`WorldMesh::collision`].
+pub(crate) type CollisionGroup = (Option<FloorMaterial>, Vec<Range<usize>>);
+
 /// A part's collision triangles split by floor material, for the formats that give each
 /// collision element its own friction (SDF, USD): the up-facing triangles (the floor: normal
 /// within 45 degrees of up) of each patched tile go to the tile's material, everything else
@@ -102,7 +106,7 @@ pub(crate) fn split_collision(
     patches: &[Patch],
     mesh: &WorldMesh,
     part: &Part,
-) -> Option<Vec<(Option<FloorMaterial>, Vec<Range<usize>>)>> {
+) -> Option<Vec<CollisionGroup>> {
     let of: BTreeMap<Cell, FloorMaterial> = patches.iter().map(|p| (p.cell, p.material)).collect();
     if !part
         .tiles
