@@ -11,7 +11,7 @@ use std::ops::Range;
 use serde::Serialize;
 use subtgraph_core::World;
 use subtgraph_core::assembly::WorldMesh;
-use subtgraph_core::export::{ExportError, WorldWriter};
+use subtgraph_core::export::{ExportError, WorldWriter, stream_file};
 use subtgraph_core::grid::Cell;
 use subtgraph_core::hazards::FloorMaterial;
 use subtgraph_core::tile::TileKind;
@@ -144,4 +144,36 @@ pub(crate) fn split_collision(
 /// The file-name word of a collision group: `rock` or the material's name.
 pub(crate) fn group_name(m: Option<FloorMaterial>) -> &'static str {
     m.map_or("rock", FloorMaterial::name)
+}
+
+/// Where the split collision meshes go, shared by SDF and URDF like `mesh/parts`.
+pub(crate) const HAZARDS_DIR: &str = "mesh/hazards";
+
+/// Writes a part's split collision meshes (`mesh/hazards/<split>/<part>-collision-<rock or
+/// material>.obj`), unless an earlier exporter of the same world folder already did, and
+/// returns each group's material and path relative to the world folder.
+pub(crate) fn write_split_meshes(
+    out: &mut dyn WorldWriter,
+    mesh: &WorldMesh,
+    split: crate::parts::Split,
+    part: &Part,
+    groups: Vec<CollisionGroup>,
+) -> Result<Vec<(Option<FloorMaterial>, String)>, ExportError> {
+    let mut files = Vec::with_capacity(groups.len());
+    for (m, ranges) in groups {
+        let word = group_name(m);
+        let path = format!(
+            "{HAZARDS_DIR}/{}/{}-collision-{word}.obj",
+            split.label(),
+            part.name
+        );
+        if !out.contains(&path) {
+            let cut = mesh.collision.extract(&ranges);
+            stream_file(out, &path, |w| {
+                crate::text::write_obj(w, &cut, &format!("{}-collision-{word}", part.name), None)
+            })?;
+        }
+        files.push((m, path));
+    }
+    Ok(files)
 }

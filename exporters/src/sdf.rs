@@ -27,12 +27,12 @@ use std::fmt::Write as _;
 
 use subtgraph_core::World;
 use subtgraph_core::error::ConfigError;
-use subtgraph_core::export::{ExportError, Exporter, WorldWriter, stream_file, write_file};
+use subtgraph_core::export::{ExportError, Exporter, WorldWriter, write_file};
 use subtgraph_core::graph::EdgeKind;
 use subtgraph_core::params::Params;
 
 use crate::parts::{Split, parts, write_part_meshes};
-use crate::text::{push_fixed, write_obj, xml_escape};
+use crate::text::{push_fixed, xml_escape};
 
 /// How the world is lit.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -216,9 +216,6 @@ fn artifact_models(s: &mut String, artifacts: &[crate::artifacts::Artifact]) {
     }
 }
 
-/// Where the SDF's split collision meshes go when a world has floor patches.
-const SDF_HAZARDS_DIR: &str = "mesh/hazards";
-
 /// A `<collision>` with a mesh (`path` relative to the world folder) and, for a floor patch,
 /// its friction (ODE's `mu` and `mu2`, and Bullet's `friction`).
 fn collision_xml(s: &mut String, name: &str, path: &str, friction: Option<f64>) {
@@ -284,19 +281,9 @@ impl Exporter for Sdf {
                 Some(groups) => {
                     // Floor patches: the patched floors as collisions of their own, with
                     // the material's friction; the rest of the rock as before.
-                    for (m, ranges) in groups {
-                        let word = crate::hazards::group_name(m);
-                        let path = format!(
-                            "{SDF_HAZARDS_DIR}/{}/{}-collision-{word}.obj",
-                            self.split.label(),
-                            part.name
-                        );
-                        if !out.contains(&path) {
-                            let cut = mesh.collision.extract(&ranges);
-                            stream_file(out, &path, |w| {
-                                write_obj(w, &cut, &format!("{}-collision-{word}", part.name), None)
-                            })?;
-                        }
+                    let split =
+                        crate::hazards::write_split_meshes(out, mesh, self.split, part, groups)?;
+                    for (m, path) in split {
                         let name = match m {
                             None => "collision".to_owned(),
                             Some(m) => format!("collision-{}", m.name()),

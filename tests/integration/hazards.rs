@@ -215,3 +215,41 @@ fn patched_tiles_are_labelled_with_their_material() {
     let json = std::fs::read_to_string(pw.join("ground_truth/semantic_labels.json")).unwrap();
     assert!(!json.contains("hazard"));
 }
+
+#[test]
+fn friction_patches_read_back_from_pybullet() {
+    let dir = tempfile::tempdir().unwrap();
+    let p = small_cave_pipeline(
+        dir.path(),
+        2,
+        "[hazards]\nfriction = { mud = 0.2, ice = 0.1, wet-rock = 0.05 }\n",
+    );
+    let w = dir.path().join("w");
+    ok(&[
+        "generate",
+        arg(&p),
+        "--format",
+        "urdf,ground-truth",
+        "--out",
+        arg(&w),
+    ]);
+    let Some(out) = read_with_python(&["pybullet"], "hazards_pybullet_check.py", &[arg(&w)]) else {
+        return;
+    };
+    for m in ["mud", "ice", "wet-rock"] {
+        assert!(out.contains(&format!("{m}: ")), "{out}");
+    }
+    // Without the section: one link for the world, as before.
+    let plain = small_cave_pipeline(dir.path(), 2, "");
+    let pw = dir.path().join("plain");
+    ok(&[
+        "generate",
+        arg(&plain),
+        "--format",
+        "urdf",
+        "--out",
+        arg(&pw),
+    ]);
+    let urdf = std::fs::read_to_string(pw.join("urdf/world.urdf")).unwrap();
+    assert!(!urdf.contains("hazard-") && !urdf.contains("lateral_friction"));
+}
