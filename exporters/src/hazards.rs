@@ -1,8 +1,9 @@
 //! Where a world's hazards are (`[hazards]`, see `core/src/hazards.rs`): floor patches with
 //! another friction, whole tiles (not shaft ends, not the start tile), chosen from the world's
 //! `"hazards"` stream. MuJoCo gets them as the friction of those tiles' floor height fields;
-//! SDF and USD as separate collision meshes holding those tiles' floor triangles, with the
-//! material's friction ([`split_collision`]); the ground truth as regions in
+//! SDF and USD as separate collision meshes holding those tiles' up-facing (floor) triangles,
+//! with the material's friction (`split_collision`; URDF as a fixed link per part and material,
+//! since PyBullet's friction is per link); the ground truth as regions in
 //! `ground_truth/hazards.json` and as labels in the semantic labels.
 
 use std::collections::BTreeMap;

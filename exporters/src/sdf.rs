@@ -9,6 +9,11 @@
 //! point at a model folder. Gazebo classic (11) reads the same relative paths, but its
 //! libsdformat 9 only knows SDFormat up to 1.7 and refuses this file.
 //!
+//! With floor patches (`[hazards] friction`) a part's collision is split: the patched tiles'
+//! floors go to `mesh/hazards/<split>/<part>-collision-<material>.obj`, each a `<collision>`
+//! with the material's `<surface><friction>` (ODE `mu`/`mu2`, Bullet `friction`), and the rest
+//! to `<part>-collision-rock.obj` with the default surface.
+//!
 //! Colours come from the OBJ's material library (one `usemtl` per tile set material). An SDF
 //! `<material>` on a visual replaces every colour of its mesh in gz-sim, so it is written only
 //! when the tile set has a single material, as a fallback for viewers that ignore MTL files.

@@ -8,6 +8,10 @@
 //! world that never moves. The link has zero mass (static); load it with
 //! `loadURDF("urdf/world.urdf", useFixedBase=True)`. Other URDF readers ignore the attribute.
 //!
+//! Floor patches (`[hazards] friction`): PyBullet's friction (`<contact><lateral_friction>`)
+//! is per link, so each part's patched floors of one material are a link of their own
+//! (`hazard-<part>-<material>`, fixed to `world`), and `world` collides with the rest.
+//!
 //! ```toml
 //! [[export]]
 //! type = "urdf"

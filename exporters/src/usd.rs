@@ -19,6 +19,10 @@
 //! `xformOp:translate`: see [`instances`](crate::instances). Their collision triangles stay
 //! in the part's collision mesh.
 //!
+//! Floor patches (`[hazards] friction`): the patched tiles' floors are colliders of their
+//! own (`collision_mud`, ...) bound to a `PhysicsMaterialAPI` material per hazard material
+//! (`/World/PhysicsMaterials/Mud`, ...); the rest of the part stays `collision` on the rock.
+//!
 //! ```toml
 //! [[export]]
 //! type = "usd"
