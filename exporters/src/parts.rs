@@ -117,7 +117,7 @@ impl Part {
     }
 }
 
-fn push_range(ranges: &mut Vec<Range<usize>>, r: Range<usize>) {
+pub(crate) fn push_range(ranges: &mut Vec<Range<usize>>, r: Range<usize>) {
     if r.is_empty() {
         return;
     }

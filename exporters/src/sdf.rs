@@ -9,6 +9,11 @@
 //! point at a model folder. Gazebo classic (11) reads the same relative paths, but its
 //! libsdformat 9 only knows SDFormat up to 1.7 and refuses this file.
 //!
+//! With floor patches (`[hazards] friction`) a part's collision is split: the patched tiles'
+//! floors go to `mesh/hazards/<split>/<part>-collision-<material>.obj`, each a `<collision>`
+//! with the material's `<surface><friction>` (ODE `mu`/`mu2`, Bullet `friction`), and the rest
+//! to `<part>-collision-rock.obj` with the default surface.
+//!
 //! Colours come from the OBJ's material library (one `usemtl` per tile set material). An SDF
 //! `<material>` on a visual replaces every colour of its mesh in gz-sim, so it is written only
 //! when the tile set has a single material, as a fallback for viewers that ignore MTL files.
@@ -216,6 +221,23 @@ fn artifact_models(s: &mut String, artifacts: &[crate::artifacts::Artifact]) {
     }
 }
 
+/// A `<collision>` with a mesh (`path` relative to the world folder) and, for a floor patch,
+/// its friction (ODE's `mu` and `mu2`, and Bullet's `friction`).
+fn collision_xml(s: &mut String, name: &str, path: &str, friction: Option<f64>) {
+    let _ = write!(
+        s,
+        "        <collision name=\"{name}\">\n          <geometry>\n            <mesh>\n              <uri>../{path}</uri>\n            </mesh>\n          </geometry>\n",
+        path = xml_escape(path),
+    );
+    if let Some(mu) = friction {
+        let _ = write!(
+            s,
+            "          <surface>\n            <friction>\n              <ode>\n                <mu>{mu}</mu>\n                <mu2>{mu}</mu2>\n              </ode>\n              <bullet>\n                <friction>{mu}</friction>\n                <friction2>{mu}</friction2>\n              </bullet>\n            </friction>\n          </surface>\n"
+        );
+    }
+    s.push_str("        </collision>\n");
+}
+
 impl Exporter for Sdf {
     fn export(&self, world: &World, out: &mut dyn WorldWriter) -> Result<(), ExportError> {
         let Some(mesh) = world.mesh() else {
@@ -243,8 +265,9 @@ impl Exporter for Sdf {
             [m] => Some(m.colour),
             _ => None,
         };
+        let patches = crate::hazards::patches(world);
         // Models are named `subt-<part>`: SDFormat reserves the name `world`.
-        for f in &files {
+        for (part, f) in ps.iter().zip(&files) {
             let _ = write!(
                 s,
                 "    <model name=\"subt-{name}\">\n      <static>true</static>\n      <link name=\"link\">\n        <visual name=\"visual\">\n          <geometry>\n            <mesh>\n              <uri>../{visual}</uri>\n            </mesh>\n          </geometry>\n",
@@ -257,11 +280,24 @@ impl Exporter for Sdf {
                     "          <material>\n            <ambient>{r:.4} {g:.4} {b:.4} 1</ambient>\n            <diffuse>{r:.4} {g:.4} {b:.4} 1</diffuse>\n            <specular>0.05 0.05 0.05 1</specular>\n          </material>\n"
                 );
             }
-            let _ = write!(
-                s,
-                "        </visual>\n        <collision name=\"collision\">\n          <geometry>\n            <mesh>\n              <uri>../{collision}</uri>\n            </mesh>\n          </geometry>\n        </collision>\n      </link>\n    </model>\n",
-                collision = xml_escape(&f.collision),
-            );
+            s.push_str("        </visual>\n");
+            match crate::hazards::split_collision(&patches, mesh, part) {
+                None => collision_xml(&mut s, "collision", &f.collision, None),
+                Some(groups) => {
+                    // Floor patches: the patched floors as collisions of their own, with
+                    // the material's friction; the rest of the rock as before.
+                    let split =
+                        crate::hazards::write_split_meshes(out, mesh, self.split, part, groups)?;
+                    for (m, path) in split {
+                        let name = match m {
+                            None => "collision".to_owned(),
+                            Some(m) => format!("collision-{}", m.name()),
+                        };
+                        collision_xml(&mut s, &name, &path, m.map(|m| m.friction()));
+                    }
+                }
+            }
+            s.push_str("      </link>\n    </model>\n");
         }
         artifact_models(&mut s, &crate::artifacts::place(world)?);
         s.push_str("  </world>\n</sdf>\n");

@@ -8,6 +8,10 @@
 //! world that never moves. The link has zero mass (static); load it with
 //! `loadURDF("urdf/world.urdf", useFixedBase=True)`. Other URDF readers ignore the attribute.
 //!
+//! Floor patches (`[hazards] friction`): PyBullet's friction (`<contact><lateral_friction>`)
+//! is per link, so each part's patched floors of one material are a link of their own
+//! (`hazard-<part>-<material>`, fixed to `world`), and `world` collides with the rest.
+//!
 //! ```toml
 //! [[export]]
 //! type = "urdf"
@@ -81,6 +85,8 @@ impl Exporter for Urdf {
             "<?xml version=\"1.0\"?>\n<!-- subtgraph world, seed {}: metres, x east, y north, z up. PyBullet: loadURDF(\"urdf/world.urdf\", useFixedBase=True) -->\n<robot name=\"subtgraph_world\">\n  <link name=\"world\" concave=\"yes\">\n    <inertial>\n      <mass value=\"0\"/>\n      <inertia ixx=\"0\" ixy=\"0\" ixz=\"0\" iyy=\"0\" iyz=\"0\" izz=\"0\"/>\n    </inertial>\n",
             world.resolved.seed
         );
+        let patches = crate::hazards::patches(world);
+        let mut patch_links = Vec::new();
         for (part, file) in parts.iter().zip(&files) {
             let name = xml_escape(&part.name);
             let [r, g, b] = part_colour(mesh, part);
@@ -88,9 +94,28 @@ impl Exporter for Urdf {
                 "    <visual name=\"{name}\">\n      <geometry>\n        <mesh filename=\"../{}\"/>\n      </geometry>\n      <material name=\"{name}-rock\">\n        <color rgba=\"{r:.4} {g:.4} {b:.4} 1\"/>\n      </material>\n    </visual>\n",
                 xml_escape(&file.visual)
             ));
+            let collision = match crate::hazards::split_collision(&patches, mesh, part) {
+                None => file.collision.clone(),
+                Some(groups) => {
+                    // Floor patches: PyBullet's friction is per link, so each material's
+                    // floors are a link of their own (below); the world keeps the rest.
+                    let mut rock = String::new();
+                    for (m, path) in
+                        crate::hazards::write_split_meshes(out, mesh, self.split, part, groups)?
+                    {
+                        match m {
+                            None => rock = path,
+                            Some(m) => {
+                                patch_links.push((format!("{}-{}", part.name, m.name()), m, path))
+                            }
+                        }
+                    }
+                    rock
+                }
+            };
             s.push_str(&format!(
                 "    <collision name=\"{name}\" concave=\"yes\">\n      <geometry>\n        <mesh filename=\"../{}\"/>\n      </geometry>\n    </collision>\n",
-                xml_escape(&file.collision)
+                xml_escape(&collision)
             ));
         }
         let artifacts = crate::artifacts::place(world)?;
@@ -104,6 +129,14 @@ impl Exporter for Urdf {
             ));
         }
         s.push_str("  </link>\n");
+        for (name, m, path) in &patch_links {
+            let name = xml_escape(name);
+            s.push_str(&format!(
+                "  <link name=\"hazard-{name}\" concave=\"yes\">\n    <contact>\n      <lateral_friction value=\"{mu}\"/>\n    </contact>\n    <inertial>\n      <mass value=\"0\"/>\n      <inertia ixx=\"0\" ixy=\"0\" ixz=\"0\" iyy=\"0\" iyz=\"0\" izz=\"0\"/>\n    </inertial>\n    <collision name=\"hazard-{name}\" concave=\"yes\">\n      <geometry>\n        <mesh filename=\"../{path}\"/>\n      </geometry>\n    </collision>\n  </link>\n  <joint name=\"hazard-{name}\" type=\"fixed\">\n    <parent link=\"world\"/>\n    <child link=\"hazard-{name}\"/>\n  </joint>\n",
+                mu = m.friction(),
+                path = xml_escape(path),
+            ));
+        }
         for a in &artifacts {
             artifact_link(&mut s, a);
         }

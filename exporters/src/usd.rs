@@ -19,6 +19,10 @@
 //! `xformOp:translate`: see [`instances`](crate::instances). Their collision triangles stay
 //! in the part's collision mesh.
 //!
+//! Floor patches (`[hazards] friction`): the patched tiles' floors are colliders of their
+//! own (`collision_mud`, ...) bound to a `PhysicsMaterialAPI` material per hazard material
+//! (`/World/PhysicsMaterials/Mud`, ...); the rest of the part stays `collision` on the rock.
+//!
 //! ```toml
 //! [[export]]
 //! type = "usd"
@@ -32,6 +36,7 @@ use subtgraph_core::World;
 use subtgraph_core::assembly::WorldMesh;
 use subtgraph_core::error::ConfigError;
 use subtgraph_core::export::{ExportError, Exporter, WorldWriter, stream_file, write_file};
+use subtgraph_core::hazards::FloorMaterial;
 use subtgraph_core::mesh::Mesh;
 use subtgraph_core::params::Params;
 
@@ -120,7 +125,21 @@ fn tuple(b: &mut Vec<u8>, v: &[f32]) {
 #[derive(Clone, Copy, PartialEq)]
 enum Role {
     Visual,
-    Collision,
+    /// A collider bound to a floor material, or to the rock (`None`).
+    Collision(Option<FloorMaterial>),
+}
+
+/// The prim name of a floor patch material's physics material: `WetRock` for `wet-rock`.
+fn material_prim(m: FloorMaterial) -> String {
+    m.name()
+        .split('-')
+        .map(|w| w[..1].to_uppercase() + &w[1..])
+        .collect()
+}
+
+/// The path of that physics material: `</World/PhysicsMaterials/WetRock>`.
+fn physics_material(m: FloorMaterial) -> String {
+    format!("</World/PhysicsMaterials/{}>", material_prim(m))
 }
 
 /// The physics material every collider is bound to (defined in the root layer).
@@ -138,7 +157,7 @@ fn write_mesh(
 ) -> std::io::Result<()> {
     let schemas = match role {
         Role::Visual => "\"MaterialBindingAPI\"",
-        Role::Collision => {
+        Role::Collision(_) => {
             "\"PhysicsCollisionAPI\", \"PhysicsMeshCollisionAPI\", \"MaterialBindingAPI\""
         }
     };
@@ -184,11 +203,18 @@ fn write_mesh(
     writeln!(w)?;
     writeln!(w, "{inner}uniform token subdivisionScheme = \"none\"")?;
     match role {
-        Role::Collision => {
+        Role::Collision(m) => {
             writeln!(w, "{inner}uniform token purpose = \"guide\"")?;
             writeln!(w, "{inner}bool physics:collisionEnabled = 1")?;
             writeln!(w, "{inner}uniform token physics:approximation = \"none\"")?;
-            writeln!(w, "{inner}rel material:binding:physics = {ROCK}")?;
+            match m {
+                None => writeln!(w, "{inner}rel material:binding:physics = {ROCK}")?,
+                Some(m) => writeln!(
+                    w,
+                    "{inner}rel material:binding:physics = {}",
+                    physics_material(m)
+                )?,
+            }
         }
         Role::Visual => {
             if mesh.normals.len() == mesh.positions.len() {
@@ -278,6 +304,7 @@ fn root_layer(
     layers: &[String],
     materials: &[String],
     artifacts: &[crate::artifacts::Artifact],
+    patches: &[crate::hazards::Patch],
 ) -> String {
     let mut s = String::from(
         "#usda 1.0\n(\n    defaultPrim = \"World\"\n    doc = \"subtgraph world: metres, x east, y north, z up\"\n    metersPerUnit = 1\n    kilogramsPerUnit = 1\n    upAxis = \"Z\"\n    subLayers = [\n",
@@ -290,7 +317,19 @@ fn root_layer(
     s.push_str("    def PhysicsScene \"PhysicsScene\"\n    {\n        vector3f physics:gravityDirection = (0, 0, -1)\n        float physics:gravityMagnitude = 9.81\n    }\n\n");
     // The rock's contact properties, which Isaac Sim (PhysX) reads from the collider's
     // physics-purpose binding.
-    s.push_str("    def Scope \"PhysicsMaterials\"\n    {\n        def Material \"Rock\" (\n            prepend apiSchemas = [\"PhysicsMaterialAPI\"]\n        )\n        {\n            float physics:dynamicFriction = 0.7\n            float physics:restitution = 0.1\n            float physics:staticFriction = 0.8\n        }\n    }\n\n");
+    s.push_str("    def Scope \"PhysicsMaterials\"\n    {\n        def Material \"Rock\" (\n            prepend apiSchemas = [\"PhysicsMaterialAPI\"]\n        )\n        {\n            float physics:dynamicFriction = 0.7\n            float physics:restitution = 0.1\n            float physics:staticFriction = 0.8\n        }\n");
+    // Floor patches (`[hazards]`): a material each, bound to the colliders of those floors.
+    let used: std::collections::BTreeSet<FloorMaterial> =
+        patches.iter().map(|p| p.material).collect();
+    for m in used {
+        let name = material_prim(m);
+        let mu = m.friction();
+        s.push_str(&format!(
+            "\n        def Material \"{name}\" (\n            prepend apiSchemas = [\"PhysicsMaterialAPI\"]\n        )\n        {{\n            custom string subtgraph:hazard = \"{}\"\n            float physics:dynamicFriction = {mu}\n            float physics:restitution = 0.1\n            float physics:staticFriction = {mu}\n        }}\n",
+            m.name()
+        ));
+    }
+    s.push_str("    }\n\n");
     s.push_str("    def Scope \"Looks\"\n    {\n");
     let mut all: Vec<(String, [f32; 3])> = materials
         .iter()
@@ -382,6 +421,7 @@ impl Exporter for Usd {
             })?;
             layers.push("parts/prototypes.usda".to_owned());
         }
+        let patches = crate::hazards::patches(world);
         for part in parts(world, mesh, self.split) {
             let name = prim_name(&part.name);
             let file = format!("parts/{}.usda", part.name);
@@ -393,7 +433,22 @@ impl Exporter for Usd {
                 .map(|&t| mesh.tiles[t].visual_triangles.clone())
                 .collect();
             let visual = mesh.visual.extract(&own);
-            let collision = part.collision(mesh);
+            // Floor patches: the patched floors as colliders of their own, bound to their
+            // material ("collision_mud"); without patches the one "collision" as before.
+            let colliders: Vec<(String, Option<FloorMaterial>, Mesh)> =
+                match crate::hazards::split_collision(&patches, mesh, &part) {
+                    None => vec![("collision".into(), None, part.collision(mesh))],
+                    Some(groups) => groups
+                        .into_iter()
+                        .map(|(m, r)| {
+                            let name = match m {
+                                None => "collision".to_owned(),
+                                Some(m) => format!("collision_{}", prim_name(m.name())),
+                            };
+                            (name, m, mesh.collision.extract(&r))
+                        })
+                        .collect(),
+                };
             stream_file(out, &path, |w| {
                 w.write_all(HEADER.as_bytes())?;
                 writeln!(w, "over \"World\"\n{{\n    def Xform \"{name}\"\n    {{")?;
@@ -408,16 +463,18 @@ impl Exporter for Usd {
                         [0.0; 3],
                     )?;
                 }
-                if !collision.triangles.is_empty() {
-                    write_mesh(
-                        w,
-                        "        ",
-                        "collision",
-                        &collision,
-                        Role::Collision,
-                        &materials,
-                        [0.0; 3],
-                    )?;
+                for (name, m, collision) in &colliders {
+                    if !collision.triangles.is_empty() {
+                        write_mesh(
+                            w,
+                            "        ",
+                            name,
+                            collision,
+                            Role::Collision(*m),
+                            &materials,
+                            [0.0; 3],
+                        )?;
+                    }
                 }
                 for &t in &part.tiles {
                     if let Some((k, at)) = instances.of_tile[t] {
@@ -440,7 +497,7 @@ impl Exporter for Usd {
             layers.push(file);
         }
         let artifacts = crate::artifacts::place(world)?;
-        let root = root_layer(mesh, &layers, &materials, &artifacts);
+        let root = root_layer(mesh, &layers, &materials, &artifacts, &patches);
         write_file(out, "usd/world.usda", root.as_bytes())
     }
 

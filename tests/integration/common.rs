@@ -175,3 +175,43 @@ pub fn npy_bytes(descr: &str, shape: &str, data: &[u8]) -> Vec<u8> {
     out.extend_from_slice(data);
     out
 }
+
+/// What `tests/readers/sdf_check.cc` (compiled against libsdformat 12 in `dir`) reports on an
+/// SDF file, or `None` (skipped with a message) when pkg-config does not know `sdformat12`,
+/// unless `SUBTGRAPH_REQUIRE_SDFORMAT=1`. Fails when libsdformat refuses the file.
+pub fn sdf_report(dir: &Path, sdf: &Path) -> Option<String> {
+    let flags = Command::new("pkg-config")
+        .args(["--cflags", "--libs", "sdformat12"])
+        .output()
+        .ok()
+        .filter(|o| o.status.success());
+    let Some(flags) = flags else {
+        assert!(
+            std::env::var("SUBTGRAPH_REQUIRE_SDFORMAT").is_err(),
+            "pkg-config cannot find sdformat12; install libsdformat-dev (scripts/test does)"
+        );
+        eprintln!("skipping the SDF check: pkg-config cannot find sdformat12");
+        return None;
+    };
+    let exe = dir.join("sdf_check");
+    let source = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/readers/sdf_check.cc");
+    let flags = String::from_utf8(flags.stdout).unwrap();
+    let built = Command::new("g++")
+        .args(["-std=c++17", "-O0", "-o", arg(&exe), arg(&source)])
+        .args(flags.split_whitespace())
+        .output()
+        .expect("g++ runs");
+    assert!(
+        built.status.success(),
+        "compiling sdf_check.cc failed:\n{}",
+        String::from_utf8_lossy(&built.stderr)
+    );
+    let out = Command::new(&exe).arg(sdf).output().unwrap();
+    assert!(
+        out.status.success(),
+        "libsdformat refused {}:\n{}",
+        sdf.display(),
+        String::from_utf8_lossy(&out.stderr)
+    );
+    Some(String::from_utf8(out.stdout).unwrap())
+}

@@ -1,6 +1,6 @@
 // Loads an SDF world with libsdformat (what gz-sim parses worlds with), fails on any error,
 // and prints what it found: counts, then one line per mesh with its path resolved against
-// the SDF file's folder (and whether that file exists).
+// the SDF file's folder (and whether that file exists), and each collision's friction.
 #include <filesystem>
 #include <iostream>
 #include <string>
@@ -48,7 +48,21 @@ int main(int argc, char **argv) {
         mesh("visual", link->VisualByIndex(k)->Geom());
       }
       for (std::size_t k = 0; k < link->CollisionCount(); ++k, ++collisions) {
-        mesh("collision", link->CollisionByIndex(k)->Geom());
+        const sdf::Collision *c = link->CollisionByIndex(k);
+        mesh("collision", c->Geom());
+        // The ODE sliding friction as libsdformat parsed it (sdformat 12 has no typed
+        // accessor): "friction MU COLLISION MODEL"; "friction default" without a <surface>.
+        sdf::ElementPtr e = c->Element();
+        for (const char *n : {"surface", "friction", "ode"}) {
+          e = e && e->HasElement(n) ? e->GetElement(n) : nullptr;
+        }
+        std::cout << "friction ";
+        if (e && e->HasElement("mu")) {
+          std::cout << e->Get<double>("mu");
+        } else {
+          std::cout << "default";
+        }
+        std::cout << " " << c->Name() << " " << model->Name() << "\n";
       }
     }
   }

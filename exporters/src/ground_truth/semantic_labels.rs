@@ -6,7 +6,9 @@
 //! `intersection`, `shaft-up`, `shaft-landing`), the original's spatial code, its rotation
 //! (quarter turns counter-clockwise from the kind's base orientation), its openings, and the
 //! world position of the tile's node: on the floor of its own passage (see `axis.rs`; the tile
-//! centre on its level's floor without a mesh). The CSV holds the same rows; its
+//! centre on its level's floor without a mesh). Tiles with a floor patch (`[hazards]
+//! friction`) carry `hazard`: the material (`mud`, `ice`, `sand`, `wet-rock`); the CSV then
+//! has a last column `hazard` (empty on other tiles). The CSV holds the same rows; its
 //! metadata (seed, frame) is in the JSON, as CSV has no place for it.
 
 use serde::Serialize;
@@ -34,6 +36,9 @@ struct Label {
     openings: Vec<&'static str>,
     position: [f64; 3],
     start: bool,
+    /// The floor patch's material (`[hazards] friction`), on patched tiles only.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    hazard: Option<&'static str>,
 }
 
 #[derive(Serialize)]
@@ -58,6 +63,10 @@ fn direction_name(d: Direction) -> &'static str {
 }
 
 fn labels(world: &World, axes: &Axes) -> Vec<Label> {
+    let hazard: std::collections::BTreeMap<_, _> = crate::hazards::patches(world)
+        .into_iter()
+        .map(|p| (p.cell, p.material.name()))
+        .collect();
     world
         .occupancy
         .cells()
@@ -77,13 +86,20 @@ fn labels(world: &World, axes: &Axes) -> Vec<Label> {
                     .collect(),
                 position: axes.position(world, c),
                 start: world.start == Some(c),
+                hazard: hazard.get(&c).copied(),
             })
         })
         .collect()
 }
 
-fn csv(labels: &[Label]) -> Vec<u8> {
-    let mut s = b"level,row,col,kind,code,rotation,openings,x,y,z,start\n".to_vec();
+/// The CSV; with `hazards` (the world has a `[hazards]` section) a last column `hazard`: the
+/// patch material, empty on other tiles. Worlds without the section keep their columns.
+fn csv(labels: &[Label], hazards: bool) -> Vec<u8> {
+    let mut s = if hazards {
+        b"level,row,col,kind,code,rotation,openings,x,y,z,start,hazard\n".to_vec()
+    } else {
+        b"level,row,col,kind,code,rotation,openings,x,y,z,start\n".to_vec()
+    };
     for l in labels {
         for v in [l.level, l.row, l.col] {
             push_uint(&mut s, v as u64);
@@ -101,7 +117,12 @@ fn csv(labels: &[Label]) -> Vec<u8> {
             s.push(b',');
             push_fixed(&mut s, v as f32);
         }
-        s.extend_from_slice(if l.start { b",1\n" } else { b",0\n" });
+        s.extend_from_slice(if l.start { b",1" } else { b",0" });
+        if hazards {
+            s.push(b',');
+            s.extend_from_slice(l.hazard.unwrap_or("").as_bytes());
+        }
+        s.push(b'\n');
     }
     s
 }
@@ -130,7 +151,12 @@ impl SemanticLabels {
             kinds: subtgraph_core::tile::TileKind::ALL.map(|k| k.name()),
             tiles: labels(world, axes),
         };
-        write_file(out, "ground_truth/semantic_labels.csv", &csv(&doc.tiles))?;
+        let hazards = world.pipeline.hazards.is_some();
+        write_file(
+            out,
+            "ground_truth/semantic_labels.csv",
+            &csv(&doc.tiles, hazards),
+        )?;
         crate::write_json(out, "ground_truth/semantic_labels.json", &doc)
     }
 }
