@@ -72,28 +72,6 @@ pub fn patches(world: &World) -> Vec<Patch> {
     out
 }
 
-#[derive(Serialize)]
-struct Document<'a> {
-    format: &'static str,
-    seed: u64,
-    frame: &'static str,
-    note: &'static str,
-    patches: &'a [Patch],
-}
-
-/// Writes `ground_truth/hazards.json`.
-pub(crate) fn write(world: &World, out: &mut dyn WorldWriter) -> Result<(), ExportError> {
-    let p = patches(world);
-    let doc = Document {
-        format: "subtgraph-hazards/1",
-        seed: world.resolved.seed,
-        frame: crate::ground_truth::FRAME,
-        note: "floor patches: the whole floor of each tile has the material's friction (MuJoCo: the tile's floor height field)",
-        patches: &p,
-    };
-    crate::write_json(out, "ground_truth/hazards.json", &doc)
-}
-
 /// A collision group: its floor material (`None`: rock) and its triangles in
 /// [`WorldMesh::collision`].
 pub(crate) type CollisionGroup = (Option<FloorMaterial>, Vec<Range<usize>>);

@@ -171,7 +171,7 @@ pub fn write_world_files(
         ground_truth::artifacts::write(world, &artifacts::place(world)?, out)?;
     }
     if world.pipeline.hazards.is_some() {
-        hazards::write(world, out)?;
+        ground_truth::hazards::write(world, out)?;
     }
     Ok(())
 }

@@ -27,6 +27,7 @@ pub(crate) mod artifacts;
 pub(crate) mod axis;
 mod free_space;
 mod graph;
+pub(crate) mod hazards;
 mod ros_map;
 mod semantic_labels;
 mod spawn_poses;
