@@ -31,6 +31,8 @@ pub struct PlacedTile {
     pub visual_triangles: Range<usize>,
     /// Its triangles in [`WorldMesh::collision`].
     pub collision_triangles: Range<usize>,
+    /// What the tile set made of it beyond its kind ([`TileGeometry::labels`]).
+    pub labels: Vec<&'static str>,
 }
 
 /// The assembled world.
@@ -44,6 +46,11 @@ pub struct WorldMesh {
     pub materials: Vec<Material>,
     /// One entry per occupied cell, raster order.
     pub tiles: Vec<PlacedTile>,
+    /// The tiles' rubble fields and drops (`[hazards]`), raster order of their cells.
+    pub hazards: Vec<crate::hazards::HazardRegion>,
+    /// With `world.connections = "ramp"`, per shaft of the layout (same order) the floor line
+    /// of its ramp ([`TileSet::ramp`]); empty otherwise.
+    pub ramps: Vec<Vec<[f64; 3]>>,
 }
 
 fn reserve(m: &mut Mesh, vertices: usize, triangles: usize) {
@@ -69,6 +76,40 @@ pub fn assemble_within(
     budget: &Budget,
 ) -> Result<WorldMesh, TileSetError> {
     tileset.check(layout)?;
+    if let Some(h) = layout
+        .pipeline
+        .hazards
+        .as_ref()
+        .filter(|h| h.has_geometry())
+    {
+        if !tileset.makes_hazards() {
+            let key = if h.rubble > 0.0 {
+                "hazards.rubble"
+            } else {
+                "hazards.drops"
+            };
+            return Err(TileSetError::Unsuited {
+                what: format!(
+                    "{key}: this tile set does not make rubble fields or drops (only the \
+                     procedural ones do: cave, mine, lava-tube)"
+                ),
+                fix: "remove hazards.rubble and hazards.drops, or use a procedural tile set".into(),
+            });
+        }
+    }
+    let mut ramps = Vec::new();
+    if layout.resolved.connections == crate::config::Connections::Ramp {
+        for s in &layout.shafts {
+            ramps.push(tileset.ramp(layout, s).ok_or_else(|| {
+                TileSetError::Unsuited {
+                    what: "this tile set makes no ramps between levels".into(),
+                    fix: "set world.connections = \"shaft\", or use a procedural tile set \
+                      (mine, cave, lava-tube)"
+                        .into(),
+                }
+            })?);
+        }
+    }
     let advice = match tileset.detail_advice() {
         Some(a) => format!(
             "{a}, make a smaller world (world.min_length, or world.rows and world.cols, and \
@@ -121,6 +162,7 @@ pub fn assemble_within(
     };
     let mut out = WorldMesh {
         materials: tileset.materials(),
+        ramps,
         ..WorldMesh::default()
     };
     // Tiles are made in parallel a chunk at a time and appended in raster order, so memory
@@ -167,12 +209,14 @@ pub fn assemble_within(
             }
             out.visual.append(&g.visual);
             out.collision.append(&g.collision);
+            out.hazards.extend(g.hazards.iter().cloned());
             out.tiles.push(PlacedTile {
                 cell: *cell,
                 kind: tile.kind,
                 rotation: tile.rotation,
                 visual_triangles: start..out.visual.triangle_count(),
                 collision_triangles: collision_start..out.collision.triangle_count(),
+                labels: g.labels.clone(),
             });
         }
     }

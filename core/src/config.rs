@@ -117,7 +117,36 @@ pub struct WorldSection {
     /// Attempts per level, each with a derived seed, before giving up.
     #[serde(default = "default_attempts")]
     pub attempts: u32,
+    /// How levels are joined: `"shaft"` (a vertical shaft, the paper's) or `"ramp"` (a spiral
+    /// decline a wheeled robot can drive). Without it, mines get ramps and the others shafts;
+    /// resolution writes the value used.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub connections: Option<Connections>,
+    /// The steepest grade a ramp may have, degrees (default [`DEFAULT_RAMP_GRADE`]): each ramp
+    /// is as gentle as its cell allows, and a cell that needs a steeper one is an error.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub ramp_grade: Option<f64>,
 }
+
+/// How consecutive levels are joined.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Connections {
+    /// A vertical shaft (the paper's; no ground robot can use it).
+    #[default]
+    Shaft,
+    /// A spiral ramp inside the shaft's cells, at a drivable grade.
+    Ramp,
+}
+
+/// The default steepest ramp grade, degrees (about 1 in 2.1). A spiral turning inside one
+/// tile is steeper than a real mine's decline (1 in 7 to 1 in 9, over a spiral 30 m or more
+/// across): each turn's drop must hold the passage and the rock above it, and a turn is one
+/// circumference of a circle that fits in the tile. The mine preset's (20 m tiles, 16 m between
+/// levels) climb at 19 to 25 degrees, by how the two levels' openings face.
+pub const DEFAULT_RAMP_GRADE: f64 = 25.0;
+/// The steepest `world.ramp_grade` accepted, degrees.
+pub const MAX_RAMP_GRADE: f64 = 30.0;
 
 fn one() -> IntRange {
     IntRange::Fixed(1)
@@ -147,6 +176,8 @@ impl Default for WorldSection {
             level_height: None,
             max_width: default_width(),
             attempts: default_attempts(),
+            connections: None,
+            ramp_grade: None,
         }
     }
 }
@@ -270,6 +301,30 @@ pub struct Resolved {
     pub per_level: Vec<Vec<(String, u32)>>,
     /// Exact topology.
     pub exact: bool,
+    /// How levels are joined.
+    pub connections: Connections,
+    /// The steepest ramp grade, degrees.
+    pub ramp_grade: f64,
+}
+
+impl WorldSection {
+    /// Fixes `connections` (from the tile set when not given: ramps for `mine`, shafts
+    /// otherwise) and, for ramps, `ramp_grade`, so the recorded pipeline states them.
+    pub fn resolve_connections(&mut self, tileset: Option<&ComponentSpec>) -> (Connections, f64) {
+        let c = self.connections.unwrap_or_else(|| {
+            if tileset.is_some_and(|t| t.type_name == "mine") {
+                Connections::Ramp
+            } else {
+                Connections::Shaft
+            }
+        });
+        self.connections = Some(c);
+        let grade = self.ramp_grade.unwrap_or(DEFAULT_RAMP_GRADE);
+        if c == Connections::Ramp {
+            self.ramp_grade = Some(grade);
+        }
+        (c, grade)
+    }
 }
 
 impl Pipeline {
@@ -397,6 +452,17 @@ impl Pipeline {
                 ));
             }
         }
+        if let Some(g) = w.ramp_grade {
+            if !(g.is_finite() && (1.0..=MAX_RAMP_GRADE).contains(&g)) {
+                return Err(err(
+                    "world.ramp_grade",
+                    format!(
+                        "ramp_grade = {g}: must be from 1 to {MAX_RAMP_GRADE} degrees (the \
+                         steepest grade a ramp may have; {DEFAULT_RAMP_GRADE} by default)"
+                    ),
+                ));
+            }
+        }
         if w.attempts == 0 || w.attempts > 10_000 {
             return Err(err("world.attempts", "must be between 1 and 10000".into()));
         }
@@ -479,6 +545,7 @@ impl Pipeline {
         if let Some(a) = &mut p.artifacts {
             a.resolve(p.world.seed);
         }
+        let (connections, ramp_grade) = p.world.resolve_connections(p.tileset.as_ref());
 
         let per_level: Vec<Vec<(String, u32)>> = if p.topology.per_level.is_empty() {
             let mut ranges: Vec<(String, IntRange)> = BUILT_IN_STRUCTURES
@@ -531,6 +598,8 @@ impl Pipeline {
             attempts: p.world.attempts,
             per_level,
             exact: p.topology.exact,
+            connections,
+            ramp_grade,
         };
         Ok((p, resolved))
     }

@@ -27,6 +27,8 @@ pub enum EdgeKind {
     Corridor,
     /// A vertical shaft between levels.
     Shaft,
+    /// A spiral ramp between levels, in the shaft's cells (`world.connections = "ramp"`).
+    Ramp,
 }
 
 /// An edge: a corridor between two nodes, or a shaft.
@@ -44,7 +46,8 @@ pub struct Edge {
     pub cells: Vec<Cell>,
     /// Steps between the two end cells.
     pub length_cells: usize,
-    /// Length in metres: steps x tile pitch, or the level height for a shaft.
+    /// Length in metres: steps x tile pitch, or the level height for a shaft or ramp (the
+    /// ground truth's graph gives a ramp's driven length).
     pub length_m: f64,
 }
 

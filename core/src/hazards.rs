@@ -1,19 +1,28 @@
-//! `[hazards]`: floor patches with another friction, the first hazard of a world (where they
-//! go is computed by the exporters: `exporters/src/hazards.rs`).
+//! `[hazards]`: what makes a world's floor hard to cross.
 //!
 //! ```toml
 //! [hazards]
 //! friction = { mud = 0.05, ice = 0.02 }   # share of the floor (whole tiles) per material
+//! rubble = 0.1                            # share of corridor tiles with a rubble field
+//! rubble_passable = true                  # keep a lane free of rocks (default true)
+//! rubble_gap = 2.0                        # the lane's width, metres (a robot's width)
+//! drops = 0.05                            # share of corridor tiles with a pit in the floor
 //! ```
 //!
-//! Optional: a pipeline without it makes the files it always made. Rubble fields and
-//! negative obstacles are not made yet.
+//! Floor patches are placed by the exporters (`exporters/src/hazards.rs`). Rubble fields and
+//! drops are geometry: which tiles get one is decided here ([`HazardsSection::floor_hazard`],
+//! per tile from the world's seed, so a tile set meshing one tile knows its neighbours'), and
+//! the tile set that makes the geometry describes it ([`HazardRegion`], gathered in
+//! `WorldMesh::hazards`) for the ground truth. Optional: a pipeline without the section makes
+//! the files it always made.
 
 use std::collections::BTreeMap;
 
 use serde::{Deserialize, Serialize};
 
+use crate::grid::{Cell, Direction};
 use crate::rng::WorldRng;
+use crate::tile::{Tile, TileKind};
 
 /// A floor material with its own friction.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize)]
@@ -60,17 +69,175 @@ impl FloorMaterial {
 }
 
 /// `[hazards]`.
-#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct HazardsSection {
     /// Share of the floor per material, whole tiles.
     #[serde(default)]
     pub friction: BTreeMap<FloorMaterial, f64>,
+    /// Share of corridor tiles with a rubble field.
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub rubble: f64,
+    /// Whether a rubble field keeps a lane [`rubble_gap`](Self::rubble_gap) wide free of rocks.
+    #[serde(default = "yes", skip_serializing_if = "is_true")]
+    pub rubble_passable: bool,
+    /// Width of the lane a passable rubble field keeps, metres.
+    #[serde(default = "default_gap", skip_serializing_if = "is_default_gap")]
+    pub rubble_gap: f64,
+    /// Share of corridor tiles with a drop (a pit) in the floor.
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub drops: f64,
+}
+
+fn yes() -> bool {
+    true
+}
+
+// `world.toml` leaves out what is as by default, so a world with only `friction` writes the
+// section it always wrote.
+fn is_zero(v: &f64) -> bool {
+    *v == 0.0
+}
+
+fn is_true(v: &bool) -> bool {
+    *v
+}
+
+fn is_default_gap(v: &f64) -> bool {
+    *v == default_gap()
+}
+
+fn default_gap() -> f64 {
+    2.0
+}
+
+impl Default for HazardsSection {
+    fn default() -> Self {
+        HazardsSection {
+            friction: BTreeMap::new(),
+            rubble: 0.0,
+            rubble_passable: true,
+            rubble_gap: default_gap(),
+            drops: 0.0,
+        }
+    }
+}
+
+/// A hazard that is geometry: the tile set makes it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum FloorHazard {
+    /// Rocks on the floor, part of the collision surface.
+    Rubble,
+    /// A pit: the floor lowered over a region.
+    Drop,
+}
+
+impl FloorHazard {
+    /// The name in ground truth and semantic labels.
+    pub const fn name(self) -> &'static str {
+        match self {
+            FloorHazard::Rubble => "rubble",
+            FloorHazard::Drop => "drop",
+        }
+    }
+}
+
+/// Where a tile set put a rubble field or a drop, in world metres, for the ground truth.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct HazardRegion {
+    /// Rubble or drop.
+    pub kind: FloorHazard,
+    /// Its tile.
+    pub cell: Cell,
+    /// The region in the plane, `[x0, y0, x1, y1]`: every rock (rubble) or the pit's rim
+    /// (drop) is inside.
+    pub bounds: [f64; 4],
+    /// The level's nominal floor.
+    pub floor_z: f64,
+    /// Lowest and highest point: the floor and the highest rock top (rubble), the pit's
+    /// bottom and the floor (drop).
+    pub z: [f64; 2],
+    /// A passable rubble field's lane free of rocks, `[x0, y0, x1, y1]` (it runs along the
+    /// whole field).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub gap: Option<[f64; 4]>,
+    /// Rubble: each rock as `[x, y, z, radius]` (a sphere, roughened by the wall relief).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub rocks: Vec<[f64; 4]>,
 }
 
 impl HazardsSection {
+    /// Whether the section asks for hazards a tile set must make (rubble, drops).
+    pub fn has_geometry(&self) -> bool {
+        self.rubble > 0.0 || self.drops > 0.0
+    }
+
+    /// The geometric hazard of a tile, if any, and the arm (toward which opening) it lies on.
+    ///
+    /// Only corridor tiles (straight and corner tiles, not the start) get one, each with
+    /// probability `rubble` (a rubble field) or `drops` (a drop), drawn from the world's
+    /// `"floor-hazards"` stream keyed by the cell: the same answer whichever tile asks.
+    pub fn floor_hazard(
+        &self,
+        seed: u64,
+        cell: Cell,
+        tile: &Tile,
+        start: bool,
+    ) -> Option<(FloorHazard, Direction)> {
+        if !self.has_geometry() || start {
+            return None;
+        }
+        if !matches!(tile.kind, TileKind::Straight | TileKind::Corner) {
+            return None;
+        }
+        let key = ((cell.level as u64) << 40) | ((cell.row as u64) << 20) | cell.col as u64;
+        let mut rng = WorldRng::new(seed, "floor-hazards", key);
+        let u = rng.unit();
+        let kind = if u < self.rubble {
+            FloorHazard::Rubble
+        } else if u < self.rubble + self.drops {
+            FloorHazard::Drop
+        } else {
+            return None;
+        };
+        let arms: Vec<Direction> = Direction::ALL
+            .into_iter()
+            .filter(|d| tile.openings & d.bit() != 0)
+            .collect();
+        let arm = *arms.get(rng.below(arms.len().max(1) as u64) as usize)?;
+        Some((kind, arm))
+    }
+
     /// What is wrong with the section, as `(key, message)`.
     pub fn problem(&self) -> Option<(&'static str, String)> {
+        for (key, v) in [
+            ("hazards.rubble", self.rubble),
+            ("hazards.drops", self.drops),
+        ] {
+            if !(v.is_finite() && (0.0..=1.0).contains(&v)) {
+                return Some((
+                    key,
+                    format!("{v} is not a share: give a number from 0 to 1, e.g. 0.1"),
+                ));
+            }
+        }
+        if self.rubble + self.drops > 1.0 {
+            return Some((
+                "hazards.drops",
+                "rubble and drops together are more than every corridor tile (1); lower them"
+                    .into(),
+            ));
+        }
+        if !(self.rubble_gap.is_finite() && (0.5..=20.0).contains(&self.rubble_gap)) {
+            return Some((
+                "hazards.rubble_gap",
+                format!(
+                    "{} m: give the width of the lane kept free of rocks, from 0.5 to 20 metres",
+                    self.rubble_gap
+                ),
+            ));
+        }
         if self
             .friction
             .values()

@@ -126,6 +126,7 @@ pub fn import_occupancy(
     p.topology.per_level.clear();
     let level_height = p.world.level_height.unwrap_or(0.8 * p.world.tile_pitch);
     p.world.level_height = Some(level_height);
+    let (connections, ramp_grade) = p.world.resolve_connections(p.tileset.as_ref());
     p.generated = Some(Provenance {
         tool: "subtgraph".into(),
         version: tool_version.to_owned(),
@@ -145,6 +146,8 @@ pub fn import_occupancy(
         attempts: 0,
         per_level: vec![Vec::new(); levels],
         exact: false,
+        connections,
+        ramp_grade,
     };
     let layout = Layout::new(
         p,

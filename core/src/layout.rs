@@ -130,7 +130,7 @@ impl Layout {
                 c,
             )
         };
-        let graph = TopologyGraph::build(
+        let mut graph = TopologyGraph::build(
             &occupancy,
             &tiles,
             &shafts,
@@ -138,6 +138,13 @@ impl Layout {
             resolved.tile_pitch,
             resolved.level_height,
         );
+        if resolved.connections == crate::config::Connections::Ramp {
+            for e in &mut graph.edges {
+                if e.kind == crate::graph::EdgeKind::Shaft {
+                    e.kind = crate::graph::EdgeKind::Ramp;
+                }
+            }
+        }
         Layout {
             pipeline,
             resolved,

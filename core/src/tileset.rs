@@ -52,6 +52,12 @@ pub struct TileGeometry {
     pub collision: Mesh,
     /// Which vertices assembly welds to a neighbour's.
     pub seams: Seams,
+    /// What the tile set made of this tile beyond its kind, for the ground truth's semantic
+    /// labels (the procedural sets say `chamber` or `squeeze`); usually empty.
+    pub labels: Vec<&'static str>,
+    /// The rubble field or drop the tile set made in this tile (`[hazards]`; only tile sets
+    /// whose [`TileSet::makes_hazards`] is true make them).
+    pub hazards: Vec<crate::hazards::HazardRegion>,
 }
 
 /// Which vertices of a tile may coincide with a neighbour's, so that assembly welds them.
@@ -164,7 +170,7 @@ pub enum TileSetError {
 ///             triangles: vec![[0, 1, 2], [0, 2, 3]],
 ///             ..Mesh::default()
 ///         };
-///         Ok(TileGeometry { visual: plate.clone(), collision: plate, seams: Seams::All })
+///         Ok(TileGeometry { visual: plate.clone(), collision: plate, seams: Seams::All, labels: vec![], hazards: Vec::new() })
 ///     }
 /// }
 /// ```
@@ -212,6 +218,21 @@ pub trait TileSet: Send + Sync {
     /// Metres per texture repeat for UVs computed by assembly.
     fn texture_scale(&self) -> f32 {
         4.0
+    }
+
+    /// Whether the tile set makes `[hazards]` rubble fields and drops (in the tiles
+    /// [`crate::hazards::HazardsSection::floor_hazard`] names). Assembly refuses a pipeline
+    /// asking for them from a tile set that does not, rather than leaving them out silently.
+    fn makes_hazards(&self) -> bool {
+        false
+    }
+
+    /// The floor line of the ramp this tile set makes for `shaft` (world frame, metres, from
+    /// the foot's level floor to the landing's) when the world's levels are joined by ramps
+    /// (`world.connections = "ramp"`). `None` (the default): the tile set makes no ramps, and
+    /// assembly refuses such a world, naming `world.connections`.
+    fn ramp(&self, _layout: &Layout, _shaft: &crate::grid::Shaft) -> Option<Vec<[f64; 3]>> {
+        None
     }
 }
 

@@ -2,13 +2,14 @@
 
 Each reset makes a world (milliseconds for the layout, under a second with its meshes), loads
 its MJCF from a string (collision height fields, no visual meshes: what physics needs), drops
-a ball at the start and rolls it for a few seconds. The seed of episode k is k, so a run is
+a ball at the first robot's spawn pose and rolls it for a few seconds. The seed of episode k is k, so a run is
 reproducible.
 
     python examples/python/mujoco_episodes.py --episodes 3
 """
 
 import argparse
+import math
 
 import mujoco
 
@@ -27,13 +28,17 @@ BALL = """
 
 def episode(seed, seconds):
     world = subtgraph.generate(preset="cave", seed=seed)
-    level, row, col = world.start
-    x, y, z = world.cell_position(level, row, col)
+    # The first robot's spawn pose: on the floor of the start tile's own passage (a cave's
+    # passage bends away from the cell centre, and its floor slopes).
+    poses = world.ground_truth(formats=["spawn-poses"])["ground_truth/spawn_poses.json"]
+    spawn = poses["robots"][0]["spawn"]
+    (x, y, z), yaw = spawn["position"], spawn["yaw"]
     # The world's MJCF with a ball appended before its closing tag.
     xml = world.mjcf().rsplit("</mujoco>", 1)[0] + BALL.format(x=x, y=y, z=z + 2.0)
     model = mujoco.MjModel.from_xml_string(xml)
     data = mujoco.MjData(model)
-    data.qvel[0] = 2.0  # roll east
+    data.qvel[0] = 2.0 * math.cos(yaw)  # roll along the passage
+    data.qvel[1] = 2.0 * math.sin(yaw)
     steps = int(seconds / model.opt.timestep)
     lowest = z + 2.0
     for _ in range(steps):

@@ -201,6 +201,7 @@ mod tests {
                 rotation: 0,
                 visual_triangles: i..i + 1,
                 collision_triangles: 0..0,
+                labels: Vec::new(),
             });
         }
         mesh

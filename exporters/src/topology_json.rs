@@ -91,7 +91,7 @@ mod tests {
             .as_array()
             .unwrap()
             .iter()
-            .filter(|e| e["kind"] == "shaft")
+            .filter(|e| e["kind"] == "shaft" || e["kind"] == "ramp")
             .count();
         assert_eq!(shafts, world.shafts.len());
     }

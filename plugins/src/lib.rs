@@ -455,6 +455,12 @@ impl TileSet for Guarded<dyn TileSet> {
     fn texture_scale(&self) -> f32 {
         self.call("TileSet::texture_scale", || 4.0, |t| t.texture_scale())
     }
+    fn makes_hazards(&self) -> bool {
+        self.call("TileSet::makes_hazards", || false, |t| t.makes_hazards())
+    }
+    fn ramp(&self, layout: &Layout, shaft: &subtgraph_core::grid::Shaft) -> Option<Vec<[f64; 3]>> {
+        self.call("TileSet::ramp", || None, |t| t.ramp(layout, shaft))
+    }
 }
 
 #[deny(clippy::missing_trait_methods)] // a new defaulted method must be forwarded, not skipped

@@ -139,3 +139,47 @@ fn a_gap_in_the_collision_floor_fails_the_drive() {
     // The cut copy lives outside the world folder.
     assert!(!world.join("urdf/world-gap.urdf").exists());
 }
+
+/// A shaft-free two-level route: on a two-level mine joined by a ramp, the ball drives from
+/// the start on level 0 through the ramp's spiral to the farthest dead end of level 1
+/// (`--to-level 1`), reaching every waypoint (within 1 m across and 1.5 m in height) without
+/// falling below the floor under it, in both engines (MuJoCo's default collision: height
+/// fields, with convex slabs in the ramp's tiles). The same route on the world with a shaft instead
+/// has no way up.
+#[test]
+fn a_ball_drives_up_a_ramp_to_the_next_level() {
+    let tmp = tempfile::tempdir().unwrap();
+    let pipeline = crate::ramps::two_level_mine(tmp.path(), 3, "");
+    let world = tmp.path().join("world");
+    generate(&pipeline, &world);
+    for report in drive(&world, &["--to-level", "1"]) {
+        // From level 0's floor to level 1's, 16 m up (floors slope by a metre or so).
+        let span = report
+            .split("floors under the waypoints ")
+            .nth(1)
+            .and_then(|r| r.split(" m").next())
+            .and_then(|r| r.split_once(" .. "))
+            .map(|(a, b)| (a.parse::<f64>().unwrap(), b.parse::<f64>().unwrap()));
+        assert!(
+            span.is_some_and(|(lo, hi)| lo < 1.5 && (15.0..18.0).contains(&hi)),
+            "{report}"
+        );
+        eprintln!("ramp:\n{report}");
+    }
+    let pipeline = crate::ramps::two_level_mine(tmp.path(), 3, "connections = \"shaft\"");
+    let shafts = tmp.path().join("shafts");
+    generate(&pipeline, &shafts);
+    let python = std::env::var("SUBTGRAPH_PYTHON").unwrap_or_else(|_| "python3".into());
+    if common::python_with(&["pybullet", "numpy"]).is_some() {
+        let out = Command::new(&python)
+            .arg(Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/readers/drive_check.py"))
+            .args([arg(&shafts), "--engine", "pybullet", "--to-level", "1"])
+            .output()
+            .unwrap();
+        let text = String::from_utf8_lossy(&out.stderr);
+        assert!(
+            !out.status.success() && text.contains("no dead end of level 1 is reachable"),
+            "{text}"
+        );
+    }
+}

@@ -14,10 +14,16 @@ use common::{arg, fails, folder_bytes, ok, read_with_python, small_cave_pipeline
 const BOTH: &str =
     "[[export]]\ntype = \"mjcf\"\n\n[[export]]\ntype = \"urdf\"\n\n[[export]]\ntype = \"obj\"\n";
 
+/// A `[tileset]` key for `small_cave_pipeline`'s `extra`: level floors, for the resting drops.
+const FLAT: &str = "grade = [0, 0]\n";
+
 /// The small two-level cave (its collision lattice holds the 5 m tunnels open: see
 /// `small_cave_pipeline`), made through the command line.
+///
+/// Flat floors (`grade = [0, 0]`): a ball comes to rest only where the floor is level (on a
+/// sloping floor it rolls; `drive.rs` drives a ball along the route on sloping floors).
 fn physics_world(dir: &Path) -> std::path::PathBuf {
-    let path = small_cave_pipeline(dir, 2, BOTH);
+    let path = small_cave_pipeline(dir, 2, &format!("{FLAT}{BOTH}"));
     let out = dir.join("world");
     ok(&["generate", arg(&path), "--out", arg(&out)]);
     out
@@ -58,7 +64,7 @@ fn a_ball_rests_on_convex_slabs_in_mujoco() {
     let path = small_cave_pipeline(
         tmp.path(),
         1,
-        "[[export]]\ntype = \"mjcf\"\ncollision = \"slabs\"\n",
+        &format!("{FLAT}[[export]]\ntype = \"mjcf\"\ncollision = \"slabs\"\n"),
     );
     let out = tmp.path().join("world");
     ok(&["generate", arg(&path), "--out", arg(&out)]);
@@ -77,7 +83,7 @@ fn a_ball_rests_in_mujoco_without_visual_meshes() {
     let path = small_cave_pipeline(
         tmp.path(),
         1,
-        "[[export]]\ntype = \"mjcf\"\nvisual = \"none\"\n",
+        &format!("{FLAT}[[export]]\ntype = \"mjcf\"\nvisual = \"none\"\n"),
     );
     let out = tmp.path().join("world");
     ok(&["generate", arg(&path), "--out", arg(&out)]);
@@ -174,7 +180,7 @@ fn bad_physics_settings_name_the_key() {
         ),
         ("type = \"mjcf\"\nstep = 0", "export[0].step", "step = 0.5"),
         (
-            "type = \"mjcf\"\nvisual = \"coarse\"",
+            "type = \"mjcf\"\nvisual = \"rough\"",
             "export[0].visual",
             "\"none\"",
         ),

@@ -60,8 +60,8 @@ fn bad_hazard_sections_are_refused() {
             ["unknown variant `lava`", "mud"],
         ),
         (
-            "[hazards]\nrubble = 0.1\n",
-            ["hazards.rubble", "unknown field"],
+            "[hazards]\nquicksand = 0.1\n",
+            ["hazards.quicksand", "unknown field"],
         ),
     ] {
         let p = small_cave_pipeline(dir.path(), 1, section);
@@ -185,7 +185,13 @@ fn patched_tiles_are_labelled_with_their_material() {
     let tiles = labels["tiles"].as_array().unwrap();
     let csv = std::fs::read_to_string(w.join("ground_truth/semantic_labels.csv")).unwrap();
     let mut lines = csv.lines();
-    assert!(lines.next().unwrap().ends_with(",start,hazard"));
+    // `hazard` is the last column (after `start`, and `features` when chambers or squeezes
+    // were made).
+    let header = lines.next().unwrap();
+    assert!(
+        header.ends_with(",start,hazard") || header.ends_with(",start,features,hazard"),
+        "{header}"
+    );
     let mut labelled = 0;
     for (t, line) in tiles.iter().zip(lines) {
         let key = ["level", "row", "col"].map(|k| t[k].as_u64().unwrap());
@@ -211,7 +217,13 @@ fn patched_tiles_are_labelled_with_their_material() {
         arg(&pw),
     ]);
     let csv = std::fs::read_to_string(pw.join("ground_truth/semantic_labels.csv")).unwrap();
-    assert!(csv.starts_with("level,row,col,kind,code,rotation,openings,x,y,z,start\n"));
+    // (A `features` column follows `start` when the tile set made chambers or squeezes.)
+    let header = csv.lines().next().unwrap();
+    assert!(
+        header == "level,row,col,kind,code,rotation,openings,x,y,z,start"
+            || header == "level,row,col,kind,code,rotation,openings,x,y,z,start,features",
+        "{header}"
+    );
     let json = std::fs::read_to_string(pw.join("ground_truth/semantic_labels.json")).unwrap();
     assert!(!json.contains("hazard"));
 }

@@ -9,6 +9,7 @@
 mod common;
 
 mod artifacts;
+mod chambers;
 mod cli;
 mod dataset;
 mod drive;
@@ -21,7 +22,10 @@ mod hazards;
 mod limits;
 mod mesh_files;
 mod messages;
+mod passages;
 mod plugins;
+mod ramps;
+mod rubble;
 mod score;
 mod stats;
 mod tilesets;

@@ -235,6 +235,8 @@ fn the_darpa_manifest_builds_the_papers_worlds() {
     p.world.levels = subtgraph::core::config::IntRange::Fixed(2);
     p.world.tile_pitch = 80.0;
     p.tileset = None;
+    // The DARPA tiles have shafts, not the mine preset's ramps.
+    p.world.connections = Some(subtgraph::core::config::Connections::Shaft);
     let world = layout(&p, &subtgraph::registry()).unwrap();
     assert_eq!(world.resolved.level_height, 64.0);
     let mesh = assemble(&world, &m).unwrap();

@@ -1,6 +1,7 @@
 """Drives a ball along a subtgraph world's ground-truth route in MuJoCo or PyBullet.
 
 Usage: drive_check.py WORLD_FOLDER --engine mujoco|pybullet [--gap | --wall] [--speed M_PER_S]
+                      [--to-level L]
 
 The route: ground_truth/graph.json, from the start node to the dead end of the start's level
 farthest from it by path length (Dijkstra over the corridors of that level), along the
@@ -22,6 +23,11 @@ Checks, exiting non-zero with a line starting FAIL on the first failure:
 - the ball never falls below the floor: its centre stays above the lowest floor under the
   route's waypoints (MuJoCo's or PyBullet's own ray casts) minus 1 m;
 - the whole drive takes at most three times the route's straight-line time plus 10 s.
+
+--to-level L: the route goes on by ramps (edges of kind "ramp", along their spiral floor) to
+the dead end of level L farthest from the start; a waypoint then counts as reached within 1 m
+horizontally and 1.5 m in height of its floor point (a spiral passes over its own waypoints),
+and the ball must stay above the floor under the waypoint it drives to (minus 1 m) all along.
 
 --gap removes the floor of one tile in the middle of the route from the collision world
 (MuJoCo: that tile's floor height field stops colliding; PyBullet: the collision mesh's floor
@@ -49,16 +55,20 @@ def option(argv, name, default):
     return argv[argv.index(name) + 1] if name in argv else default
 
 
-def route(graph):
-    """The waypoints (cell centres) from the start node to the farthest dead end of its level."""
+def route(graph, to_level=None):
+    """The waypoints (cell centres) from the start node to the farthest dead end of its level,
+    or, with to_level, of that level by ramps."""
     nodes = {n["id"]: n for n in graph["nodes"]}
     start = graph["start"]
     level = nodes[start]["level"]
+    goal_level = level if to_level is None else to_level
     adjacent = {}
     for e in graph["edges"]:
-        if e["kind"] != "corridor" or nodes[e["from"]]["level"] != level:
+        if to_level is not None and e["kind"] in ("corridor", "ramp"):
+            pass
+        elif e["kind"] != "corridor" or nodes[e["from"]]["level"] != level:
             continue
-        if nodes[e["to"]]["level"] != level:
+        elif nodes[e["to"]]["level"] != level:
             continue
         line = [tuple(p) for p in e["polyline"]]
         adjacent.setdefault(e["from"], []).append((e["to"], e["length_m"], line))
@@ -74,9 +84,10 @@ def route(graph):
                 dist[m] = d + length
                 back[m] = (n, line)
                 heapq.heappush(queue, (d + length, m))
-    ends = [n for n in dist if nodes[n]["kind"] == "dead-end" and n != start]
+    ends = [n for n in dist if nodes[n]["kind"] == "dead-end" and n != start
+            and nodes[n]["level"] == goal_level]
     if not ends:
-        sys.exit("FAIL: no dead end is reachable from the start on its level")
+        sys.exit(f"FAIL: no dead end of level {goal_level} is reachable from the start")
     goal = max(ends, key=lambda n: (dist[n], -n))
     lines, n = [], goal
     while n != start:
@@ -237,7 +248,9 @@ def main():
     graph = json.load(open(os.path.join(folder, "ground_truth", "graph.json")))
     topology = json.load(open(os.path.join(folder, "topology.json")))
     pitch = topology["tile_pitch_m"]
-    points, goal, length = route(graph)
+    to_level = option(argv, "--to-level", None)
+    to_level = None if to_level is None else int(to_level)
+    points, goal, length = route(graph, to_level)
     # The start and the goal on the floor, where the ground truth put them (from the collision
     # surface): a dead end's centre can be rock where a tile caps its passage early.
     spawn_file = os.path.join(folder, "ground_truth", "spawn_poses.json")
@@ -265,6 +278,8 @@ def main():
     if floors[0] is None or not found:
         sys.exit("FAIL: no floor under the start")
     lowest = min(found) - 1.0
+    if to_level is not None and None in floors:
+        sys.exit(f"FAIL: no floor under waypoint {floors.index(None)}")
     print(f"{engine}: loaded in {time.time() - t:.2f} s; floors under the waypoints "
           f"{min(found):.2f} .. {max(found):.2f} m ({floors.count(None)} without)")
     # Settle on the floor at the start.
@@ -276,12 +291,14 @@ def main():
     t = time.time()
     while i < len(points):
         pos, vel = sim.state()
-        if pos[2] < lowest:
+        under = lowest if to_level is None else min(floors[i - 1], floors[i]) - 1.0
+        if pos[2] < under:
             sys.exit(f"FAIL: the ball fell below the floor at {pos.round(2).tolist()} "
-                     f"(lowest floor {lowest + 1.0:.2f} m) on the way to waypoint {i} "
+                     f"(lowest floor {under + 1.0:.2f} m) on the way to waypoint {i} "
                      f"{points[i].tolist()}")
         to = points[i][:2] - pos[:2]
-        if np.linalg.norm(to) < REACH:
+        level = to_level is None or abs(pos[2] - RADIUS - points[i][2]) < 1.5
+        if np.linalg.norm(to) < REACH and level:
             worst = max(worst, since / (np.linalg.norm(points[i][:2] - points[i - 1][:2]) / speed))
             i, since = i + 1, 0.0
             continue

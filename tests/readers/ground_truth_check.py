@@ -32,6 +32,13 @@ seed = toml["world"]["seed"]
 topo = json.loads((world / "topology.json").read_text())
 KINDS = {1: "dead-end", 2: "straight", 3: "corner", 4: "t-junction", 5: "intersection",
          11: "shaft-up", 111: "shaft-landing"}
+# With world.connections = "ramp" both ends of a ramp are labelled `ramp`.
+RAMPS = toml["world"].get("connections") == "ramp"
+
+
+def label_kind(code):
+    return "ramp" if RAMPS and code in (11, 111) else KINDS[code]
+
 # Directions: east +col, north -row, west -col, south +row.
 STEPS = {"east": (0, 1), "north": (-1, 0), "west": (0, -1), "south": (1, 0)}
 
@@ -137,9 +144,22 @@ by_id = {d["edge_id"]: (u, v, d) for u, v, d in edges}
 for e, t in zip(g["edges"], topo["edges"]):
     u, v, d = by_id[e["id"]]
     assert {u, v} == {f"n{t['from']}", f"n{t['to']}"} and d["kind"] == t["kind"]
-    assert abs(d["length_m"] - t["length_m"]) < 1e-3 and d["length_cells"] == t["length_cells"]
     line = np.array(json.loads(d["polyline"]))
+    if t["kind"] == "ramp" and mesh is not None:
+        # A ramp's length is the length driven along its spiral (topology.json: the level height).
+        driven = np.linalg.norm(np.diff(line, axis=0), axis=1).sum()
+        assert abs(d["length_m"] - driven) < 1e-2 and driven > 2 * t["length_m"], (driven, t)
+    else:
+        assert abs(d["length_m"] - t["length_m"]) < 1e-3
+    assert d["length_cells"] == t["length_cells"]
     assert np.allclose(line, np.array(e["polyline"]), atol=1e-3)
+    # Least width and height (issue 15): numbers in both files with a mesh, absent without.
+    if mesh is None:
+        assert e["min_width_m"] is None and "min_width_m" not in d
+    else:
+        assert 0 < e["min_width_m"] <= 2 * pitch and 0 < e["min_height_m"]
+        assert abs(d["min_width_m"] - e["min_width_m"]) < 1e-3
+        assert abs(d["min_height_m"] - e["min_height_m"]) < 1e-3
     ends = [g["nodes"][t["from"]]["position"], g["nodes"][t["to"]]["position"]]
     assert np.allclose(line[[0, -1]], ends, atol=1e-3), "a polyline runs from node to node"
     if mesh is None:
@@ -164,8 +184,14 @@ with open(gt / "semantic_labels.csv", newline="") as f:
 assert len(table) == len(labels["tiles"]) == int((codes != 0).sum())
 for row, t in zip(table, labels["tiles"]):
     l, r, c = int(row["level"]), int(row["row"]), int(row["col"])
-    assert int(row["code"]) == codes[l, r, c] != 0 and row["kind"] == KINDS[codes[l, r, c]] == t["kind"]
+    assert int(row["code"]) == codes[l, r, c] != 0 and row["kind"] == label_kind(codes[l, r, c]) == t["kind"]
     opens = set(row["openings"].split())
+    # Chambers and squeezes (issue 15): the CSV's column, when present, says what the JSON does.
+    assert set(t.get("features", [])) <= {"chamber", "squeeze"}
+    if "features" in row:
+        assert set(row["features"].split()) == set(t.get("features", []))
+    else:
+        assert "features" not in t
     assert opens == set(t["openings"])
     for name, (dr, dc) in STEPS.items():
         rr, cc = r + dr, c + dc
@@ -202,10 +228,15 @@ for level in range(levels):
     in_cells = occupied(level, r, c)
     free = a == 254
     assert not (free & ~in_cells).any(), "free pixels only over occupied cells of this level"
-    cr, cc = np.nonzero(codes[level])
-    px = np.floor((cc * pitch - ox) / res).astype(int)
-    py = h - 1 - np.floor(((rows - 1 - cr) * pitch - oy) / res).astype(int)
-    assert free[py, px].all(), "every occupied cell's centre is free"
+    # Every tile's node (its own passage's floor: a cave's corner bends away from the cell
+    # centre) is free on its level's map (a ramp's cells have the spiral's rock pillar at
+    # their centre, and their nodes where the spiral leaves the level).
+    nodes = np.array([t["position"][:2] for t in labels["tiles"]
+                      if t["level"] == level and not (RAMPS and t["kind"] == "ramp")])
+    if len(nodes):
+        px = np.floor((nodes[:, 0] - ox) / res).astype(int)
+        py = h - 1 - np.floor((nodes[:, 1] - oy) / res).astype(int)
+        assert free[py, px].all(), "every tile's node is free"
     if mesh is None:
         assert (free == in_cells).all(), "without a mesh the map is the cells' squares"
         checked = "the cells' squares"
@@ -213,8 +244,21 @@ for level in range(levels):
         rng = np.random.default_rng(level)
         pick = np.concatenate([rng.choice(np.flatnonzero(free), 1000),
                                rng.choice(np.flatnonzero(in_cells & ~free), 1000)])
-        pts = np.column_stack([X.flat[pick], Y.flat[pick], np.full(len(pick), level * lh + 1.0)])
-        near = agree_with_mesh(pts, free.flat[pick], f"map level {level}")
+        # The map is a slice 1 m above the floor under each pixel: the level's nominal floor,
+        # or where a free stretch starts above it (sloping floors). Free stretches are the
+        # crossings' pairs (outside below the lowest), as the mesh is closed.
+        nominal = level * lh
+        near = 0
+        pts = np.column_stack([X.flat[pick], Y.flat[pick], np.zeros(len(pick))])
+        for p, zs, say in zip(pts, crossings(pts), free.flat[pick]):
+            assert len(zs) % 2 == 0, f"map level {level}: the surface is open above {p}"
+            stretches = [(zs[k], zs[k + 1]) for k in range(0, len(zs), 2) if zs[k] < nominal + 0.75 * lh]
+            slices = [max(z0, nominal) + 1.0 for z0, _ in stretches]
+            if any(min(abs(z - z0), abs(z - z1)) < 1e-3 for (z0, z1), z in zip(stretches, slices)):
+                near += 1
+                continue
+            inside = any(z0 < z < z1 for (z0, z1), z in zip(stretches, slices))
+            assert inside == say, f"map level {level}: {p[:2]} is {'free' if inside else 'rock'} 1 m above its floor, the file says {say}"
         checked = f"numpy ray parity at 2000 pixels ({near} within 1 mm of the surface)"
     print(f"ros map level {level}: {w} x {h} at {res} m, {int(free.sum())} free pixels, agrees with {checked}")
 

@@ -4,8 +4,8 @@ usage: hazards_pybullet_check.py WORLD_DIR
 
 Loads urdf/world.urdf as PyBullet does; each `hazard-<part>-<material>` link must have the
 material's friction as PyBullet's getDynamicsInfo reports it. Then casts a ray down at the
-centre of every tile with a floor patch (ground_truth/hazards.json) and of as many unpatched
-tiles (from ground_truth/semantic_labels.json): a patched tile's ray must hit its material's
+node of every tile with a floor patch (ground_truth/hazards.json) and of as many unpatched
+tiles (positions from ground_truth/semantic_labels.json, on each tile's own passage floor): a patched tile's ray must hit its material's
 link, an unpatched one the world's rock link. Prints a line per material; exits non-zero on a
 disagreement.
 """
@@ -40,9 +40,11 @@ def hit(x, y, z):
 
 patched = {(q["cell"]["level"], q["cell"]["row"], q["cell"]["col"]) for q in doc["patches"]}
 counts, hits = {}, 0
+# Each tile's node on its own passage's floor (ground truth): a corner's passage bends away
+# from the tile centre, and floors slope up from the level's nominal height (floor_z).
+anchor = {(t["level"], t["row"], t["col"]): t["position"] for t in labels}
 for q in doc["patches"]:
-    x0, y0, x1, y1 = q["bounds"]
-    h = hit((x0 + x1) / 2, (y0 + y1) / 2, q["floor_z"])
+    h = hit(*anchor[(q["cell"]["level"], q["cell"]["row"], q["cell"]["col"])])
     if h is None:
         continue
     hits += 1

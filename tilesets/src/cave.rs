@@ -5,6 +5,7 @@ use subtgraph_core::error::ConfigError;
 use subtgraph_core::mesh::Material;
 use subtgraph_core::params::Params;
 
+use crate::chambers::Rooms;
 use crate::field::{Passage, Profile};
 use crate::procedural::{Procedural, Style};
 
@@ -29,8 +30,17 @@ pub fn from_params(p: &Params) -> Result<Procedural, ConfigError> {
             profile: Box::new(Gallery),
             width: 0.34,
             height: 0.30,
-            // The default passage is the cave's.
-            shape: Passage::default(),
+            // The default passage is the cave's, with rooms at some junctions and dead ends and
+            // squeezes, narrow or low, along some corridors.
+            shape: Passage {
+                rooms: Rooms {
+                    chamber_rate: 0.3,
+                    chamber_size: [2.0, 3.0],
+                    squeeze_rate: 0.15,
+                    ..Rooms::default()
+                },
+                ..Passage::default()
+            },
             materials: vec![
                 Material::coloured("cave-wall", [0.46, 0.40, 0.33]),
                 Material::coloured("cave-floor", [0.36, 0.31, 0.26]),

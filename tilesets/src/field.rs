@@ -1,9 +1,12 @@
 //! The world-wide field a procedural tile set meshes: negative in the passages, positive in
 //! the rock, the same function of world position whichever tile evaluates it.
 //!
-//! Every occupied cell contributes half-corridors from its centre to each opening (a dead end
-//! is one half-corridor, rounded at the centre), the foot of a shaft adds a vertical passage
-//! to the level above, and rocks are solid blobs on the floor. Each contribution acts only in
+//! Every occupied cell contributes its passage's centrelines ([`bends`]: a
+//! corner's quarter circle, a straight's meander, or half-corridors from its centre to each
+//! opening; a dead end is one half-corridor, rounded at the centre), the foot of a shaft adds a
+//! vertical passage to the level above, and rocks are solid blobs on the floor. Floors are
+//! lifted by the level's smooth slope ([`slope`](crate::slope)), a function of the horizontal
+//! position, so shafts and rocks stand on the lifted floor. Each contribution acts only in
 //! its cell's block widened by half a pitch, so a tile needs only its 3 x 3 neighbourhood on
 //! its own level and the levels beside it, and two tiles evaluating a point on their shared
 //! face compute exactly the same number.
@@ -13,7 +16,10 @@ use subtgraph_core::grid::{Cell, Direction};
 use subtgraph_core::rng::WorldRng;
 use subtgraph_core::tile::TileKind;
 
+use crate::bends::{self, Bends, Centreline};
+use crate::chambers::{Chamber, Rooms, Squeeze};
 use crate::noise::Noise;
+use crate::slope::{Slope, Waves};
 
 /// Material indices used by the procedural tile sets.
 pub mod material {
@@ -61,6 +67,19 @@ pub struct Passage {
     pub shaft_radius: f64,
     /// Whether walls get striated bands.
     pub striations: bool,
+    /// Chambers, squeezes and the clearance they keep (see [`crate::chambers`]).
+    pub rooms: Rooms,
+    /// How passages turn at corner cells (see [`bends`]).
+    pub bends: Bends,
+    /// Greatest sideways meander of a straight cell's passage, metres.
+    pub meander: f64,
+    /// Default `[low, high]` range of the floors' steepest grade, degrees (`[tileset] grade`).
+    pub grade: [f64; 2],
+    /// How floors rise and fall (see [`slope`](crate::slope)); set for a world from `grade`.
+    pub slope: Slope,
+    /// Spacing of the collision lattice: rubble rocks and pits are never smaller, so the
+    /// collision mesh holds them (0: no minimum).
+    pub hazard_lattice: f64,
 }
 
 impl Default for Passage {
@@ -81,6 +100,12 @@ impl Default for Passage {
             rock_size: 0.12,
             shaft_radius: 0.3,
             striations: true,
+            rooms: Rooms::default(),
+            bends: Bends::Round,
+            meander: 0.08,
+            grade: [6.0, 12.0],
+            slope: Slope::flat(),
+            hazard_lattice: 0.0,
         }
     }
 }
@@ -89,15 +114,28 @@ impl Default for Passage {
 #[derive(Clone, Debug)]
 enum Feature {
     Corridor {
-        a: [f64; 2],
-        b: [f64; 2],
+        line: Centreline,
         floor: f64,
+        level: usize,
+        squeeze: Option<Squeeze>,
+    },
+    Chamber {
+        chamber: Chamber,
+        level: usize,
     },
     Shaft {
         c: [f64; 2],
         z0: f64,
         z1: f64,
         r: f64,
+    },
+    /// A drop's pit (`crate::rubble`).
+    Pit(crate::rubble::Pit),
+    /// A ramp's spiral (`crate::ramp`).
+    Ramp {
+        helix: Box<crate::ramp::Helix>,
+        /// The slopes' lift at the spiral's foot and top ([`crate::ramp::Helix::lift_at`]).
+        lifts: [f64; 2],
     },
 }
 
@@ -129,6 +167,9 @@ pub struct LocalField<'a> {
     profile: &'a dyn Profile,
     features: Vec<Bounded<Feature>>,
     rocks: Vec<Bounded<Rock>>,
+    /// The floor waves of levels `lmin ..= lmin + 2` (flat beyond the world's levels).
+    waves: [Waves; 3],
+    lmin: usize,
     walls: Noise,
     sizes: Noise,
     rubble: Noise,
@@ -142,6 +183,9 @@ pub struct Levels {
     pub height: f64,
     /// How far below its floor a level's block starts.
     pub below_floor: f64,
+    /// Metres between the collision lattice's points (ramps keep two of them of rock
+    /// between their turns).
+    pub coarse: f64,
 }
 
 impl Levels {
@@ -183,6 +227,19 @@ impl<'a> LocalField<'a> {
         let occ = &world.occupancy;
         let lmin = cell.level.saturating_sub(1);
         let lmax = (cell.level + 1).min(occ.levels() - 1);
+        let waves = [0, 1, 2].map(|i| {
+            if lmin + i < occ.levels() {
+                passage.slope.level(lmin + i)
+            } else {
+                Waves::FLAT
+            }
+        });
+        let lift = |l: usize, c: [f64; 2]| match waves.get(l - lmin) {
+            Some(w) => w.lift(c[0], c[1]),
+            // The landing of a shaft from the level above this tile's.
+            None => passage.slope.level(l).lift(c[0], c[1]),
+        };
+        let amp = passage.slope.amp;
         for l in lmin..=lmax {
             for dr in -1i64..=1 {
                 for dc in -1i64..=1 {
@@ -196,7 +253,7 @@ impl<'a> LocalField<'a> {
                     };
                     let [x, y, floor] = world.cell_position(n);
                     let (z0, z1) = levels.block_z(l);
-                    let (zlo, zhi) = (z0, (floor + top).min(z1));
+                    let (zlo, zhi) = (z0, (floor + amp + top).min(z1));
                     let mut ends: Vec<[f64; 2]> = Direction::ALL
                         .into_iter()
                         .filter(|d| tile.openings & d.bit() != 0)
@@ -208,57 +265,142 @@ impl<'a> LocalField<'a> {
                     if ends.is_empty() {
                         ends.push([x, y]);
                     }
-                    for &b in &ends {
+                    // A ramp's end: its lead replaces the half-corridor of the ramp's opening.
+                    let ramp = crate::ramp::shaft_of(world, n).and_then(|s| {
+                        let sizing =
+                            crate::ramp::Sizing::of(world, passage, lattice, levels.coarse);
+                        crate::ramp::plan(world, s, &sizing)
+                            .ok()
+                            .map(|h| (s.up == n, h))
+                    });
+                    let has_ramp = ramp.is_some();
+                    let mut leads = Vec::new();
+                    if let Some((foot, h)) = &ramp {
+                        let (a, b) = h.leads()[usize::from(!*foot)];
+                        ends.retain(|e| (e[0] - b[0]).abs() + (e[1] - b[1]).abs() > 1e-6);
+                        leads.push(Centreline::Segment { a, b });
+                    }
+                    let (chamber, squeeze) =
+                        crate::chambers::of_cell(world, n, tile.kind, passage, levels, lattice);
+                    if let Some(ch) = chamber {
+                        let zhi = floor
+                            + amp
+                            + ch.top(passage.height_variation)
+                            + passage.roughness
+                            + passage.floor_roughness
+                            + margin;
                         features.push(Bounded {
-                            lo: [x.min(b[0]) - reach, y.min(b[1]) - reach, zlo],
-                            hi: [x.max(b[0]) + reach, y.max(b[1]) + reach, zhi],
-                            item: Feature::Corridor {
-                                a: [x, y],
-                                b,
-                                floor,
+                            lo: [x - half, y - half, zlo],
+                            hi: [x + half, y + half, zhi.min(z1)],
+                            item: Feature::Chamber {
+                                chamber: ch,
+                                level: l,
                             },
                         });
                     }
-                    if tile.kind == TileKind::ShaftUp && l + 1 < occ.levels() {
-                        let above = floor + levels.height;
+                    let key = ((l as u64) << 40) | ((n.row as u64) << 20) | n.col as u64;
+                    let sway = bends::meander(seed, key, passage.meander);
+                    // A ramp cell whose only opening is the ramp's has no half-corridor.
+                    let mut lines = if ends.is_empty() {
+                        Vec::new()
+                    } else {
+                        bends::centrelines([x, y], &ends, passage.bends, sway)
+                    };
+                    lines.extend(leads);
+                    for &line in &lines {
+                        let (lo, hi) = line.bounds();
+                        features.push(Bounded {
+                            lo: [lo[0] - reach, lo[1] - reach, zlo],
+                            hi: [hi[0] + reach, hi[1] + reach, zhi],
+                            item: Feature::Corridor {
+                                line,
+                                floor,
+                                level: l,
+                                squeeze,
+                            },
+                        });
+                    }
+                    if let Some((true, h)) = ramp {
+                        let [(a0, _), (a1, _)] = h.leads();
+                        let lifts = [lift(l, a0), lift(l + 1, a1)];
+                        let (lo, mut hi) = h.bounds(margin + passage.roughness);
+                        hi[2] += lifts[0].max(lifts[1]);
+                        features.push(Bounded {
+                            lo,
+                            hi,
+                            item: Feature::Ramp {
+                                helix: Box::new(h),
+                                lifts,
+                            },
+                        });
+                    } else if tile.kind == TileKind::ShaftUp
+                        && l + 1 < occ.levels()
+                        && crate::ramp::shaft_of(world, n).is_none()
+                    {
+                        let above = floor + levels.height + lift(l + 1, [x, y]);
+                        let foot = floor + lift(l, [x, y]);
                         let r = passage.shaft_radius * passage.width;
                         let w = (r + passage.roughness + margin).min(half);
                         features.push(Bounded {
-                            lo: [x - w, y - w, floor],
+                            lo: [x - w, y - w, foot],
                             hi: [x + w, y + w, above + 0.5 + margin],
                             item: Feature::Shaft {
                                 c: [x, y],
-                                z0: floor + 0.5,
+                                z0: foot + 0.5,
                                 z1: above + 0.5,
                                 r,
                             },
                         });
                     }
-                    let key = ((l as u64) << 40) | ((n.row as u64) << 20) | n.col as u64;
                     let mut rng = WorldRng::new(seed, "rocks", key);
                     let count = passage.rocks.floor() as u32
                         + u32::from(rng.unit() < passage.rocks.fract());
+                    // No rocks in a squeeze (the passage there is already as tight as allowed)
+                    // nor in a ramp's cells.
+                    let count = if squeeze.is_some() || has_ramp || lines.is_empty() {
+                        0
+                    } else {
+                        count
+                    };
                     for _ in 0..count {
-                        let b = ends[rng.below(ends.len() as u64) as usize];
-                        let t = rng.float_in(0.15, 0.85);
-                        let (ax, ay) = (x + (b[0] - x) * t, y + (b[1] - y) * t);
+                        let line = lines[rng.below(lines.len() as u64) as usize];
+                        let ([ax, ay], [dx, dy]) = line.at(rng.float_in(0.15, 0.85));
                         // Sideways toward a wall, on the floor.
-                        let (dx, dy) = (b[0] - x, b[1] - y);
-                        let len = (dx * dx + dy * dy).sqrt().max(1e-9);
                         let side = if rng.coin() { 1.0 } else { -1.0 };
-                        let off = rng.float_in(0.15, 0.35) * passage.width * side;
                         let radius = passage.rock_size * rng.float_in(0.6, 1.2);
-                        let c = [
-                            ax - dy / len * off,
-                            ay + dx / len * off,
-                            floor + 0.15 * radius,
-                        ];
+                        // Out of the robot's box about the axis (`min_clearance`).
+                        let off = rng.float_in(0.15, 0.35).max(
+                            (0.5 * passage.rooms.min_clearance[0] + 1.3 * radius + 0.5)
+                                / passage.width,
+                        ) * passage.width
+                            * side;
+                        let (cx, cy) = (ax - dy * off, ay + dx * off);
+                        let c = [cx, cy, floor + lift(l, [cx, cy]) + 0.15 * radius];
                         let w = radius + passage.roughness + margin;
                         rocks.push(Bounded {
                             lo: [c[0] - w, c[1] - w, c[2] - w],
                             hi: [c[0] + w, c[1] + w, c[2] + w],
                             item: Rock { c, r: radius },
                         });
+                    }
+                    // `[hazards]` rubble rocks and drops: `crate::rubble`.
+                    if let Some(h) = crate::rubble::tile_hazard(world, n, passage, profile) {
+                        for (c, r) in h.rocks {
+                            let w = r + passage.roughness + margin;
+                            rocks.push(Bounded {
+                                lo: [c[0] - w, c[1] - w, c[2] - w],
+                                hi: [c[0] + w, c[1] + w, c[2] + w],
+                                item: Rock { c, r },
+                            });
+                        }
+                        if let Some(pit) = h.pit {
+                            let w = pit.r + margin;
+                            features.push(Bounded {
+                                lo: [pit.c[0] - w, pit.c[1] - w, (pit.bottom - margin).max(z0)],
+                                hi: [pit.c[0] + w, pit.c[1] + w, pit.top + margin],
+                                item: Feature::Pit(pit),
+                            });
+                        }
                     }
                 }
             }
@@ -268,6 +410,8 @@ impl<'a> LocalField<'a> {
             profile,
             features,
             rocks,
+            waves,
+            lmin,
             walls: Noise::new(seed, "walls"),
             sizes: Noise::new(seed, "sizes"),
             rubble: Noise::new(seed, "rubble"),
@@ -282,6 +426,7 @@ impl<'a> LocalField<'a> {
         Column {
             width: ps.width * (1.0 + ps.width_variation * self.sizes.at(x * s, y * s, 0.5)),
             height: ps.height * (1.0 + ps.height_variation * self.sizes.at(x * s, y * s, 7.5)),
+            lift: self.waves.map(|w| w.lift(x, y)),
             rubble: if ps.floor_roughness > 0.0 {
                 ps.floor_roughness * (0.5 + 0.5 * self.rubble.fbm(x / 1.5, y / 1.5, 0.0, 2))
             } else {
@@ -316,15 +461,43 @@ impl<'a> LocalField<'a> {
                 continue;
             }
             let (base, v, wall) = match f.item {
-                Feature::Corridor { a, b, floor } => {
-                    let u = segment_distance([p[0], p[1]], a, b);
-                    let v = p[2] - floor - col.rubble;
+                Feature::Corridor {
+                    line,
+                    floor,
+                    level,
+                    squeeze,
+                } => {
+                    let u = line.distance([p[0], p[1]]);
+                    let v = p[2] - floor - col.lift[level - self.lmin] - col.rubble;
                     let wall = v.clamp(0.0, 1.0);
-                    (self.profile.section(u, v, col.width, col.height), v, wall)
+                    let [w, h] =
+                        squeeze.map_or([1.0, 1.0], |s| s.scale(line.from_middle([p[0], p[1]])));
+                    (
+                        self.profile.section(u, v, w * col.width, h * col.height),
+                        v,
+                        wall,
+                    )
+                }
+                Feature::Chamber { ref chamber, level } => {
+                    let q = [p[0], p[1], p[2] - col.lift[level - self.lmin]];
+                    let (base, v) = chamber.section(
+                        self.profile,
+                        q,
+                        col.width / ps.width,
+                        col.height / ps.height,
+                        col.rubble,
+                    );
+                    (base, v, v.clamp(0.0, 1.0))
                 }
                 Feature::Shaft { c, z0, z1, r } => {
                     let d = ((p[0] - c[0]).powi(2) + (p[1] - c[1]).powi(2)).sqrt();
                     ((d - r).max(z0 - p[2]).max(p[2] - z1), 10.0, 1.0)
+                }
+                Feature::Pit(ref pit) => (pit.value(p), 0.0, 0.0),
+                Feature::Ramp { ref helix, lifts } => {
+                    let q = [p[0], p[1], p[2] - helix.lift_at(lifts, p[2])];
+                    let (base, v) = helix.section(q, self.profile, col.rubble);
+                    (base, v, v.clamp(0.0, 1.0))
                 }
             };
             let value = if base.abs() < cutoff && wall > 0.0 {
@@ -375,17 +548,13 @@ pub struct Column {
     width: f64,
     height: f64,
     rubble: f64,
+    /// Floor lift of levels `lmin ..= lmin + 2` here.
+    lift: [f64; 3],
 }
 
-/// Distance from `p` to the segment `a`-`b` in the plane.
-fn segment_distance(p: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
-    let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
-    let len2 = dx * dx + dy * dy;
-    let t = if len2 > 0.0 {
-        (((p[0] - a[0]) * dx + (p[1] - a[1]) * dy) / len2).clamp(0.0, 1.0)
-    } else {
-        0.0
-    };
-    let (qx, qy) = (a[0] + t * dx - p[0], a[1] + t * dy - p[1]);
-    (qx * qx + qy * qy).sqrt()
+impl Column {
+    /// The floor rubble's height here, metres.
+    pub fn rubble(&self) -> f64 {
+        self.rubble
+    }
 }

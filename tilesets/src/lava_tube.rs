@@ -5,8 +5,11 @@ use subtgraph_core::error::ConfigError;
 use subtgraph_core::mesh::Material;
 use subtgraph_core::params::Params;
 
+use crate::bends::Bends;
+use crate::chambers::Rooms;
 use crate::field::{Passage, Profile};
 use crate::procedural::{Procedural, Style};
+use crate::slope::Slope;
 
 /// An ellipse cut by a flat floor, with side benches.
 #[derive(Clone, Copy, Debug, Default)]
@@ -46,6 +49,21 @@ pub fn from_params(p: &Params) -> Result<Procedural, ConfigError> {
                 rock_size: 0.08,
                 shaft_radius: 0.28,
                 striations: false,
+                // Lava tubes widen into rooms where flows met or ponded, and close down to
+                // low crawls where the roof sagged or the floor rose: squeezes are mostly low.
+                rooms: Rooms {
+                    chamber_rate: 0.3,
+                    chamber_size: [1.8, 2.6],
+                    squeeze_rate: 0.12,
+                    squeeze_factor: [0.45, 0.7],
+                    low_share: 0.8,
+                    ..Rooms::default()
+                },
+                bends: Bends::Round,
+                meander: 0.06,
+                grade: [3.0, 6.0],
+                slope: Slope::flat(),
+                hazard_lattice: 0.0,
             },
             materials: vec![
                 Material::coloured("lava-tube-wall", [0.25, 0.22, 0.21]),

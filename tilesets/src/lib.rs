@@ -19,7 +19,9 @@
 use subtgraph_core::registry::{DuplicateName, Registry};
 use subtgraph_core::tileset::TileSet;
 
+pub mod bends;
 pub mod cave;
+pub mod chambers;
 pub mod field;
 pub mod lava_tube;
 pub mod marching;
@@ -27,6 +29,9 @@ pub mod mesh_files;
 pub mod mine;
 pub mod noise;
 pub mod procedural;
+pub mod ramp;
+pub mod rubble;
+pub mod slope;
 
 /// Adds the built-in tile sets to a registry.
 pub fn register(registry: &mut Registry) -> Result<(), DuplicateName> {

@@ -5,8 +5,11 @@ use subtgraph_core::error::ConfigError;
 use subtgraph_core::mesh::Material;
 use subtgraph_core::params::Params;
 
+use crate::bends::Bends;
+use crate::chambers::Rooms;
 use crate::field::{Passage, Profile};
 use crate::procedural::{Procedural, Style};
+use crate::slope::Slope;
 
 /// A drift profile: walls up to 60 % of the height, then an elliptical arch.
 #[derive(Clone, Copy, Debug, Default)]
@@ -48,6 +51,20 @@ pub fn from_params(p: &Params) -> Result<Procedural, ConfigError> {
                 rock_size: 0.08,
                 shaft_radius: 0.3,
                 striations: false,
+                // Drifts are driven to a size: no squeezes and, unless asked for
+                // (`chambers = { rate = ... }`), no rooms; asked for, a room is rectangular
+                // (a stope or a pump station cut at a junction or the end of a drift).
+                rooms: Rooms {
+                    chamber_round: false,
+                    chamber_size: [2.0, 2.5],
+                    ..Rooms::default()
+                },
+                // Drifts are driven straight and meet at right angles.
+                bends: Bends::Square,
+                meander: 0.0,
+                grade: [1.0, 3.0],
+                slope: Slope::flat(),
+                hazard_lattice: 0.0,
             },
             materials: vec![
                 Material::coloured("mine-wall", [0.42, 0.40, 0.37]),

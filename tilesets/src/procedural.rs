@@ -5,7 +5,9 @@
 use serde::Deserialize;
 use subtgraph_core::Layout;
 use subtgraph_core::budget::TileTriangles;
+use subtgraph_core::config::Connections;
 use subtgraph_core::error::ConfigError;
+use subtgraph_core::grid::Shaft;
 use subtgraph_core::mesh::Material;
 use subtgraph_core::params::Params;
 use subtgraph_core::tile::TileKind;
@@ -13,8 +15,11 @@ use subtgraph_core::tileset::{
     CrossSection, Seams, TileContext, TileGeometry, TileSet, TileSetError,
 };
 
+use crate::chambers::{ChamberSettings, SqueezeSettings, least_factors};
 use crate::field::{Column, Levels, LocalField, Passage, Profile, material};
 use crate::marching::{Block, polygonise_columns};
+use crate::ramp::{self, Helix, Sizing, Unfit};
+use crate::slope::Slope;
 
 /// Triangles per lattice cell of surface that marching tetrahedra make on these fields
 /// (measured on the presets; see the test `estimates_follow_the_meshes`).
@@ -44,6 +49,15 @@ pub struct Settings {
     pub collision_resolution: Option<u32>,
     /// Which surface materials to paint; others fall back to the wall material.
     pub materials: Option<Vec<String>>,
+    /// Rooms at junctions and dead ends (see [`crate::chambers`]).
+    pub chambers: Option<ChamberSettings>,
+    /// Narrow or low places along corridors.
+    pub squeezes: Option<SqueezeSettings>,
+    /// `[width, height]`, metres: the least room a squeeze leaves (a robot's size).
+    pub min_clearance: Option<[f64; 2]>,
+    /// `[low, high]` degrees: the steepest grade of the floors, drawn per world from this range
+    /// (`[0, 0]` for flat floors).
+    pub grade: Option<[f64; 2]>,
 }
 
 /// A style: the look of one cave type, relative to the tile pitch.
@@ -103,6 +117,9 @@ impl Procedural {
                 ));
             }
         }
+        if let Some(why) = settings.grade.and_then(crate::slope::invalid) {
+            return Err(params.error("grade", why));
+        }
         let res = settings.resolution.unwrap_or(24);
         if let Some(c) = settings.collision_resolution {
             if c < 4 || c % 2 != 0 || res % c != 0 {
@@ -112,6 +129,7 @@ impl Procedural {
                 ));
             }
         }
+        check_rooms(&settings, params)?;
         let mut enabled = [true; 4];
         if let Some(list) = &settings.materials {
             let names: Vec<&str> = style.materials.iter().map(|m| m.name.as_str()).collect();
@@ -148,7 +166,13 @@ impl Procedural {
             .unwrap_or(self.style.width * pitch)
             .min(world.resolved.max_width);
         let base = &self.style.shape;
-        Passage {
+        // A straight cell's meander keeps the widest passage inside its cell, two lattice
+        // cells clear of its sides.
+        let half_width = 0.5 * width * (1.0 + base.width_variation)
+            + s.roughness.unwrap_or(base.roughness * width);
+        let lattice = pitch / f64::from(self.resolution().0);
+        let room = 0.5 * pitch - half_width - 2.0 * lattice;
+        let mut passage = Passage {
             width,
             height: s.height.unwrap_or(self.style.height * pitch),
             roughness: s.roughness.unwrap_or(base.roughness * width),
@@ -157,8 +181,89 @@ impl Procedural {
             rocks: s.rocks.unwrap_or(self.style.rocks),
             rock_size: base.rock_size * width,
             variation_scale: base.variation_scale * pitch,
+            rooms: self.rooms(world, width),
+            meander: (base.meander * pitch).min(room).max(0.0),
+            hazard_lattice: pitch / f64::from(self.resolution().1),
             ..base.clone()
+        };
+        passage.slope = self.slope(world, &passage);
+        passage
+    }
+
+    /// The grade range, degrees: as asked for (refused by [`TileSet::check`] when its rise
+    /// does not fit under the next level), or the style's default, lowered to what fits.
+    fn grade(&self, world: &Layout, p: &Passage) -> [f64; 2] {
+        if let Some(g) = self.settings.grade {
+            return g;
         }
+        let [low, high] = self.style.shape.grade;
+        let room = self.lift_room(world, p).max(0.0);
+        let fits = (room * std::f64::consts::PI / world.resolved.tile_pitch)
+            .atan()
+            .to_degrees();
+        let high = high.min(0.999 * fits);
+        [low.min(high), high]
+    }
+
+    /// Metres a floor may rise above its level's nominal floor: what the passage's highest
+    /// ceiling leaves below the next level's block (on one level, the same margin below the top
+    /// of its own block, so the ceiling stays a closed surface inside the tile).
+    fn lift_room(&self, world: &Layout, p: &Passage) -> f64 {
+        let levels = self.levels(world);
+        let top = p.height * (1.0 + p.height_variation) + p.roughness + p.floor_roughness;
+        world.resolved.level_height - 2.0 * levels.below_floor - top
+    }
+
+    /// The floors' waves: as long as a few tiles (at least one pitch, at most three), shorter
+    /// where a long wave's rise would not fit under the next level.
+    fn slope(&self, world: &Layout, p: &Passage) -> Slope {
+        let [_, high] = self.grade(world, p);
+        if high <= 0.0 {
+            return Slope::flat();
+        }
+        let pitch = world.resolved.tile_pitch;
+        let room = self.lift_room(world, p).max(0.0);
+        let wavelength =
+            (room * std::f64::consts::PI / high.to_radians().tan()).clamp(pitch, 3.0 * pitch);
+        let grade = crate::slope::draw_grade(world.resolved.seed, self.grade(world, p));
+        Slope::new(world.resolved.seed, grade, wavelength)
+    }
+
+    /// Chambers and squeezes in metres: the style's defaults and the user's keys, with the
+    /// least squeeze factors that keep `min_clearance` (and the wall relief, and half a
+    /// collision lattice cell for the coarser collision surface) clear.
+    fn rooms(&self, world: &Layout, width: f64) -> crate::chambers::Rooms {
+        let pitch = world.resolved.tile_pitch;
+        let s = &self.settings;
+        let base = &self.style.shape;
+        let mut rooms = base.rooms.clone();
+        rooms.squeeze_length = rooms.squeeze_length.map(|l| l * pitch);
+        if let Some(c) = &s.chambers {
+            rooms.chamber_rate = c.rate.unwrap_or(rooms.chamber_rate);
+            rooms.chamber_size = c.size.unwrap_or(rooms.chamber_size);
+        }
+        if let Some(q) = &s.squeezes {
+            rooms.squeeze_rate = q.rate.unwrap_or(rooms.squeeze_rate);
+            rooms.squeeze_length = q.length.unwrap_or(rooms.squeeze_length);
+            rooms.squeeze_factor = q.factor.unwrap_or(rooms.squeeze_factor);
+        }
+        rooms.min_clearance = s.min_clearance.unwrap_or(rooms.min_clearance);
+        let height = s.height.unwrap_or(self.style.height * pitch);
+        let relief = s.roughness.unwrap_or(base.roughness * width);
+        // Half a collision lattice cell, and what a sloping floor (`tilesets/src/slope.rs`)
+        // rises across the box: slopes run any way, so the floor tilts across passages too.
+        let steepest = s.grade.map_or(base.grade[1], |g| g[1]).max(0.0);
+        let slack = 0.5 * pitch / f64::from(self.resolution().1)
+            + steepest.to_radians().tan() * rooms.min_clearance[0];
+        rooms.least_factor = least_factors(
+            self.style.profile.as_ref(),
+            width * (1.0 - base.width_variation),
+            height * (1.0 - base.height_variation),
+            rooms.min_clearance,
+            relief,
+            slack,
+        );
+        rooms
     }
 
     fn resolution(&self) -> (u32, u32) {
@@ -168,10 +273,68 @@ impl Procedural {
 
     fn levels(&self, world: &Layout) -> Levels {
         let h = world.resolved.tile_pitch / f64::from(self.resolution().0);
+        let mut below_floor = (0.12 * world.resolved.level_height).max(2.0 * h);
+        if crate::rubble::has_drops(world) {
+            // A drop's pit, and two lattice cells of rock under it. The pit's depth comes from
+            // the nominal height alone: `passage()` needs the levels (through the slopes' room
+            // and the chambers' fit), so calling it here would recurse.
+            let height = self
+                .settings
+                .height
+                .unwrap_or(self.style.height * world.resolved.tile_pitch);
+            below_floor = below_floor.max(crate::rubble::pit_depth(height) + 2.0 * h);
+        }
         Levels {
             height: world.resolved.level_height,
-            below_floor: (0.12 * world.resolved.level_height).max(2.0 * h),
+            below_floor,
+            coarse: world.resolved.tile_pitch / f64::from(self.resolution().1),
         }
+    }
+
+    /// The ramp of `shaft` when the world has ramps, or why it does not fit.
+    fn ramp_plan(&self, world: &Layout, shaft: &Shaft) -> Result<Option<Helix>, TileSetError> {
+        if world.resolved.connections != Connections::Ramp {
+            return Ok(None);
+        }
+        let p = self.passage(world);
+        let (visual, collision) = self.resolution();
+        let pitch = world.resolved.tile_pitch;
+        let sizing = Sizing::of(
+            world,
+            &p,
+            pitch / f64::from(visual),
+            pitch / f64::from(collision),
+        );
+        let name = self.style.name;
+        ramp::plan(world, shaft, &sizing)
+            .map(Some)
+            .map_err(|e| {
+                match e {
+            Unfit::Narrow { width, room } => TileSetError::Unsuited {
+                what: format!(
+                    "{name}: a ramp of passages {width:.1} m wide leaves no rock pillar in tiles \
+                     {pitch} m apart (the spiral must stay within {room:.1} m of the cell's centre)"
+                ),
+                fix: "use a smaller [tileset] width, a larger world.tile_pitch, a finer [tileset] \
+                      resolution or collision_resolution (the pillar must hold collision lattice \
+                      cells), or world.connections = \"shaft\""
+                    .into(),
+            },
+            Unfit::Steep { grade } => TileSetError::Unsuited {
+                what: format!(
+                    "{name}: the gentlest ramp between levels {} m apart in tiles {pitch} m apart \
+                     climbs at {grade:.1} degrees, steeper than world.ramp_grade = {} (each turn \
+                     must hold the {:.1} m high spiral passage and rock above it)",
+                    world.resolved.level_height,
+                    world.resolved.ramp_grade,
+                    sizing.height
+                ),
+                fix: "raise world.ramp_grade, use a larger world.tile_pitch or a lower [tileset] \
+                      height, or set world.connections = \"shaft\""
+                    .into(),
+            },
+        }
+            })
     }
 
     fn block(world: &Layout, cell: subtgraph_core::grid::Cell, n: u32, levels: Levels) -> Block {
@@ -191,6 +354,60 @@ impl Procedural {
             h,
         }
     }
+}
+
+/// Checks the `chambers`, `squeezes` and `min_clearance` keys' values.
+fn check_rooms(s: &Settings, params: &Params) -> Result<(), ConfigError> {
+    let share = |v: Option<f64>| v.is_some_and(|v| !(0.0..=1.0).contains(&v));
+    let range = |r: Option<[f64; 2]>, lo: f64, hi: f64| {
+        r.is_some_and(|[a, b]| !(a.is_finite() && b.is_finite() && lo <= a && a <= b && b <= hi))
+    };
+    if let Some(c) = &s.chambers {
+        if share(c.rate) {
+            return Err(params.error(
+                "chambers.rate",
+                "must be from 0 to 1 (the share of junction and dead-end tiles with a chamber)",
+            ));
+        }
+        if range(c.size, 1.0, 10.0) {
+            return Err(params.error(
+                "chambers.size",
+                "must be [low, high] passage widths with 1 <= low <= high <= 10, e.g. \
+                 size = [2.0, 3.0] (a chamber is also clamped to fit its tile)",
+            ));
+        }
+    }
+    if let Some(q) = &s.squeezes {
+        if share(q.rate) {
+            return Err(params.error(
+                "squeezes.rate",
+                "must be from 0 to 1 (the share of straight and corner tiles with a squeeze)",
+            ));
+        }
+        if range(q.length, 0.0, 1e4) {
+            return Err(params.error(
+                "squeezes.length",
+                "must be [low, high] metres with 0 <= low <= high, e.g. length = [3.0, 8.0]",
+            ));
+        }
+        if range(q.factor, 0.0, 1.0) || q.factor.is_some_and(|f| f[0] <= 0.0) {
+            return Err(params.error(
+                "squeezes.factor",
+                "must be [low, high] with 0 < low <= high <= 1 (the passage's size at the \
+                 squeeze as a share of its size), e.g. factor = [0.45, 0.7]",
+            ));
+        }
+    }
+    if s.min_clearance
+        .is_some_and(|c| c.iter().any(|v| !(v.is_finite() && *v > 0.0)))
+    {
+        return Err(params.error(
+            "min_clearance",
+            "must be [width, height] in metres, both positive (a robot's size), e.g. \
+             min_clearance = [1.0, 1.0]",
+        ));
+    }
+    Ok(())
 }
 
 impl TileSet for Procedural {
@@ -227,13 +444,22 @@ impl TileSet for Procedural {
         let (mut collision, collision_seam) =
             polygonise_columns(block(collision_n), material::ROCK, column, paint);
         collision.materials.clear();
+        let (chamber, squeeze) =
+            crate::chambers::of_cell(world, ctx.cell, ctx.tile.kind, &passage, levels, fine);
+        // No rubble or drop in a squeeze (`crate::rubble::tile_hazard` says none there).
+        let hazards =
+            crate::rubble::tile_hazard(world, ctx.cell, &passage, self.style.profile.as_ref())
+                .map(|h| vec![h.region])
+                .unwrap_or_default();
         Ok(TileGeometry {
+            labels: crate::chambers::labels(&chamber, &squeeze),
             visual,
             collision,
             seams: Seams::Listed {
                 visual: visual_seam,
                 collision: collision_seam,
             },
+            hazards,
         })
     }
 
@@ -255,6 +481,24 @@ impl TileSet for Procedural {
 
         let levels = self.levels(world);
         let name = self.style.name;
+        if let Some([cw, ch]) = self.settings.min_clearance {
+            let least = p.rooms.least_factor;
+            if least[0] > 1.0 || least[1] > 1.0 {
+                return Err(TileSetError::Unsuited {
+                    what: format!(
+                        "{name}: [tileset] min_clearance = [{cw}, {ch}] does not fit even the \
+                         unsqueezed passage ({:.1} m wide, {:.1} m high at its narrowest, less \
+                         {:.2} m of wall relief and half a collision lattice cell)",
+                        p.width * (1.0 - p.width_variation),
+                        p.height * (1.0 - p.height_variation),
+                        p.roughness
+                    ),
+                    fix: "lower [tileset] min_clearance (a robot's width and height, metres), \
+                          or widen the passage ([tileset] width, height)"
+                        .into(),
+                });
+            }
+        }
         let half_width = 0.5 * p.width * (1.0 + p.width_variation) + p.roughness;
         let room = 0.5 * pitch - 2.0 * pitch / f64::from(self.resolution().0);
         if half_width > room {
@@ -275,8 +519,31 @@ impl TileSet for Procedural {
                 fix: "use a smaller [tileset] width".into(),
             });
         }
+        for s in &world.shafts {
+            self.ramp_plan(world, s)?;
+        }
         let top = p.height * (1.0 + p.height_variation) + p.roughness + p.floor_roughness;
         let head = world.resolved.level_height - 2.0 * levels.below_floor;
+        let [low, high] = self.grade(world, &p);
+        let room = self.lift_room(world, &p);
+        if high > 0.0 {
+            let most = high.to_radians().tan() * world.resolved.tile_pitch / std::f64::consts::PI;
+            if most > room {
+                return Err(TileSetError::Unsuited {
+                    what: format!(
+                        "{name}: [tileset] grade = [{low}, {high}] makes floors rise {most:.1} m \
+                         within one tile pitch, but passages up to {top:.1} m high leave only \
+                         {:.1} m below the next level (levels {} m apart)",
+                        room.max(0.0),
+                        world.resolved.level_height
+                    ),
+                    fix: format!(
+                        "lower the high end of [tileset] grade (now {high} degrees), lower \
+                         [tileset] height, or raise world.level_height"
+                    ),
+                });
+            }
+        }
         if world.resolved.levels > 1 && top > head {
             return Err(TileSetError::Unsuited {
                 what: format!(
@@ -291,6 +558,35 @@ impl TileSet for Procedural {
 
     fn texture_scale(&self) -> f32 {
         3.0
+    }
+
+    fn makes_hazards(&self) -> bool {
+        true
+    }
+
+    fn ramp(&self, world: &Layout, shaft: &Shaft) -> Option<Vec<[f64; 3]>> {
+        let h = self.ramp_plan(world, shaft).ok()??;
+        let p = self.passage(world);
+        let field = LocalField::around(
+            world,
+            shaft.up,
+            &p,
+            self.style.profile.as_ref(),
+            self.levels(world),
+            1.0,
+        );
+        // The floors' slopes lift the spiral's ends as the field does (`LocalField::around`).
+        let [(a0, _), (a1, _)] = h.leads();
+        let lifts = [
+            p.slope.level(shaft.up.level).lift(a0[0], a0[1]),
+            p.slope.level(shaft.up.level + 1).lift(a1[0], a1[1]),
+        ];
+        Some(
+            h.floor_line()
+                .into_iter()
+                .map(|[x, y, z]| [x, y, z + h.lift_at(lifts, z) + field.column(x, y).rubble()])
+                .collect(),
+        )
     }
 
     fn estimate(&self, world: &Layout, kind: TileKind) -> Option<TileTriangles> {

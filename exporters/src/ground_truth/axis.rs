@@ -54,6 +54,8 @@ const KEEP_M: f64 = 2.5;
 /// metres from the path (round a boulder or a bend: a body driven from point to point in
 /// straight lines must stay where the path found room).
 const CHORD: f64 = 0.25;
+/// Least horizontal run over which [`Axes::grade`] measures a rise, metres.
+pub(crate) const GRADE_RUN: f64 = 4.0;
 /// What a metre of floor height between neighbouring lines costs, in metres along.
 const CLIMB: u64 = 10;
 /// How strongly paths keep away from walls: a step next to a wall costs `1 + WALL` times a step
@@ -107,11 +109,63 @@ impl Axes {
         axes
     }
 
+    /// The axes of `cells` only (the tiles artifacts stand in), as [`of`](Self::of) finds
+    /// them.
+    pub fn of_cells(world: &World, passages: &Passages, cells: &[Cell]) -> Axes {
+        let mut axes = Axes::default();
+        if matches!(passages, Passages::Grid(_)) {
+            return axes;
+        }
+        let found: Vec<Option<TileAxis>> = cells
+            .par_iter()
+            .map(|&c| tile_axis(world, passages, c))
+            .collect();
+        for (&c, a) in cells.iter().zip(found) {
+            match a {
+                Some(a) => {
+                    axes.tiles.insert(c, a);
+                }
+                None => axes.fallback += 1,
+            }
+        }
+        axes
+    }
+
+    /// Every point of a tile's axis: its anchor and its paths to the openings (the grid
+    /// centre alone for a tile without an axis).
+    pub fn tile_points(&self, world: &World, c: Cell) -> Vec<[f64; 3]> {
+        match self.tiles.get(&c) {
+            Some(a) => std::iter::once(a.anchor)
+                .chain(a.exits.iter().flatten().copied())
+                .collect(),
+            None => vec![world.cell_position(c)],
+        }
+    }
+
     /// Where a tile's node stands: its anchor, or the grid centre.
     pub fn position(&self, world: &World, c: Cell) -> [f64; 3] {
         self.tiles
             .get(&c)
             .map_or_else(|| world.cell_position(c), |a| a.anchor)
+    }
+
+    /// The steepest grade of a tile's floor along its axis, degrees: rise over run from the
+    /// anchor along each exit, between points at least [`GRADE_RUN`] metres apart horizontally
+    /// (nearer points are merged, so rubble is not a grade). `None` without an axis.
+    pub fn grade(&self, c: Cell) -> Option<f64> {
+        let a = self.tiles.get(&c)?;
+        let mut worst: f64 = 0.0;
+        for exit in &a.exits {
+            let mut last = a.anchor;
+            for &p in exit {
+                let run = (p[0] - last[0]).hypot(p[1] - last[1]);
+                if run >= GRADE_RUN {
+                    worst = worst.max((p[2] - last[2]).abs().atan2(run).to_degrees());
+                    last = p;
+                }
+            }
+        }
+        Some(worst)
     }
 
     /// The centreline through `cells` (consecutive cells of one corridor, or a shaft's two
@@ -143,6 +197,29 @@ impl Axes {
         }
         out
     }
+}
+
+/// The floor line of the ramp joining `cells` (a ramp's foot and landing), when the world's
+/// mesh has one.
+pub(crate) fn ramp_line<'a>(world: &'a World, cells: &[Cell]) -> Option<&'a [[f64; 3]]> {
+    let i = world
+        .shafts
+        .iter()
+        .position(|s| cells.first() == Some(&s.up) && cells.last() == Some(&s.landing))?;
+    world.mesh()?.ramps.get(i).map(Vec::as_slice)
+}
+
+/// Where a ramp's floor line leaves the level of `c`, when `c` is a ramp's foot or landing.
+fn ramp_end(world: &World, c: Cell) -> Option<[f64; 2]> {
+    let ramps = &world.mesh()?.ramps;
+    let (i, s) = world
+        .shafts
+        .iter()
+        .enumerate()
+        .find(|(_, s)| s.up == c || s.landing == c)?;
+    let line = ramps.get(i)?;
+    let p = if s.up == c { line.first() } else { line.last() }?;
+    Some([p[0], p[1]])
 }
 
 /// The direction of a step from `a` to its neighbour `b` on the same level.
@@ -403,10 +480,12 @@ fn tile_axis(world: &World, passages: &Passages, c: Cell) -> Option<TileAxis> {
     let first = (0..n * n).find(|&k| free[k] && reach[k] == most)?;
     let (runs, apart): (Vec<_>, Vec<_>) = runs.into_iter().partition(|r| r.2[first] != u64::MAX);
     let reached = |k: usize| runs.iter().all(|r| r.2[k] != u64::MAX);
-    let centre = [
+    // A shaft's foot or landing stands nearest the shaft's axis; a ramp's where its floor
+    // line leaves the level (the spiral's axis is a rock pillar).
+    let centre = ramp_end(world, c).unwrap_or([
         cols.x0 + 0.5 * n as f64 * step,
         cols.y0 + 0.5 * n as f64 * step,
-    ];
+    ]);
     let xy = |k: usize| [cols.x(k % n), cols.y(k / n)];
     let from_centre = |k: usize| {
         let p = xy(k);

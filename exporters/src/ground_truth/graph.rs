@@ -2,8 +2,10 @@
 //!
 //! Nodes are the junctions, intersections, dead ends and shaft ends (kind, cell, level, world
 //! position on the floor of the tile's own passage); edges are corridors and shafts with their
-//! length in metres (along the grid) and the corridor's centreline along the middle of its
-//! passage, in the world frame (see `axis.rs`; without a mesh, through the cell centres). The GraphML declares a
+//! length in metres (along the grid), the corridor's centreline along the middle of its
+//! passage, in the world frame (see `axis.rs`; without a mesh, through the cell centres), and
+//! its least width and height measured on the collision surface (`min_width_m`,
+//! `min_height_m`, see `sections.rs`; `null` without a mesh). The GraphML declares a
 //! typed `<key>` for every attribute, so `networkx.read_graphml` gives numbers as numbers; it is
 //! an undirected graph, and a multigraph when two corridors join the same two nodes.
 
@@ -14,6 +16,7 @@ use subtgraph_core::graph::EdgeKind;
 
 use super::FRAME;
 use super::axis::Axes;
+use super::sections::Sections;
 use crate::inside::Passages;
 use crate::text::{push_fixed, push_uint};
 
@@ -52,17 +55,48 @@ struct EdgeOut {
     length_m: f64,
     length_cells: usize,
     polyline: Vec<[f64; 3]>,
+    min_width_m: Option<f64>,
+    min_height_m: Option<f64>,
 }
 
 fn edge_kind(k: EdgeKind) -> &'static str {
     match k {
         EdgeKind::Corridor => "corridor",
         EdgeKind::Shaft => "shaft",
+        EdgeKind::Ramp => "ramp",
     }
+}
+
+/// A ramp's line (its foot's node, the spiral's floor, its landing's node) and the length
+/// driven along it, for a ramp edge of a world with a mesh.
+pub(crate) fn ramp_line(
+    world: &World,
+    axes: &Axes,
+    e: &subtgraph_core::graph::Edge,
+) -> Option<(Vec<[f64; 3]>, f64)> {
+    if e.kind != EdgeKind::Ramp {
+        return None;
+    }
+    let line = super::axis::ramp_line(world, &e.cells)?;
+    let mut p = vec![axes.position(world, e.cells[0])];
+    p.extend_from_slice(line);
+    p.push(axes.position(world, e.cells[e.cells.len() - 1]));
+    p.dedup();
+    let length = p
+        .windows(2)
+        .map(|w| {
+            ((w[1][0] - w[0][0]).powi(2)
+                + (w[1][1] - w[0][1]).powi(2)
+                + (w[1][2] - w[0][2]).powi(2))
+            .sqrt()
+        })
+        .sum();
+    Some((p, length))
 }
 
 fn document(world: &World, axes: &Axes) -> Document {
     let g = &world.graph;
+    let sections = Sections::of(world);
     Document {
         format: "subtgraph-graph/1",
         seed: world.resolved.seed,
@@ -71,7 +105,7 @@ fn document(world: &World, axes: &Axes) -> Document {
         positions: if axes.is_empty() {
             "tile centres on their level's nominal floor; a polyline runs through the cell centres of its corridor, a shaft's from the foot to the landing"
         } else {
-            "on the floor of each tile's own passage (its axis, from the collision surface's free space): a node where its tile's passage meets its openings (a dead end where its passage ends), a corridor's polyline along the middle of its passage through every tile, a shaft's from the foot to the landing"
+            "on the floor of each tile's own passage (its axis, from the collision surface's free space): a node where its tile's passage meets its openings (a dead end where its passage ends), a corridor's polyline along the middle of its passage through every tile, a shaft's from the foot to the landing, a ramp's along its spiral's floor"
         },
         start: world
             .start
@@ -91,17 +125,29 @@ fn document(world: &World, axes: &Axes) -> Document {
         edges: g
             .edges
             .iter()
-            .map(|e| EdgeOut {
-                id: e.id,
-                kind: edge_kind(e.kind),
-                from: e.from,
-                to: e.to,
-                length_m: e.length_m,
-                length_cells: e.length_cells,
-                polyline: axes.polyline(world, &e.cells),
+            .map(|e| {
+                let (polyline, length_m) = ramp_line(world, axes, e)
+                    .unwrap_or_else(|| (axes.polyline(world, &e.cells), e.length_m));
+                let least = sections.as_ref().and_then(|s| s.edge(e.kind, &polyline));
+                EdgeOut {
+                    id: e.id,
+                    kind: edge_kind(e.kind),
+                    from: e.from,
+                    to: e.to,
+                    length_m,
+                    length_cells: e.length_cells,
+                    polyline,
+                    // Centimetres are what the surface is good for (and keep the files stable).
+                    min_width_m: least.map(|l| round_cm(l.0)),
+                    min_height_m: least.map(|l| round_cm(l.1)),
+                }
             })
             .collect(),
     }
+}
+
+fn round_cm(v: f64) -> f64 {
+    (v * 100.0).round() / 100.0
 }
 
 /// Appends a GraphML `<data>` element.
@@ -121,7 +167,7 @@ fn graphml(doc: &Document) -> Vec<u8> {
 xmlns:xsi=\"http://www.w3.org/2001/XMLSchema-instance\" \
 xsi:schemaLocation=\"http://graphml.graphdrawing.org/xmlns http://graphml.graphdrawing.org/xmlns/1.0/graphml.xsd\">\n",
     );
-    let keys: [(&str, &str, &str, &str); 16] = [
+    let keys: [(&str, &str, &str, &str); 18] = [
         ("g_seed", "graph", "seed", "long"),
         ("g_frame", "graph", "frame", "string"),
         ("g_start", "graph", "start", "string"),
@@ -138,6 +184,8 @@ xsi:schemaLocation=\"http://graphml.graphdrawing.org/xmlns http://graphml.graphd
         ("e_cells", "edge", "length_cells", "int"),
         ("e_polyline", "edge", "polyline", "string"),
         ("e_weight", "edge", "weight", "double"),
+        ("e_min_width", "edge", "min_width_m", "double"),
+        ("e_min_height", "edge", "min_height_m", "double"),
     ];
     for (id, on, name, ty) in keys {
         s.extend_from_slice(
@@ -183,6 +231,14 @@ xsi:schemaLocation=\"http://graphml.graphdrawing.org/xmlns http://graphml.graphd
         data(&mut s, "e_length", |s| push_fixed(s, e.length_m as f32));
         data(&mut s, "e_weight", |s| push_fixed(s, e.length_m as f32));
         data(&mut s, "e_cells", |s| push_uint(s, e.length_cells as u64));
+        for (key, v) in [
+            ("e_min_width", e.min_width_m),
+            ("e_min_height", e.min_height_m),
+        ] {
+            if let Some(v) = v {
+                data(&mut s, key, |s| push_fixed(s, v as f32));
+            }
+        }
         // The centreline as JSON text: `json.loads` gives [[x, y, z], ...].
         data(&mut s, "e_polyline", |s| {
             s.push(b'[');

@@ -1,10 +1,13 @@
 //! `ground_truth/hazards.json`: the floor patches of `[hazards]` (where they are, their
 //! material and friction), from [`crate::hazards::patches`], the same list every simulator
-//! format writes its friction from.
+//! format writes its friction from; and the rubble fields and drops (`regions`: tile, kind,
+//! box in the plane, floor and height range, a rubble field's rocks and lane), as the tile set
+//! made them in the geometry every format exports (`WorldMesh::hazards`).
 
 use serde::Serialize;
 use subtgraph_core::World;
 use subtgraph_core::export::{ExportError, WorldWriter};
+use subtgraph_core::hazards::HazardRegion;
 
 use super::FRAME;
 use crate::hazards::Patch;
@@ -16,6 +19,7 @@ struct Document<'a> {
     frame: &'static str,
     note: &'static str,
     patches: &'a [Patch],
+    regions: &'a [HazardRegion],
 }
 
 /// Writes `ground_truth/hazards.json`.
@@ -25,8 +29,9 @@ pub(crate) fn write(world: &World, out: &mut dyn WorldWriter) -> Result<(), Expo
         format: "subtgraph-hazards/1",
         seed: world.resolved.seed,
         frame: FRAME,
-        note: "floor patches: the whole floor of each tile has the material's friction (MuJoCo: the tile's floor height field)",
+        note: "floor patches: the whole floor of each tile has the material's friction (MuJoCo: the tile's floor height field); regions: rubble fields (rocks as x, y, z, radius; gap: the lane kept free) and drops (z: the pit's bottom and the floor), part of every format's collision and visual meshes",
         patches: &p,
+        regions: world.mesh().map_or(&[], |m| m.hazards.as_slice()),
     };
     crate::write_json(out, "ground_truth/hazards.json", &doc)
 }

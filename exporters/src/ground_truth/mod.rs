@@ -29,6 +29,7 @@ mod free_space;
 mod graph;
 pub(crate) mod hazards;
 mod ros_map;
+mod sections;
 mod semantic_labels;
 mod spawn_poses;
 

@@ -1,8 +1,9 @@
 //! `ros-map`: a 2D occupancy map per level in the ROS map_server format (ROS 1 `map_server`,
 //! ROS 2 `nav2_map_server`): `ground_truth/maps/level-N.pgm` (binary P5) and `level-N.yaml`.
 //!
-//! Each map is a horizontal slice of the passages `height` metres (default 1.0: a ground
-//! robot's lidar) above the level's nominal floor: 254 where the slice is inside a passage
+//! Each map is a slice of the passages `height` metres (default 1.0: a ground robot's lidar)
+//! above the floor under each pixel (the level's nominal floor, or the floor the pixel's free
+//! stretch starts on where floors slope up from it, `[tileset] grade`; on a rock, its top): 254 where the slice is inside a passage
 //! (free), 0 in rock (occupied). A closed collision surface (the procedural tile sets') leaves
 //! no pixel unknown; where a vertical line crosses an open one an odd number of times (mesh
 //! tiles whose collision meshes do not close) the pixel is 205, unknown, on every level. With
@@ -114,14 +115,23 @@ impl RosMap {
         let px = self.pixels(world)?;
         let levels = world.occupancy.levels();
         let lh = world.resolved.level_height;
-        let slice: Vec<f64> = (0..levels).map(|l| l as f64 * lh + self.height).collect();
+        let height = self.height;
         // One raster gives every level's row: the lines are the same, only the height differs.
         let raster = passages.raster(&px, |_, spans, open| {
             let mut rows = vec![vec![OCCUPIED; px.nx]; levels];
             for s in spans {
-                for (l, &z) in slice.iter().enumerate() {
+                for (l, row) in rows.iter_mut().enumerate() {
+                    // The floor under the pixel: where the free stretch starts if that is on
+                    // this level (sloping floors, `[tileset] grade`, rise above the nominal
+                    // one), the nominal floor if it starts below (a shaft from the level
+                    // below).
+                    let nominal = l as f64 * lh;
+                    if s.z0 >= nominal + 0.75 * lh {
+                        continue;
+                    }
+                    let z = s.z0.max(nominal) + height;
                     if s.z0 < z && z < s.z1 {
-                        rows[l][s.i as usize] = FREE;
+                        row[s.i as usize] = FREE;
                     }
                 }
             }
@@ -145,7 +155,7 @@ impl RosMap {
             let base = format!("ground_truth/maps/level-{level}");
             write_file(out, &format!("{base}.pgm"), &pgm)?;
             let mut yaml = format!(
-                "# subtgraph ground truth, seed {seed}: level {level} sliced {h} m above its floor (z = {z} m)\n\
+                "# subtgraph ground truth, seed {seed}: level {level} sliced {h} m above its floor (z = {z} m over its nominal floor)\n\
                  # frame: {FRAME}\n\
                  # computed from: {source}{open}\n\
                  image: level-{level}.pgm\n\
@@ -157,7 +167,7 @@ impl RosMap {
                  free_thresh: 0.196\n",
                 seed = world.resolved.seed,
                 h = self.height,
-                z = slice[level],
+                z = level as f64 * lh + self.height,
                 source = passages.source(),
                 open = if raster.open_lines > 0 {
                     format!(" ({} lines crossed an open surface)", raster.open_lines)

@@ -3,13 +3,21 @@
 //!
 //! One entry per occupied cell, in raster order (level, row, column): its kind in the robotics
 //! user's words (`dead-end`, `straight` = a straight corridor, `corner`, `t-junction`,
-//! `intersection`, `shaft-up`, `shaft-landing`), the original's spatial code, its rotation
+//! `intersection`, `shaft-up`, `shaft-landing`; `ramp` for both ends of a ramp between levels,
+//! `world.connections = "ramp"`), the original's spatial code, its rotation
 //! (quarter turns counter-clockwise from the kind's base orientation), its openings, and the
 //! world position of the tile's node: on the floor of its own passage (see `axis.rs`; the tile
-//! centre on its level's floor without a mesh). Tiles with a floor patch (`[hazards]
-//! friction`) carry `hazard`: the material (`mud`, `ice`, `sand`, `wet-rock`); the CSV then
-//! has a last column `hazard` (empty on other tiles). The CSV holds the same rows; its
-//! metadata (seed, frame) is in the JSON, as CSV has no place for it.
+//! centre on its level's floor without a mesh). Tiles with a hazard carry `hazard`: the floor
+//! patch's material (`[hazards] friction`: `mud`, `ice`, `sand`, `wet-rock`), `rubble` or
+//! `drop` (`[hazards] rubble`, `drops`), space-separated when a tile has two; the CSV then
+//! has a last column `hazard` (empty on other tiles). Tiles the tile set made more of carry
+//! `features`: `chamber` (a room several passage widths across at a junction or dead end) or
+//! `squeeze` (a narrow or low place along a corridor, see `tilesets/src/chambers.rs`); the CSV
+//! then has a column `features` after `start` (space-separated, empty on other tiles). With a
+//! mesh, the JSON gives each tile's `grade_deg` (the steepest grade along its passage axis,
+//! from the floor's own heights) and `slope` (true over [`SLOPE_DEG`]: sloping floors,
+//! `[tileset] grade`). The CSV holds the same rows; its metadata (seed, frame) is in the JSON,
+//! as CSV has no place for it.
 
 use serde::Serialize;
 use subtgraph_core::World;
@@ -36,10 +44,22 @@ struct Label {
     openings: Vec<&'static str>,
     position: [f64; 3],
     start: bool,
-    /// The floor patch's material (`[hazards] friction`), on patched tiles only.
+    /// What the tile set made of the tile beyond its kind (`chamber`, `squeeze`), if anything.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    features: Vec<&'static str>,
+    /// The floor patch's material (`[hazards] friction`) and `rubble` or `drop`, on those
+    /// tiles only.
     #[serde(skip_serializing_if = "Option::is_none")]
-    hazard: Option<&'static str>,
+    hazard: Option<String>,
+    /// The steepest grade along the tile's passage axis, degrees (absent without a mesh).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    grade_deg: Option<f64>,
+    /// Whether that grade is over [`SLOPE_DEG`]: a `slope` a robot climbs or descends.
+    slope: bool,
 }
+
+/// Grade in degrees above which a tile is labelled a `slope`.
+pub const SLOPE_DEG: f64 = 5.0;
 
 #[derive(Serialize)]
 struct Document {
@@ -49,7 +69,7 @@ struct Document {
     units: &'static str,
     tile_pitch_m: f64,
     level_height_m: f64,
-    kinds: [&'static str; 7],
+    kinds: [&'static str; 8],
     tiles: Vec<Label>,
 }
 
@@ -63,10 +83,25 @@ fn direction_name(d: Direction) -> &'static str {
 }
 
 fn labels(world: &World, axes: &Axes) -> Vec<Label> {
-    let hazard: std::collections::BTreeMap<_, _> = crate::hazards::patches(world)
-        .into_iter()
-        .map(|p| (p.cell, p.material.name()))
-        .collect();
+    let mut hazard: std::collections::BTreeMap<_, Vec<&'static str>> =
+        std::collections::BTreeMap::new();
+    for p in crate::hazards::patches(world) {
+        hazard.entry(p.cell).or_default().push(p.material.name());
+    }
+    for r in world.mesh().map_or(&[][..], |m| m.hazards.as_slice()) {
+        hazard.entry(r.cell).or_default().push(r.kind.name());
+    }
+    let features: std::collections::BTreeMap<_, _> = world
+        .mesh()
+        .map(|m| {
+            m.tiles
+                .iter()
+                .filter(|t| !t.labels.is_empty())
+                .map(|t| (t.cell, t.labels.clone()))
+                .collect()
+        })
+        .unwrap_or_default();
+    let ramps = world.resolved.connections == subtgraph_core::config::Connections::Ramp;
     world
         .occupancy
         .cells()
@@ -76,7 +111,11 @@ fn labels(world: &World, axes: &Axes) -> Vec<Label> {
                 level: c.level,
                 row: c.row,
                 col: c.col,
-                kind: t.kind.name(),
+                kind: if ramps && world.shafts.iter().any(|s| s.up == c || s.landing == c) {
+                    "ramp"
+                } else {
+                    t.kind.name()
+                },
                 code: t.kind.spatial_code(),
                 rotation: t.rotation,
                 openings: Direction::ALL
@@ -86,20 +125,28 @@ fn labels(world: &World, axes: &Axes) -> Vec<Label> {
                     .collect(),
                 position: axes.position(world, c),
                 start: world.start == Some(c),
-                hazard: hazard.get(&c).copied(),
+                features: features.get(&c).cloned().unwrap_or_default(),
+                hazard: hazard.get(&c).map(|h| h.join(" ")),
+                grade_deg: axes.grade(c).map(|g| (g * 10.0).round() / 10.0),
+                slope: axes.grade(c).is_some_and(|g| g > SLOPE_DEG),
             })
         })
         .collect()
 }
 
-/// The CSV; with `hazards` (the world has a `[hazards]` section) a last column `hazard`: the
-/// patch material, empty on other tiles. Worlds without the section keep their columns.
+/// The CSV; with `features` (some tile has any) a column `features` after `start`, and with
+/// `hazards` (the world has a `[hazards]` section) a last column `hazard`: the patch material,
+/// empty on other tiles. Worlds without them keep their columns.
 fn csv(labels: &[Label], hazards: bool) -> Vec<u8> {
-    let mut s = if hazards {
-        b"level,row,col,kind,code,rotation,openings,x,y,z,start,hazard\n".to_vec()
-    } else {
-        b"level,row,col,kind,code,rotation,openings,x,y,z,start\n".to_vec()
-    };
+    let features = labels.iter().any(|l| !l.features.is_empty());
+    let mut s = b"level,row,col,kind,code,rotation,openings,x,y,z,start".to_vec();
+    if features {
+        s.extend_from_slice(b",features");
+    }
+    if hazards {
+        s.extend_from_slice(b",hazard");
+    }
+    s.push(b'\n');
     for l in labels {
         for v in [l.level, l.row, l.col] {
             push_uint(&mut s, v as u64);
@@ -118,9 +165,13 @@ fn csv(labels: &[Label], hazards: bool) -> Vec<u8> {
             push_fixed(&mut s, v as f32);
         }
         s.extend_from_slice(if l.start { b",1" } else { b",0" });
+        if features {
+            s.push(b',');
+            s.extend_from_slice(l.features.join(" ").as_bytes());
+        }
         if hazards {
             s.push(b',');
-            s.extend_from_slice(l.hazard.unwrap_or("").as_bytes());
+            s.extend_from_slice(l.hazard.as_deref().unwrap_or("").as_bytes());
         }
         s.push(b'\n');
     }
@@ -148,7 +199,10 @@ impl SemanticLabels {
             units: "metres; rotation in quarter turns counter-clockwise seen from above",
             tile_pitch_m: world.resolved.tile_pitch,
             level_height_m: world.resolved.level_height,
-            kinds: subtgraph_core::tile::TileKind::ALL.map(|k| k.name()),
+            kinds: {
+                let k = subtgraph_core::tile::TileKind::ALL.map(|k| k.name());
+                [k[0], k[1], k[2], k[3], k[4], k[5], k[6], "ramp"]
+            },
             tiles: labels(world, axes),
         };
         let hazards = world.pipeline.hazards.is_some();

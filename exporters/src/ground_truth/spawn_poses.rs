@@ -271,6 +271,12 @@ impl SpawnPoses {
             adjacent[e.from].push((e.to, e.id));
             adjacent[e.to].push((e.from, e.id));
         }
+        // A ramp is as long as its spiral (graph.json's length), not the level height.
+        let lengths: Vec<f64> = g
+            .edges
+            .iter()
+            .map(|e| super::graph::ramp_line(world, axes, e).map_or(e.length_m, |(_, l)| l))
+            .collect();
         let mut dist = vec![f64::INFINITY; g.nodes.len()];
         let mut via = vec![usize::MAX; g.nodes.len()];
         dist[source] = 0.0;
@@ -282,7 +288,7 @@ impl SpawnPoses {
                 continue;
             }
             for &(m, e) in &adjacent[n] {
-                let nd = d + g.edges[e].length_m;
+                let nd = d + lengths[e];
                 if nd < dist[m] {
                     dist[m] = nd;
                     via[m] = e;
@@ -415,8 +421,9 @@ mod tests {
             for b in &spawns[k + 1..] {
                 assert!((a[0] - b[0]).hypot(a[1] - b[1]) >= sp.spacing);
             }
-            // On the floor: the cast at this exact point finds the same height.
-            let f = passages.floor(a[0], a[1], 0.0, PROBE).unwrap();
+            // On the floor: the cast at this exact point, from just above it (floors slope),
+            // finds the same height.
+            let f = passages.floor(a[0], a[1], a[2], PROBE).unwrap();
             assert!((f - a[2]).abs() < 1e-9, "{a:?} vs {f}");
         }
         let goals = sp.goals(&world, &passages, &axes, start);

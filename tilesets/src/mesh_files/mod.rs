@@ -736,6 +736,10 @@ impl TileSet for MeshFiles {
             collision,
             // Mesh tiles are not designed to weld: nothing to merge.
             seams: Seams::None,
+            labels: Vec::new(),
+            // No rubble or drops (`makes_hazards` is false: assembly refuses a pipeline
+            // asking for them, naming the key).
+            hazards: Vec::new(),
         })
     }
 

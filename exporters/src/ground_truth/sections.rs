@@ -1,0 +1,197 @@
+//! How wide and how high each graph edge's passage is at its narrowest, measured on the
+//! collision surface (what a robot's body collides with) along the edge's centreline.
+//!
+//! At every point of a corridor's polyline (a point on the floor, see `axis.rs`): a vertical
+//! ray up and one down from half a metre above the point give the floor and the ceiling over
+//! it (the *height*: floor to ceiling), and two horizontal rays across the passage, at right
+//! angles to the polyline's local direction (from the point before to the point after), a
+//! metre above that floor (half the height where the passage is under 2 m), give the *width*
+//! (wall to wall). Rocks on the floor count: a rock reaching that height shortens the width
+//! at its line, as it does for a robot there. An edge's `min_width_m` and `min_height_m` are
+//! the least over its points. A shaft's are measured across the shaft at half way up (width,
+//! the lesser of the spans along x and y) and along it (height: the free span there).
+//!
+//! Rays are cast against the triangles of a uniform grid of cubes (an eighth of the pitch) by
+//! Möller and Trumbore's test, two-sided, in `f64`; a ray finding no surface within a pitch
+//! counts a pitch. Deterministic: no parallelism, no hashing order in the results.
+
+use std::collections::HashMap;
+
+use subtgraph_core::World;
+use subtgraph_core::graph::EdgeKind;
+use subtgraph_core::mesh::Mesh;
+
+/// Triangles of the collision surface by the cubes they touch.
+pub(crate) struct Sections<'a> {
+    mesh: &'a Mesh,
+    cubes: HashMap<[i64; 3], Vec<u32>>,
+    size: f64,
+    reach: f64,
+}
+
+/// Height above the floor at which widths are measured, metres.
+const WIDTH_AT: f64 = 1.0;
+
+impl<'a> Sections<'a> {
+    /// The world's collision surface, if it has one.
+    pub fn of(world: &'a World) -> Option<Self> {
+        let pitch = world.resolved.tile_pitch;
+        Some(Self::new(&world.mesh()?.collision, pitch / 8.0, pitch))
+    }
+
+    /// A surface's triangles in cubes of `size`, for rays up to `reach` long. A triangle is
+    /// listed in every cube its box grown by a quarter cube touches, so a ray sampled every
+    /// half cube finds it in the cube of the sample nearest its crossing.
+    fn new(mesh: &'a Mesh, size: f64, reach: f64) -> Self {
+        let grow = 0.25 * size;
+        let mut cubes: HashMap<[i64; 3], Vec<u32>> = HashMap::new();
+        for (t, tri) in mesh.triangles.iter().enumerate() {
+            let p = tri.map(|v| mesh.positions[v as usize]);
+            let lo: [i64; 3] = std::array::from_fn(|k| {
+                ((p.iter().map(|q| f64::from(q[k])).fold(f64::MAX, f64::min) - grow) / size).floor()
+                    as i64
+            });
+            let hi: [i64; 3] = std::array::from_fn(|k| {
+                ((p.iter().map(|q| f64::from(q[k])).fold(f64::MIN, f64::max) + grow) / size).floor()
+                    as i64
+            });
+            for x in lo[0]..=hi[0] {
+                for y in lo[1]..=hi[1] {
+                    for z in lo[2]..=hi[2] {
+                        cubes.entry([x, y, z]).or_default().push(t as u32);
+                    }
+                }
+            }
+        }
+        Sections {
+            mesh,
+            cubes,
+            size,
+            reach,
+        }
+    }
+
+    /// Distance along the unit direction `d` from `o` to the first crossing of the surface, or
+    /// [`reach`](Self) when there is none that near.
+    pub fn ray(&self, o: [f64; 3], d: [f64; 3]) -> f64 {
+        let mut best = self.reach;
+        let mut last: Option<[i64; 3]> = None;
+        let step = 0.5 * self.size;
+        let mut s = 0.0;
+        // Walk the cubes along the ray; a cube's triangles can cross it up to a cube beyond.
+        while s <= best + self.size && s <= self.reach + self.size {
+            let q = [0, 1, 2].map(|k| o[k] + s * d[k]);
+            let key = q.map(|v| (v / self.size).floor() as i64);
+            if last != Some(key) {
+                last = Some(key);
+                for &t in self.cubes.get(&key).map(Vec::as_slice).unwrap_or(&[]) {
+                    if let Some(h) = hit(self.mesh, t, o, d) {
+                        best = best.min(h);
+                    }
+                }
+            }
+            s += step;
+        }
+        best
+    }
+
+    /// `(width, height)` at a floor point `p` of a passage running along the horizontal unit
+    /// direction `along`.
+    pub fn at(&self, p: [f64; 3], along: [f64; 2]) -> (f64, f64) {
+        let o = [p[0], p[1], p[2] + 0.5];
+        let up = self.ray(o, [0.0, 0.0, 1.0]);
+        let down = self.ray(o, [0.0, 0.0, -1.0]);
+        let floor = o[2] - down;
+        let height = up + down;
+        let z = floor + WIDTH_AT.min(0.5 * height);
+        let n = [-along[1], along[0]];
+        let w = self.ray([p[0], p[1], z], [n[0], n[1], 0.0])
+            + self.ray([p[0], p[1], z], [-n[0], -n[1], 0.0]);
+        (w, height)
+    }
+
+    /// An edge's `(min_width_m, min_height_m)` along its polyline.
+    pub fn edge(&self, kind: EdgeKind, line: &[[f64; 3]]) -> Option<(f64, f64)> {
+        match kind {
+            // A ramp's spiral is measured like a corridor: across it (pillar to outer wall)
+            // and up to the next turn's floor.
+            EdgeKind::Corridor | EdgeKind::Ramp => {
+                let mut out: Option<(f64, f64)> = None;
+                for i in 0..line.len() {
+                    let a = line[i.saturating_sub(1)];
+                    let b = line[(i + 1).min(line.len() - 1)];
+                    let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
+                    let len = (dx * dx + dy * dy).sqrt();
+                    if len < 1e-6 {
+                        continue;
+                    }
+                    let (w, h) = self.at(line[i], [dx / len, dy / len]);
+                    out = Some(out.map_or((w, h), |(ow, oh)| (ow.min(w), oh.min(h))));
+                }
+                out
+            }
+            EdgeKind::Shaft => {
+                let (a, b) = (line.first()?, line.last()?);
+                let m = [0, 1, 2].map(|k| 0.5 * (a[k] + b[k]));
+                let span = |d: [f64; 3]| self.ray(m, d) + self.ray(m, d.map(|v| -v));
+                let width = span([1.0, 0.0, 0.0]).min(span([0.0, 1.0, 0.0]));
+                Some((width, span([0.0, 0.0, 1.0])))
+            }
+        }
+    }
+}
+
+/// Möller-Trumbore: distance along `d` from `o` to triangle `t`, either side.
+fn hit(mesh: &Mesh, t: u32, o: [f64; 3], d: [f64; 3]) -> Option<f64> {
+    let [a, b, c] = mesh.triangles[t as usize].map(|v| mesh.positions[v as usize].map(f64::from));
+    let sub = |p: [f64; 3], q: [f64; 3]| [p[0] - q[0], p[1] - q[1], p[2] - q[2]];
+    let cross = |p: [f64; 3], q: [f64; 3]| {
+        [
+            p[1] * q[2] - p[2] * q[1],
+            p[2] * q[0] - p[0] * q[2],
+            p[0] * q[1] - p[1] * q[0],
+        ]
+    };
+    let dot = |p: [f64; 3], q: [f64; 3]| p[0] * q[0] + p[1] * q[1] + p[2] * q[2];
+    let (e1, e2) = (sub(b, a), sub(c, a));
+    let h = cross(d, e2);
+    let det = dot(e1, h);
+    if det.abs() < 1e-12 {
+        return None;
+    }
+    let s = sub(o, a);
+    // A little slack on the barycentric bounds: a ray through an edge shared by two
+    // triangles (axis-aligned rays meet the lattice's edges exactly) must not slip between
+    // them by rounding.
+    const EDGE: f64 = 1e-9;
+    let u = dot(s, h) / det;
+    if !(-EDGE..=1.0 + EDGE).contains(&u) {
+        return None;
+    }
+    let q = cross(s, e1);
+    let v = dot(d, q) / det;
+    if v < -EDGE || u + v > 1.0 + EDGE {
+        return None;
+    }
+    let dist = dot(e2, q) / det;
+    (dist > 1e-9).then_some(dist)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_box_passage_is_as_wide_and_high_as_the_box() {
+        let box_mesh = crate::inside::tests::box_mesh([0.0, 0.0, 0.0], [4.0, 10.0, 3.0]);
+        let s = Sections::new(&box_mesh, 0.7, 25.0);
+        let (w, h) = s.at([1.0, 5.0, 0.0], [0.0, 1.0]);
+        assert!((w - 4.0).abs() < 1e-9 && (h - 3.0).abs() < 1e-9, "{w} {h}");
+        // Across a diagonal direction the span is longer; the edge's least is the box's.
+        let (w, _) = s.at([2.0, 5.0, 0.0], [0.6, 0.8]);
+        assert!((w - 4.0 / 0.8).abs() < 1e-9, "{w}");
+        let line = [[2.0, 1.0, 0.0], [2.0, 5.0, 0.0], [2.0, 9.0, 0.0]];
+        let (w, h) = s.edge(EdgeKind::Corridor, &line).unwrap();
+        assert!((w - 4.0).abs() < 1e-9 && (h - 3.0).abs() < 1e-9, "{w} {h}");
+    }
+}

@@ -1,0 +1,536 @@
+//! Ramps between levels (`world.connections = "ramp"`): a spiral decline inside a shaft's cell
+//! column, as real mines join their levels, so a wheeled robot can drive from one level to the
+//! next.
+//!
+//! The foot's passage leaves its opening in a straight *lead* tangent to a circle about the
+//! cell's centre, climbs round a rock pillar along that circle (a helix whose floor is flat
+//! across the passage), and leaves in a second lead tangent to the circle towards the
+//! landing's opening, on the landing's floor. The helix turns as often as the level height
+//! allows with the passage and enough rock between one turn and the next (the passage's
+//! highest point plus one and a half collision lattice cells, so the coarse collision surface
+//! keeps the turns apart: no lattice edge spans the rock), which makes it as gentle as the cell allows: each turn is one circumference
+//! long (the circle is as large as the cell's block takes with the passage's half-width),
+//! so the grade is at least the rock and passage per turn over that circumference. The climb
+//! starts and ends with short blends (no kink at the foot or the top), and, when the openings
+//! leave part of a turn over, stretches flat on the floors. A ramp steeper than
+//! `world.ramp_grade` is refused, naming what to change.
+//!
+//! Everything here is a function of the world (pitch, level height, openings) and the passage
+//! knobs, so every tile evaluating the ramp's field computes the same numbers.
+
+use std::collections::BTreeMap;
+use std::f64::consts::TAU;
+use std::sync::Mutex;
+
+use subtgraph_core::Layout;
+use subtgraph_core::grid::{Cell, Direction, Shaft};
+use subtgraph_core::tile::TileKind;
+
+use crate::field::{Passage, Profile};
+
+/// A point of the floor line is kept every this many metres along it.
+const SAMPLE: f64 = 0.5;
+/// Two stretches of floor side by side closer than this in height are one floor, metres.
+const STEP: f64 = 0.25;
+/// The helix's passage is at most this share of the level height high: each turn's drop must
+/// hold it and the rock above it.
+const HEADROOM: f64 = 0.25;
+/// Length of the blends at both ends of the climb, at most, metres.
+const BLEND: f64 = 2.0;
+
+/// What sizes a ramp: the passage and the lattice.
+#[derive(Clone, Copy, Debug)]
+pub struct Sizing {
+    /// Half the passage's width with its relief, metres.
+    pub half_width: f64,
+    /// The passage's nominal width and height (the helix keeps them, without variation).
+    pub width: f64,
+    /// See `width`.
+    pub height: f64,
+    /// Vertical room a turn of the helix needs: its passage's highest point plus rock, metres.
+    pub per_turn: f64,
+    /// The same for the leads (the tile set's full passage height).
+    pub per_lead: f64,
+    /// Horizontal rock needed between two passages, metres.
+    pub rock: f64,
+    /// How far from the cell's centre a passage's side may reach, metres.
+    pub room: f64,
+    /// The steepest grade allowed, degrees.
+    pub max_grade: f64,
+}
+
+impl Sizing {
+    /// The sizing for a procedural passage with lattices `fine` (visual) and `coarse`
+    /// (collision) metres apart.
+    pub fn of(world: &Layout, p: &Passage, fine: f64, coarse: f64) -> Sizing {
+        let rock = 1.2 * coarse;
+        let height = p.height.min(HEADROOM * world.resolved.level_height);
+        let extra = 2.0 * p.roughness + p.floor_roughness + rock;
+        Sizing {
+            half_width: 0.5 * p.width + p.roughness,
+            width: p.width,
+            height,
+            per_turn: height + extra,
+            per_lead: p.height * (1.0 + p.height_variation) + extra,
+            rock,
+            room: 0.5 * world.resolved.tile_pitch - 2.0 * fine,
+            max_grade: world.resolved.ramp_grade,
+        }
+    }
+}
+
+/// One ramp, planned.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Helix {
+    /// The cell's centre.
+    pub centre: [f64; 2],
+    /// The circle's radius.
+    pub radius: f64,
+    /// +1 counter-clockwise, -1 clockwise (seen from above, going up).
+    pub sense: f64,
+    /// Angle at the foot's tangent point.
+    pub start: f64,
+    /// Arc length of the helix, metres.
+    pub length: f64,
+    /// Flat stretches at the foot and the top, metres along.
+    pub flat: [f64; 2],
+    /// Blend length at both ends of the climb, metres.
+    pub blend: f64,
+    /// Floors of the foot's and the landing's levels.
+    pub floors: [f64; 2],
+    /// The foot's opening (on the cell's edge) and the landing's.
+    pub openings: [[f64; 2]; 2],
+    /// Passage width and height.
+    pub size: [f64; 2],
+}
+
+/// Why a ramp cannot be made.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Unfit {
+    /// No pillar is left inside the spiral.
+    Narrow {
+        /// The passage's width with relief, metres.
+        width: f64,
+        /// Room in the cell, metres from its centre.
+        room: f64,
+    },
+    /// The gentlest ramp the cell holds is steeper than allowed.
+    Steep {
+        /// Its grade, degrees.
+        grade: f64,
+    },
+}
+
+impl Helix {
+    /// Plans the ramp from a foot at `centre` on floor `floors[0]`, leaving through
+    /// `entry`, to the landing above on `floors[1]` leaving through `exit`.
+    pub fn plan(
+        centre: [f64; 2],
+        floors: [f64; 2],
+        entry: Direction,
+        exit: Direction,
+        pitch: f64,
+        s: &Sizing,
+    ) -> Result<Helix, Unfit> {
+        let radius = s.room - s.half_width;
+        if radius - s.half_width < s.rock / 2.0 {
+            return Err(Unfit::Narrow {
+                width: 2.0 * s.half_width,
+                room: s.room,
+            });
+        }
+        let half = 0.5 * pitch;
+        let opening = |d: Direction| {
+            let (sr, sc) = d.step();
+            [
+                centre[0] + f64::from(sc) * half,
+                centre[1] - f64::from(sr) * half,
+            ]
+        };
+        let openings = [opening(entry), opening(exit)];
+        let angle = |p: [f64; 2]| (p[1] - centre[1]).atan2(p[0] - centre[0]);
+        let beta = (radius / half).acos();
+        let rise = floors[1] - floors[0];
+        let mut best: Option<Helix> = None;
+        for sense in [1.0, -1.0] {
+            let start = angle(openings[0]) + sense * beta;
+            let end = angle(openings[1]) - sense * beta;
+            let base = (sense * (end - start)).rem_euclid(TAU);
+            for k in 0..8 {
+                let length = radius * (base + TAU * f64::from(k));
+                if length > radius * TAU * (rise / s.per_turn + 2.0) {
+                    break;
+                }
+                // Flat stretches, shortest in all first (the gentlest climb), split every
+                // way between the foot and the top.
+                let mut total = 0;
+                'flats: while f64::from(total) * SAMPLE < length - 1.0 {
+                    let climb = length - f64::from(total) * SAMPLE;
+                    for a in 0..=total {
+                        let h = Helix {
+                            centre,
+                            radius,
+                            sense,
+                            start,
+                            length,
+                            flat: [f64::from(a) * SAMPLE, f64::from(total - a) * SAMPLE],
+                            blend: BLEND.min(0.25 * climb),
+                            floors,
+                            openings,
+                            size: [s.width, s.height],
+                        };
+                        if best.as_ref().is_some_and(|b| b.grade() <= h.grade()) {
+                            break 'flats;
+                        }
+                        if h.separated(s) {
+                            best = Some(h);
+                            break 'flats;
+                        }
+                    }
+                    total += 1;
+                }
+            }
+        }
+        let best = best.ok_or(Unfit::Steep { grade: 90.0 })?;
+        if best.grade() > s.max_grade {
+            return Err(Unfit::Steep {
+                grade: best.grade(),
+            });
+        }
+        Ok(best)
+    }
+
+    /// The steepest grade along the climb, degrees.
+    pub fn grade(&self) -> f64 {
+        self.slope().atan().to_degrees()
+    }
+
+    fn slope(&self) -> f64 {
+        let climb = self.length - self.flat[0] - self.flat[1];
+        (self.floors[1] - self.floors[0]) / (climb - self.blend)
+    }
+
+    /// The floor's height `s` metres along the helix.
+    pub fn floor(&self, s: f64) -> f64 {
+        let g = self.slope();
+        let climb = self.length - self.flat[0] - self.flat[1];
+        let e = self.blend;
+        let t = (s - self.flat[0]).clamp(0.0, climb);
+        // Slope from 0 up to g over e, g, then down to 0 over e.
+        let up = if t < e {
+            0.5 * g * t * t / e
+        } else if t <= climb - e {
+            g * (t - 0.5 * e)
+        } else {
+            let r = climb - t;
+            g * (climb - e) - 0.5 * g * r * r / e
+        };
+        self.floors[0] + up
+    }
+
+    /// The horizontal point `s` metres along the helix.
+    pub fn at(&self, s: f64) -> [f64; 2] {
+        let a = self.start + self.sense * s / self.radius;
+        [
+            self.centre[0] + self.radius * a.cos(),
+            self.centre[1] + self.radius * a.sin(),
+        ]
+    }
+
+    /// The floor line from the foot's tangent point to the landing's, a point every
+    /// half a metre or closer.
+    pub fn floor_line(&self) -> Vec<[f64; 3]> {
+        let n = (self.length / SAMPLE).ceil().max(1.0) as usize;
+        (0..=n)
+            .map(|i| {
+                let s = self.length * i as f64 / n as f64;
+                let [x, y] = self.at(s);
+                [x, y, self.floor(s)]
+            })
+            .collect()
+    }
+
+    /// How far the floors' slopes ([`crate::slope`]) lift the spiral at height `z`: by
+    /// `lifts[0]` (the foot's lift where the spiral leaves the lower level) at the foot's floor,
+    /// by `lifts[1]` (the landing's) at the landing's, in proportion to the climb in between, so
+    /// the spiral meets both lifted corridors.
+    pub fn lift_at(&self, lifts: [f64; 2], z: f64) -> f64 {
+        let f = ((z - self.floors[0]) / (self.floors[1] - self.floors[0])).clamp(0.0, 1.0);
+        lifts[0] + (lifts[1] - lifts[0]) * f
+    }
+
+    /// The leads: foot opening to the helix's start, helix's end to the landing's opening.
+    pub fn leads(&self) -> [([f64; 2], [f64; 2]); 2] {
+        [
+            (self.at(0.0), self.openings[0]),
+            (self.at(self.length), self.openings[1]),
+        ]
+    }
+
+    /// The floors over the horizontal point `p`: of the turns whose passage (and half the rock
+    /// beside it) covers it, and of the leads'.
+    fn floors_over(&self, p: [f64; 2], reach: f64, out: &mut Vec<(f64, bool)>) {
+        out.clear();
+        let (dx, dy) = (p[0] - self.centre[0], p[1] - self.centre[1]);
+        let rho = (dx * dx + dy * dy).sqrt();
+        if (rho - self.radius).abs() < reach {
+            let phi = dy.atan2(dx);
+            let mut s = self.radius * (self.sense * (phi - self.start)).rem_euclid(TAU);
+            while s <= self.length {
+                out.push((self.floor(s), false));
+                s += self.radius * TAU;
+            }
+        }
+        // A lead's body, not its round end at the helix: there lead and helix are one
+        // passage, the lead's floor merging into the helix's.
+        for ((a, b), z) in self.leads().into_iter().zip(self.floors) {
+            if beside_segment(p, a, b) < reach {
+                out.push((z, true));
+            }
+        }
+    }
+
+    /// Whether, over every point of the cell, the floors of the passages that cover it (with
+    /// half the rock beside them) are a turn's room apart in height, or one floor (within
+    /// [`STEP`]: the passages merge into a wider one there).
+    fn separated(&self, s: &Sizing) -> bool {
+        let reach = s.half_width + 0.5 * s.rock;
+        let extent = self.radius + reach;
+        let n = (2.0 * extent / SAMPLE).ceil() as usize;
+        let mut floors = Vec::new();
+        for j in 0..=n {
+            for i in 0..=n {
+                let p = [
+                    self.centre[0] - extent + 2.0 * extent * i as f64 / n as f64,
+                    self.centre[1] - extent + 2.0 * extent * j as f64 / n as f64,
+                ];
+                self.floors_over(p, reach, &mut floors);
+                for (k, a) in floors.iter().enumerate() {
+                    for b in &floors[k + 1..] {
+                        let (low, high) = if a.0 < b.0 { (a, b) } else { (b, a) };
+                        let need = if low.1 { s.per_lead } else { s.per_turn };
+                        let dz = high.0 - low.0;
+                        if dz > STEP && dz < need {
+                            return false;
+                        }
+                    }
+                }
+            }
+        }
+        true
+    }
+
+    /// The box the helix acts in, with `margin` around the passage.
+    pub fn bounds(&self, margin: f64) -> ([f64; 3], [f64; 3]) {
+        let r = self.radius + 0.5 * self.size[0] + margin;
+        (
+            [
+                self.centre[0] - r,
+                self.centre[1] - r,
+                self.floors[0] - margin,
+            ],
+            [
+                self.centre[0] + r,
+                self.centre[1] + r,
+                self.floors[1] + 1.5 * self.size[1] + margin,
+            ],
+        )
+    }
+
+    /// The helix's field at `p` (negative in the passage) and the height above its floor
+    /// there, for floor rubble `rubble`.
+    pub fn section(&self, p: [f64; 3], profile: &dyn Profile, rubble: f64) -> (f64, f64) {
+        let (dx, dy) = (p[0] - self.centre[0], p[1] - self.centre[1]);
+        let rho = (dx * dx + dy * dy).sqrt();
+        let u = (rho - self.radius).abs();
+        let phi = dy.atan2(dx);
+        let first = self.radius * (self.sense * (phi - self.start)).rem_euclid(TAU);
+        let turn = self.radius * TAU;
+        let mut best = (f64::INFINITY, 0.0);
+        let mut s = first;
+        while s <= self.length {
+            let v = p[2] - self.floor(s) - rubble;
+            let f = profile.section(u, v, self.size[0], self.size[1]);
+            if f < best.0 {
+                best = (f, v);
+            }
+            s += turn;
+        }
+        best
+    }
+}
+
+/// Distance from `p` to the segment `a`-`b` in the plane, infinite for points beyond `a`.
+fn beside_segment(p: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
+    let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
+    let len2 = dx * dx + dy * dy;
+    let t = if len2 > 0.0 {
+        ((p[0] - a[0]) * dx + (p[1] - a[1]) * dy) / len2
+    } else {
+        0.0
+    };
+    if t < 0.0 {
+        return f64::INFINITY;
+    }
+    let t = t.min(1.0);
+    ((a[0] + t * dx - p[0]).powi(2) + (a[1] + t * dy - p[1]).powi(2)).sqrt()
+}
+
+/// The ramp ends of a world: for a foot or a landing cell, its shaft.
+pub fn shaft_of(world: &Layout, cell: Cell) -> Option<&Shaft> {
+    if world.resolved.connections != subtgraph_core::config::Connections::Ramp {
+        return None;
+    }
+    let kind = world.tiles.get(cell).as_ref()?.kind;
+    if !matches!(kind, TileKind::ShaftUp | TileKind::ShaftLanding) {
+        return None;
+    }
+    world
+        .shafts
+        .iter()
+        .find(|s| s.up == cell || s.landing == cell)
+}
+
+/// The first opening of a cell, in [`Direction::ALL`] order.
+fn first_opening(world: &Layout, cell: Cell) -> Option<Direction> {
+    let t = world.tiles.get(cell).as_ref()?;
+    Direction::ALL
+        .into_iter()
+        .find(|d| t.openings & d.bit() != 0)
+}
+
+/// A ramp's shape (centred on the origin, from floor 0) by what it depends on: its openings and
+/// the bits of its sizes. The search for the gentlest ramp is the same for every tile around
+/// it, so it is made once.
+type Key = (u8, u8, [u64; 10]);
+
+static PLANS: Mutex<BTreeMap<Key, Result<Helix, Unfit>>> = Mutex::new(BTreeMap::new());
+
+/// Plans the ramp of `shaft`.
+pub fn plan(world: &Layout, shaft: &Shaft, s: &Sizing) -> Result<Helix, Unfit> {
+    let [x, y, z0] = world.cell_position(shaft.up);
+    let z1 = world.cell_position(shaft.landing)[2];
+    let entry = first_opening(world, shaft.up).unwrap_or(Direction::ALL[0]);
+    let exit = first_opening(world, shaft.landing).unwrap_or(Direction::ALL[0]);
+    let pitch = world.resolved.tile_pitch;
+    let key: Key = (
+        entry as u8,
+        exit as u8,
+        [
+            pitch,
+            z1 - z0,
+            s.half_width,
+            s.width,
+            s.height,
+            s.per_turn,
+            s.per_lead,
+            s.rock,
+            s.room,
+            s.max_grade,
+        ]
+        .map(f64::to_bits),
+    );
+    let found = PLANS.lock().ok().and_then(|m| m.get(&key).cloned());
+    let shape = match found {
+        Some(p) => p,
+        None => {
+            let p = Helix::plan([0.0, 0.0], [0.0, z1 - z0], entry, exit, pitch, s);
+            if let Ok(mut m) = PLANS.lock() {
+                m.insert(key, p.clone());
+            }
+            p
+        }
+    };
+    let mut h = shape?;
+    if h.grade() > s.max_grade {
+        return Err(Unfit::Steep { grade: h.grade() });
+    }
+    h.centre = [x, y];
+    h.floors = [z0, z1];
+    for o in &mut h.openings {
+        *o = [o[0] + x, o[1] + y];
+    }
+    Ok(h)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn sizing() -> Sizing {
+        // The mine preset's: 20 m pitch, 6.4 x 5.6 m drift, collision lattice 1.67 m.
+        Sizing {
+            half_width: 3.3,
+            width: 6.4,
+            height: 4.0,
+            per_turn: 4.0 + 0.2 + 2.0,
+            per_lead: 5.7 + 0.2 + 2.0,
+            rock: 2.0,
+            room: 10.0 - 1.67,
+            max_grade: 30.0,
+        }
+    }
+
+    #[test]
+    fn the_helix_joins_both_openings_tangentially_on_their_floors() {
+        let pairs = Direction::ALL
+            .into_iter()
+            .flat_map(|a| Direction::ALL.map(|b| (a, b)));
+        for (a, b) in pairs {
+            let h = Helix::plan([100.0, 40.0], [0.0, 16.0], a, b, 20.0, &sizing());
+            eprintln!(
+                "{a:?} {b:?} {:?}",
+                h.as_ref().map(|h| (h.grade(), h.flat, h.length, h.sense))
+            );
+            let h = h.unwrap();
+            let line = h.floor_line();
+            assert_eq!(line[0][2], 0.0);
+            assert!((line.last().unwrap()[2] - 16.0).abs() < 1e-9);
+            // Each lead continues the helix's direction at its end.
+            for (end, (p, q), dir) in [(0, h.leads()[0], -1.0), (1, h.leads()[1], 1.0)] {
+                let s = if end == 0 { 0.0 } else { h.length };
+                let (t0, t1) = (h.at(s), h.at(s + 0.01 * dir));
+                let tangent = [t1[0] - t0[0], t1[1] - t0[1]];
+                let lead = [q[0] - p[0], q[1] - p[1]];
+                let cross = tangent[0] * lead[1] - tangent[1] * lead[0];
+                let dot = tangent[0] * lead[0] + tangent[1] * lead[1];
+                assert!(dot > 0.0 && cross.abs() < 1e-3 * dot.abs(), "{cross} {dot}");
+            }
+            // Grade within its bound along the whole line, and turns a turn's room apart.
+            let g = h.slope();
+            for w in line.windows(2) {
+                let run = ((w[1][0] - w[0][0]).powi(2) + (w[1][1] - w[0][1]).powi(2)).sqrt();
+                assert!((w[1][2] - w[0][2]) / run <= g * 1.01 + 1e-9);
+                assert!(w[1][2] >= w[0][2] - 1e-9);
+            }
+            assert!(h.separated(&sizing()));
+            assert!(h.grade() < 26.0, "{}", h.grade());
+        }
+    }
+
+    #[test]
+    fn a_passage_too_tall_or_too_wide_is_refused() {
+        let mut s = sizing();
+        s.max_grade = 5.0;
+        let e = Helix::plan(
+            [0.0; 2],
+            [0.0, 16.0],
+            Direction::ALL[0],
+            Direction::ALL[0],
+            20.0,
+            &s,
+        );
+        assert!(matches!(e, Err(Unfit::Steep { .. })), "{e:?}");
+        let mut s = sizing();
+        s.half_width = 4.5;
+        let e = Helix::plan(
+            [0.0; 2],
+            [0.0, 16.0],
+            Direction::ALL[0],
+            Direction::ALL[0],
+            20.0,
+            &s,
+        );
+        assert!(matches!(e, Err(Unfit::Narrow { .. })), "{e:?}");
+    }
+}
