@@ -38,7 +38,7 @@ pub const DEFAULT_PILLARS: [(u32, u32); 2] = [(2, 4), (2, 6)];
 const MARGIN: u32 = 4;
 
 /// The most pillars that fit along a side of `n` cells: the block's `2 p + 3` cells (drift
-/// ends included) and [`MARGIN`] free cells on each side.
+/// ends included) and four free cells on each side.
 pub fn most_pillars(n: usize) -> u32 {
     (n as u32).saturating_sub(3 + 2 * MARGIN) / 2
 }
