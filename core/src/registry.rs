@@ -242,11 +242,11 @@ impl Registry {
     }
 
     /// A registry with the core's built-in constraint shapes (loop, T-junction,
-    /// intersection). Route descriptors, tile sets and exporters come from their crates.
+    /// intersection, room-and-pillar). Route descriptors, tile sets and exporters come from their crates.
     pub fn with_core_shapes() -> Self {
-        use crate::shapes::{Intersection, Loop, TJunction};
+        use crate::shapes::{Intersection, Loop, RoomAndPillar, TJunction};
         let mut r = Self::empty();
-        let shapes: [(&str, &str, Factory<dyn ConstraintShape>); 3] = [
+        let shapes: [(&str, &str, Factory<dyn ConstraintShape>); 4] = [
             (
                 "loop",
                 "a ring of eight cells around an empty centre, with an arm from each corner",
@@ -269,6 +269,13 @@ impl Registry {
                 Arc::new(|p: &Params| {
                     p.expect_none()?;
                     Ok(Box::new(Intersection) as Box<dyn ConstraintShape>)
+                }),
+            ),
+            (
+                "room-and-pillar",
+                "a mine panel: drifts and crosscuts crossing round a grid of pillars (pillars = [rows, cols])",
+                Arc::new(|p: &Params| {
+                    Ok(Box::new(RoomAndPillar::from_params(p)?) as Box<dyn ConstraintShape>)
                 }),
             ),
         ];
@@ -294,7 +301,7 @@ mod tests {
         };
         assert!(
             err.message
-                .contains("known: intersection, loop, t-junction"),
+                .contains("known: intersection, loop, room-and-pillar, t-junction"),
             "{err}"
         );
     }

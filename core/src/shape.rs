@@ -5,6 +5,7 @@
 //! [`ConstraintShape::objective`] (paper eqs. 5-6), and later links free arm ends of different
 //! structures so the level is one connected network.
 
+use crate::error::ConfigError;
 use crate::grid::Direction;
 use crate::rng::WorldRng;
 
@@ -91,6 +92,29 @@ pub trait ConstraintShape: Send + Sync {
     /// never touch.
     fn clearance(&self) -> i32 {
         2
+    }
+
+    /// Whether the shape can be placed on a level of `rows x cols` cells at all. Checked for
+    /// every requested shape before a level is built, so a shape too large for the grid is a
+    /// configuration error naming its key (a room-and-pillar block's `pillars`) instead of
+    /// attempts that cannot succeed. The default accepts every level.
+    fn fits(&self, rows: usize, cols: usize) -> Result<(), ConfigError> {
+        let _ = (rows, cols);
+        Ok(())
+    }
+
+    /// The shape to place for one structure on a level of `rows x cols`, for a shape whose
+    /// size is drawn per level (a room-and-pillar block's pillars): the drawn shape, whose
+    /// footprint and arms are placed and whose junctions and loops are expected. `None` (the
+    /// default, which draws nothing) places `self`.
+    fn drawn(
+        &self,
+        rows: usize,
+        cols: usize,
+        rng: &mut WorldRng,
+    ) -> Option<Box<dyn ConstraintShape>> {
+        let _ = (rows, cols, rng);
+        None
     }
 
     /// The objective node of an arm leaving from cell `from` (absolute `[row, col]`), on a level

@@ -413,6 +413,32 @@ impl ConstraintShape for Guarded<dyn ConstraintShape> {
     fn clearance(&self) -> i32 {
         self.call("ConstraintShape::clearance", || 2, |s| s.clearance())
     }
+    fn fits(&self, rows: usize, cols: usize) -> Result<(), ConfigError> {
+        self.try_call(
+            "ConstraintShape::fits",
+            |m| Params::default().error("", m),
+            |s| s.fits(rows, cols),
+        )
+    }
+    fn drawn(
+        &self,
+        rows: usize,
+        cols: usize,
+        rng: &mut subtgraph_core::rng::WorldRng,
+    ) -> Option<Box<dyn ConstraintShape>> {
+        // What the plugin draws is plugin code too: wrapped like the shape itself.
+        self.call(
+            "ConstraintShape::drawn",
+            || None,
+            |s| s.drawn(rows, cols, rng),
+        )
+        .map(|inner| {
+            Box::new(Guarded {
+                inner,
+                info: self.info.clone(),
+            }) as Box<dyn ConstraintShape>
+        })
+    }
     fn objective(
         &self,
         from: [i32; 2],

@@ -25,6 +25,7 @@ mod messages;
 mod passages;
 mod plugins;
 mod ramps;
+mod room_and_pillar;
 mod rubble;
 mod score;
 mod stats;

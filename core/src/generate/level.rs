@@ -241,9 +241,15 @@ pub fn build_level(
     // 1. Place structures in a random order (paper: constraint node distribution).
     let mut order: Vec<(&str, &dyn ConstraintShape)> = spec.structures.clone();
     rng.shuffle(&mut order);
+    // Shapes drawn per level (a room-and-pillar block's size); the others draw nothing.
+    let drawn: Vec<Option<Box<dyn ConstraintShape>>> = order
+        .iter()
+        .map(|(_, shape)| shape.drawn(spec.rows, spec.cols, rng))
+        .collect();
     let mut placed: Vec<Placed> = Vec::with_capacity(order.len());
     let mut expected = Counts::default();
-    for (name, shape) in order {
+    for ((name, shape), drawn) in order.into_iter().zip(&drawn) {
+        let shape = drawn.as_deref().unwrap_or(shape);
         let id = placed.len() as u32;
         let p = place(&mut lvl, name, shape, id, rng).ok_or_else(|| LevelFailure::NoRoom {
             structure: name.to_string(),

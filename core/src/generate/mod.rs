@@ -116,6 +116,16 @@ pub fn layout_with(
     let shapes = &components.shapes;
 
     let (rows, cols) = (resolved.rows, resolved.cols);
+    // A shape that can never fit this grid is the pipeline's error, not a level's failure.
+    for (name, shape) in shapes {
+        if resolved
+            .per_level
+            .iter()
+            .any(|l| l.iter().any(|(n, c)| n == name && *c > 0))
+        {
+            shape.fits(rows, cols)?;
+        }
+    }
     let mut occupancy = Grid3::filled(resolved.levels, rows, cols, false);
     let mut shafts = Vec::new();
     let mut expected: Vec<Option<Counts>> = Vec::new();
