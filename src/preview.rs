@@ -466,7 +466,7 @@ pub fn render(world: &Path, out: &Path, options: &Options) -> Result<usize> {
                     let c = place.cell_centre;
                     let z = floor_under(&scene, c, 0.5 * level, 0.9 * level).with_context(|| {
                         format!(
-                            "no floor under the centre of node {}'s tile; generate the world with ground truth (`--format` with ground-truth), whose graph gives each node's floor",
+                            "no floor under the centre of node {}'s tile; make the world with ground truth (`subtgraph generate --format obj,ground-truth`), whose graph gives each node's floor",
                             at.map_or("start".to_owned(), |n| n.to_string())
                         )
                     })?;
