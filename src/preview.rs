@@ -780,3 +780,40 @@ fn write_picture(out: &Path, bytes: &[u8]) -> Result<()> {
             )
         })
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A triangle crossing the near plane keeps the part in front of it: one vertex behind
+    /// gives a quadrilateral, two behind a smaller triangle, every corner on or before the
+    /// plane, and the crossing points on the triangle's edges.
+    #[test]
+    fn clipping_at_the_camera_keeps_the_part_in_front() {
+        let near = 0.05;
+        let quad = clip_near([[0.0, 0.0, -1.0], [1.0, 0.0, 1.0], [0.0, 1.0, 1.0]], near);
+        assert_eq!(quad.len(), 4);
+        assert!(quad.iter().all(|p| p[2] >= near - 1e-12));
+        // The edge from (0,0,-1) to (1,0,1) crosses z = near at x = (near + 1) / 2.
+        assert!(
+            quad.iter()
+                .any(|p| (p[0] - (near + 1.0) / 2.0).abs() < 1e-12 && p[1] == 0.0)
+        );
+        let tri = clip_near([[0.0, 0.0, 2.0], [1.0, 0.0, -1.0], [0.0, 1.0, -1.0]], near);
+        assert_eq!(tri.len(), 3);
+        assert!(tri.iter().all(|p| p[2] >= near - 1e-12));
+        assert!(clip_near([[0.0, 0.0, -1.0], [1.0, 0.0, -1.0], [0.0, 1.0, 0.0]], near).is_empty());
+    }
+
+    /// The light names `--light` takes, and a refusal that names both.
+    #[test]
+    fn lights_by_name() {
+        assert_eq!("lamp".parse::<Light>().unwrap(), Light::Lamp);
+        assert_eq!("sun".parse::<Light>().unwrap(), Light::Sun);
+        let e = "Lamp".parse::<Light>().unwrap_err().to_string();
+        assert!(
+            e.contains("lamp") && e.contains("sun") && e.contains("'Lamp'"),
+            "{e}"
+        );
+    }
+}
