@@ -431,19 +431,23 @@ pub fn render(world: &Path, out: &Path, options: &Options) -> Result<usize> {
         light,
         at,
     } = *options;
+    if view == View::Whole && at.is_some() {
+        bail!("--at NODE picks where a --close-up or --inside picture is taken; add one of them");
+    }
+    // The node first: a wrong --at is refused before the mesh is read.
+    let place = match view {
+        View::Whole => None,
+        View::CloseUp | View::Inside => Some(place_of(world, at)?),
+    };
     let mut scene = read_scene(world)?;
     let mut pitch = pitch_of(world);
     let mut inside_eye = None;
     match view {
-        View::Whole => {
-            if at.is_some() {
-                bail!(
-                    "--at NODE picks where a --close-up or --inside picture is taken; add one of them"
-                );
-            }
-        }
+        View::Whole => {}
         View::CloseUp => {
-            let place = place_of(world, at)?;
+            let place = place
+                .as_ref()
+                .context("a close-up or inside view has its node")?;
             pitch = place.pitch;
             scene = crop(
                 scene,
@@ -457,7 +461,9 @@ pub fn render(world: &Path, out: &Path, options: &Options) -> Result<usize> {
             }
         }
         View::Inside => {
-            let place = place_of(world, at)?;
+            let place = place
+                .as_ref()
+                .context("a close-up or inside view has its node")?;
             pitch = place.pitch;
             let level = place.level;
             let floor = match place.floor {
