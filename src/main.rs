@@ -200,9 +200,22 @@ enum Command {
         /// Picture size, WIDTHxHEIGHT pixels.
         #[arg(long, default_value = "1280x800")]
         size: String,
-        /// Draw the few tiles around the start instead of the whole world.
-        #[arg(long)]
+        /// Draw the few tiles around the start (or --at NODE) instead of the whole world.
+        #[arg(long, conflicts_with = "inside")]
         close_up: bool,
+        /// Draw what a robot sees from inside the passage at the start (or --at NODE), 1.5 m
+        /// above its floor, looking along its first passage.
+        #[arg(long)]
+        inside: bool,
+        /// The graph node (an id of topology.json) a --close-up or --inside picture is taken at.
+        #[arg(long, value_name = "NODE")]
+        at: Option<usize>,
+        /// lamp: a light just above the camera that falls off with distance, as a robot's lamp
+        /// shows a passage (the default with --inside); sun: a fixed light from above, the same
+        /// at every distance (the default from outside, where a lamp at the far camera lights
+        /// every face alike).
+        #[arg(long, value_name = "lamp|sun")]
+        light: Option<String>,
     },
 }
 
@@ -462,6 +475,9 @@ fn run(cli: Cli) -> Result<()> {
             out,
             size,
             close_up,
+            inside,
+            at,
+            light,
         } => {
             let (w, h) = size
                 .split_once('x')
@@ -470,7 +486,25 @@ fn run(cli: Cli) -> Result<()> {
                 .ok_or_else(|| {
                     anyhow!("--size must be WIDTHxHEIGHT, 16 to 8192 pixels each, like 1280x800")
                 })?;
-            let drawn = subtgraph::preview::render(&world, &out, w, h, close_up)?;
+            let view = if inside {
+                subtgraph::preview::View::Inside
+            } else if close_up {
+                subtgraph::preview::View::CloseUp
+            } else {
+                subtgraph::preview::View::Whole
+            };
+            let options = subtgraph::preview::Options {
+                width: w,
+                height: h,
+                view,
+                light: match light {
+                    Some(name) => name.parse()?,
+                    None if inside => subtgraph::preview::Light::Lamp,
+                    None => subtgraph::preview::Light::Sun,
+                },
+                at,
+            };
+            let drawn = subtgraph::preview::render(&world, &out, &options)?;
             println!(
                 "wrote {} ({w} x {h}, {drawn} triangles drawn)",
                 out.display()

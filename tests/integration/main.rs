@@ -24,6 +24,7 @@ mod mesh_files;
 mod messages;
 mod passages;
 mod plugins;
+mod preview;
 mod ramps;
 mod room_and_pillar;
 mod rubble;
