@@ -24,7 +24,19 @@
 //! files = ["corner_01.obj"]        # a corner...
 //! cap = "cap.obj"                  # ...closed by a cap on its second opening
 //! cap_faces = "north"              # which way the cap's open side faces in its file
+//!
+//! [[tile]]
+//! kind = "shaft-up"                # its foot opens like a dead end (rotation: of the foot)
+//! files = ["shaft.obj"]
+//! top = "west"                     # where its top opens when its foot faces east (default
+//!                                  #   "west"; "none": no side opening at the top)
+//! split = 32.0                     # where it is cut, above the foot's floor, file units
+//!                                  #   (default: half of shaft_rise)
 //! ```
+//!
+//! A shaft tile whose top opens sideways is cut at `split` into the foot's part and the
+//! landing's part, each turned for its own corridor (see `shaft.rs`); with `top = "none"` the
+//! whole tile stands at the foot and the landing gets the dead end's tile.
 //!
 //! Each distinct file is loaded once and reused by every tile that names it. The meshes are
 //! scaled uniformly so that the manifest's pitch becomes `world.tile_pitch`. A tile's file is
