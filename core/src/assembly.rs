@@ -13,9 +13,8 @@ use crate::budget::{Budget, MeshEstimate};
 use crate::grid::Cell;
 use crate::layout::Layout;
 use crate::mesh::{Material, Mesh};
-use crate::rng::derive_seed;
 use crate::tile::TileKind;
-use crate::tileset::{Seams, TileContext, TileGeometry, TileSet, TileSetError};
+use crate::tileset::{Seams, TileContext, TileGeometry, TileSet, TileSetError, tile_seed};
 
 /// Where one tile's triangles are in the world meshes.
 #[derive(Clone, Debug, PartialEq)]
@@ -148,11 +147,7 @@ pub fn assemble_within(
             cell,
             tile,
             position: layout.cell_position(cell),
-            seed: derive_seed(
-                layout.resolved.seed,
-                "tile",
-                ((cell.level as u64) << 40) | ((cell.row as u64) << 20) | cell.col as u64,
-            ),
+            seed: tile_seed(layout.resolved.seed, cell),
         };
         tileset.tile(&ctx).map_err(|e| TileSetError::Tile {
             cell,

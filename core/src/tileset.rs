@@ -32,6 +32,12 @@ pub struct TileContext<'a> {
 }
 
 impl TileContext<'_> {
+    /// The seed the tile at `cell` of this world gets as its own `seed`: a tile that must agree
+    /// with another draws from that tile's seed (a shaft's landing the file its foot drew).
+    pub fn seed_of(&self, cell: Cell) -> u64 {
+        tile_seed(self.layout.resolved.seed, cell)
+    }
+
     /// The neighbouring tiles on the same level, east, north, west, south.
     pub fn neighbours(&self) -> [Option<Tile>; 4] {
         crate::grid::Direction::ALL.map(|d| {
@@ -41,6 +47,15 @@ impl TileContext<'_> {
                 .and_then(|n| *self.layout.tiles.get(n))
         })
     }
+}
+
+/// A tile's own seed (its [`TileContext::seed`]), from the world's seed and its cell.
+pub fn tile_seed(world_seed: u64, cell: Cell) -> u64 {
+    crate::rng::derive_seed(
+        world_seed,
+        "tile",
+        ((cell.level as u64) << 40) | ((cell.row as u64) << 20) | cell.col as u64,
+    )
 }
 
 /// The geometry of one tile.

@@ -102,6 +102,54 @@ pub fn darpa_tiles() -> Option<PathBuf> {
     }
 }
 
+/// `examples/darpa-cave-levels.toml` (two levels of DARPA tiles joined by the vertical shaft)
+/// with `seed`, written into `dir`; with `old_shaft`, through the shipped manifest as it
+/// was before its shaft faced both corridors (the shaft turned as if its foot opened south, and
+/// not cut: whole at the foot, a dead end's tile over its top). `tiles` is [`darpa_tiles`].
+pub fn darpa_levels(dir: &Path, tiles: &Path, seed: u64, old_shaft: bool) -> PathBuf {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let shipped = root.join("tilesets/manifests/darpa-cave-type-b.toml");
+    let manifest = if old_shaft {
+        let text = std::fs::read_to_string(&shipped).unwrap();
+        let old = text
+            .lines()
+            .map(|l| match l {
+                l if l.starts_with("root =") => format!("root = {:?}", tiles.display().to_string()),
+                "top = \"west\"" => "top = \"none\"".into(),
+                "split = 32.0" => String::new(),
+                l => l.to_owned(),
+            })
+            .collect::<Vec<_>>()
+            .join("\n");
+        let from = "kind = \"shaft-up\"\nrotation = 1";
+        assert!(old.contains(from) && old.contains("top = \"none\""));
+        let p = dir.join("old-shaft.toml");
+        std::fs::write(&p, old.replace(from, "kind = \"shaft-up\"\nrotation = 3")).unwrap();
+        p
+    } else {
+        shipped
+    };
+    let text = std::fs::read_to_string(root.join("examples/darpa-cave-levels.toml")).unwrap();
+    let pipeline = [
+        ("seed = 15", format!("seed = {seed}")),
+        (
+            "manifest = \"../tilesets/manifests/darpa-cave-type-b.toml\"",
+            format!("manifest = {:?}", manifest.display().to_string()),
+        ),
+    ]
+    .iter()
+    .fold(text, |t, (from, to)| {
+        assert!(
+            t.contains(from),
+            "examples/darpa-cave-levels.toml has {from}"
+        );
+        t.replacen(from, to, 1)
+    });
+    let p = dir.join(format!("darpa-cave-levels-{seed}.toml"));
+    std::fs::write(&p, pipeline).unwrap();
+    p
+}
+
 /// Every file of a folder, relative path and bytes, sorted.
 pub fn folder_bytes(dir: &Path) -> Vec<(String, Vec<u8>)> {
     let mut out = Vec::new();

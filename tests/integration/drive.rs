@@ -102,6 +102,53 @@ fn a_ball_drives_the_route_through_the_darpa_tiles() {
     }
 }
 
+/// Issue 15 item 7: in PyBullet (the URDF's triangle mesh), a ball released over the foot's
+/// node at the landing's height falls down the DARPA vertical shaft to the foot's floor, and
+/// the landing's node sees the shaft's top across free space (`tests/readers/shaft_drop_check.py`),
+/// on a two-level world whose landing turns a quarter from its foot. With the manifest's old
+/// shaft (one turn for the whole tile, the foot read the wrong way round) the same check fails.
+#[test]
+fn a_ball_falls_down_the_darpa_shaft_to_its_foot() {
+    let Some(tiles) = common::darpa_tiles() else {
+        return;
+    };
+    let tmp = tempfile::tempdir().unwrap();
+    for old in [false, true] {
+        let pipeline = common::darpa_levels(tmp.path(), &tiles, 15, old);
+        let world = tmp.path().join(format!("world-{old}"));
+        ok(&[
+            "generate",
+            arg(&pipeline),
+            "--format",
+            "urdf,graph",
+            "--out",
+            arg(&world),
+        ]);
+        let Some(python) = python_with(&["pybullet"]) else {
+            eprintln!("skipping the drop: no pybullet");
+            return;
+        };
+        let out = Command::new(python)
+            .arg(Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/readers/shaft_drop_check.py"))
+            .arg(&world)
+            .output()
+            .unwrap();
+        let (stdout, stderr) = (
+            String::from_utf8_lossy(&out.stdout),
+            String::from_utf8_lossy(&out.stderr),
+        );
+        if old {
+            assert!(
+                !out.status.success() && stderr.contains("FAIL"),
+                "the old shaft passes:\n{stdout}\n{stderr}"
+            );
+        } else {
+            assert!(out.status.success(), "{stdout}\n{stderr}");
+            eprintln!("{stdout}");
+        }
+    }
+}
+
 /// The negative controls: the same drive over a world whose collision lacks the floor of one
 /// tile in the middle of the route (MuJoCo: that tile's floor height field does not collide;
 /// PyBullet: its floor triangles are cut from the collision mesh) fails, the ball falling

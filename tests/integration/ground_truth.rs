@@ -233,6 +233,49 @@ impl<'a> Soup<'a> {
         out
     }
 
+    /// Whether the straight segment from `a` to `b` crosses no triangle (Möller-Trumbore).
+    fn segment_is_free(&self, a: [f64; 3], b: [f64; 3]) -> bool {
+        let sub = |u: [f64; 3], v: [f64; 3]| [u[0] - v[0], u[1] - v[1], u[2] - v[2]];
+        let cross = |u: [f64; 3], v: [f64; 3]| {
+            [
+                u[1] * v[2] - u[2] * v[1],
+                u[2] * v[0] - u[0] * v[2],
+                u[0] * v[1] - u[1] * v[0],
+            ]
+        };
+        let dot = |u: [f64; 3], v: [f64; 3]| u[0] * v[0] + u[1] * v[1] + u[2] * v[2];
+        let d = sub(b, a);
+        let cell = |v: f64| (v / self.size).floor() as i64;
+        for bx in cell(a[0].min(b[0]))..=cell(a[0].max(b[0])) {
+            for by in cell(a[1].min(b[1]))..=cell(a[1].max(b[1])) {
+                for &t in self
+                    .buckets
+                    .get(&(bx, by))
+                    .map(Vec::as_slice)
+                    .unwrap_or(&[])
+                {
+                    let p = self.mesh.triangles[t]
+                        .map(|v| self.mesh.positions[v as usize].map(f64::from));
+                    let (e1, e2) = (sub(p[1], p[0]), sub(p[2], p[0]));
+                    let h = cross(d, e2);
+                    let det = dot(e1, h);
+                    if det.abs() < 1e-12 {
+                        continue;
+                    }
+                    let s = sub(a, p[0]);
+                    let u = dot(s, h) / det;
+                    let q = cross(s, e1);
+                    let v = dot(d, q) / det;
+                    let along = dot(e2, q) / det;
+                    if u >= 0.0 && v >= 0.0 && u + v <= 1.0 && (0.0..=1.0).contains(&along) {
+                        return false;
+                    }
+                }
+            }
+        }
+        true
+    }
+
     fn stands_on_a_floor(&self, p: [f64; 3]) -> bool {
         let hits = self.crossings(p[0], p[1]);
         let probe = p[2] + 0.5;
@@ -252,14 +295,18 @@ impl<'a> Soup<'a> {
 /// `graph.json` stands in free space on a floor, over many seeds per preset and on the DARPA
 /// tiles (whose passages miss their tile centres).
 fn graph_points_stand_on_floors(p: &subtgraph::core::Pipeline, what: &str) -> usize {
-    use subtgraph::core::export::{Exporter, MemoryWriter};
     let world = subtgraph::core::generate(p, &subtgraph::registry())
         .unwrap_or_else(|e| panic!("{what}: {e}"));
+    world_points_stand_on_floors(&world, what)
+}
+
+fn world_points_stand_on_floors(world: &subtgraph::core::World, what: &str) -> usize {
+    use subtgraph::core::export::{Exporter, MemoryWriter};
     let mesh = &world.mesh().expect("a mesh").collision;
     let soup = Soup::new(mesh, world.resolved.tile_pitch / 4.0);
     let mut out = MemoryWriter::default();
     subtgraph::exporters::GraphFiles
-        .export(&world, &mut out)
+        .export(world, &mut out)
         .unwrap();
     let doc: serde_json::Value =
         serde_json::from_slice(out.get("ground_truth/graph.json").unwrap()).unwrap();
@@ -329,4 +376,140 @@ fn graph_nodes_and_centrelines_stand_on_floors_of_the_darpa_tiles() {
     let p = subtgraph::core::Pipeline::parse(&text, file.to_str().unwrap()).unwrap();
     let n = graph_points_stand_on_floors(&p, "examples/darpa-cave.toml");
     eprintln!("{n} node and polyline points on the DARPA tiles' floors");
+}
+
+/// What keeps a robot from going between a shaft's foot or landing and its corridors on the
+/// collision surface, for every shaft of `p`'s world, and the shafts' relative turns (landing
+/// to foot, quarter turns): the shaft edge's ends are the foot's and the landing's nodes, so
+/// 1 m above them the vertical segment from the foot's node up to the landing's height, and
+/// from there the segment across to the landing's node, must be free; and so must the
+/// segments between the points of each corridor's polyline (1 m above them) leaving the foot
+/// or the landing, within its tile.
+fn shaft_connections(world: &subtgraph::core::World, what: &str) -> (Vec<String>, Vec<u8>) {
+    use subtgraph::core::export::{Exporter, MemoryWriter};
+    let mesh = &world.mesh().expect("a mesh").collision;
+    let pitch = world.resolved.tile_pitch;
+    let soup = Soup::new(mesh, pitch / 4.0);
+    let mut out = MemoryWriter::default();
+    subtgraph::exporters::GraphFiles
+        .export(world, &mut out)
+        .unwrap();
+    let doc: serde_json::Value =
+        serde_json::from_slice(out.get("ground_truth/graph.json").unwrap()).unwrap();
+    let point = |v: &serde_json::Value| -> [f64; 3] {
+        let a = v.as_array().unwrap();
+        [0, 1, 2].map(|k| a[k].as_f64().unwrap())
+    };
+    let nodes = doc["nodes"].as_array().unwrap();
+    let node = |id: &serde_json::Value| nodes.iter().find(|n| n["id"] == *id).unwrap();
+    let cell = |n: &serde_json::Value| {
+        let u = |k: &str| n[k].as_u64().unwrap() as usize;
+        subtgraph::core::grid::Cell::new(u("level"), u("row"), u("col"))
+    };
+    let up = |p: [f64; 3]| [p[0], p[1], p[2] + 1.0];
+    let (mut problems, mut turns) = (Vec::new(), Vec::new());
+    let edges = doc["edges"].as_array().unwrap();
+    for shaft in edges.iter().filter(|e| e["kind"] == "shaft") {
+        let (foot, landing) = (node(&shaft["from"]), node(&shaft["to"]));
+        assert_eq!(
+            (&foot["kind"], &landing["kind"]),
+            (&"shaft-up".into(), &"shaft-landing".into())
+        );
+        let rotation = |n| world.tiles.get(cell(n)).unwrap().rotation;
+        turns.push((rotation(foot) + 4 - rotation(landing)) % 4);
+        let (f, l) = (point(&foot["position"]), point(&landing["position"]));
+        let top = [f[0], f[1], l[2] + 1.0];
+        if !soup.segment_is_free(up(f), top) {
+            problems.push(format!(
+                "{what}: rock over the foot {f:?} below the landing's height {}",
+                l[2]
+            ));
+        }
+        if !soup.segment_is_free(top, up(l)) {
+            problems.push(format!(
+                "{what}: rock between the shaft's top {top:?} and the landing {l:?}"
+            ));
+        }
+        for end in [foot, landing] {
+            let centre = world.cell_position(cell(end));
+            let inside = |p: &[f64; 3]| {
+                (p[0] - centre[0]).abs() <= 0.5 * pitch && (p[1] - centre[1]).abs() <= 0.5 * pitch
+            };
+            let mut corridors = 0;
+            for e in edges.iter().filter(|e| e["kind"] == "corridor") {
+                let mut line: Vec<[f64; 3]> = e["polyline"]
+                    .as_array()
+                    .unwrap()
+                    .iter()
+                    .map(point)
+                    .collect();
+                if e["to"] == end["id"] {
+                    line.reverse();
+                } else if e["from"] != end["id"] {
+                    continue;
+                }
+                corridors += 1;
+                for w in line
+                    .windows(2)
+                    .take_while(|w| inside(&w[0]) && inside(&w[1]))
+                {
+                    if !soup.segment_is_free(up(w[0]), up(w[1])) {
+                        problems.push(format!(
+                            "{what}: corridor {} blocked between {:?} and {:?} in the {} tile",
+                            e["id"], w[0], w[1], end["kind"]
+                        ));
+                    }
+                }
+            }
+            assert_eq!(corridors, 1, "{what}: a shaft end is a dead end");
+        }
+    }
+    (problems, turns)
+}
+
+/// Issue 15 item 7: on two levels of DARPA tiles (`examples/darpa-cave-levels.toml`, and the
+/// same with seeds whose landings' corridors leave the shaft every other way relative to
+/// their feet's), the shaft tile's foot faces the foot's corridor and its top the landing's:
+/// the shaft edge and both corridors join through free space, and every node and polyline
+/// point stands on a floor. The manifest's old shaft fails the same check.
+#[test]
+fn the_darpa_shaft_joins_its_foot_and_landing_corridors() {
+    let Some(tiles) = common::darpa_tiles() else {
+        return;
+    };
+    let dir = tempfile::tempdir().unwrap();
+    let parse = |file: &Path| {
+        let text = std::fs::read_to_string(file).unwrap();
+        subtgraph::core::Pipeline::parse(&text, file.to_str().unwrap()).unwrap()
+    };
+    let example = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/darpa-cave-levels.toml");
+    let mut worlds = vec![(
+        parse(&example),
+        "examples/darpa-cave-levels.toml".to_string(),
+    )];
+    // Landings turned 0, 2 and 3 quarter turns from their feet (the example's: 1).
+    for seed in [8, 14, 10] {
+        let file = common::darpa_levels(dir.path(), &tiles, seed, false);
+        worlds.push((parse(&file), format!("darpa-cave-levels, seed {seed}")));
+    }
+    let (mut seen, mut shafts) = (std::collections::BTreeSet::new(), 0);
+    for (p, what) in &worlds {
+        let world = subtgraph::core::generate(p, &subtgraph::registry())
+            .unwrap_or_else(|e| panic!("{what}: {e}"));
+        let (problems, turns) = shaft_connections(&world, what);
+        assert!(problems.is_empty(), "{problems:#?}");
+        shafts += turns.len();
+        seen.extend(turns);
+        world_points_stand_on_floors(&world, what);
+    }
+    eprintln!("{shafts} DARPA shafts joined, landings turned {seen:?} from their feet");
+    assert_eq!(
+        seen.len(),
+        4,
+        "the landings turn every way from their feet: {seen:?}"
+    );
+    let old = parse(&common::darpa_levels(dir.path(), &tiles, 15, true));
+    let world = subtgraph::core::generate(&old, &subtgraph::registry()).unwrap();
+    let (problems, _) = shaft_connections(&world, "the old shaft");
+    assert!(!problems.is_empty(), "the old shaft passes the check");
 }

@@ -349,7 +349,7 @@ fn the_darpa_manifest_with_a_wrong_pitch_is_told_the_real_one() {
             "openings are 80 m apart; set pitch = 80",
         ),
         (
-            "rotation = 3",
+            "rotation = 1",
             "rotation = 7",
             "rotation = 7: give the quarter turns as 0, 1, 2 or 3",
         ),
@@ -375,4 +375,46 @@ fn the_darpa_manifest_with_a_wrong_pitch_is_told_the_real_one() {
         assert!(err.contains(want), "{to}: {err}");
         assert!(!err.contains("level_height"), "{err}");
     }
+}
+
+/// The shaft's `top` and `split` keys: refused on other kinds, with an unknown direction, a
+/// split outside the climb, or no `shaft_rise` to place the landing's part by; each message
+/// names the key and what to write. `top = "none"` needs no rise (the shaft is not cut).
+#[test]
+fn bad_shaft_keys_are_refused_naming_the_key() {
+    let dir = tempfile::tempdir().unwrap();
+    write_tiles(dir.path());
+    let shaft = |head: &str, keys: &str| {
+        format!(
+            "{head}\n[[tile]]\nkind = \"shaft-up\"\nrotation = 0\nfiles = [\"dead.obj\"]\n{keys}\n"
+        )
+    };
+    for (body, want) in [
+        (
+            "[[tile]]\nkind = \"straight\"\nfiles = [\"straight.obj\"]\ntop = \"west\"".to_string(),
+            "tile 'straight': `top` and `split` describe a shaft",
+        ),
+        (
+            shaft("shaft_rise = 64.0", "top = \"up\""),
+            "top = \"up\": use east, north, west, south or none",
+        ),
+        (
+            shaft("shaft_rise = 64.0", "split = 64.0"),
+            "split = 64: cut the shaft between its foot and its top, above 0 and below \
+             shaft_rise = 64",
+        ),
+        (shaft("", ""), "set shaft_rise"),
+        (
+            shaft("", "top = \"none\"\nsplit = 10.0"),
+            "a shaft with top = \"none\" is not cut",
+        ),
+    ] {
+        let err = MeshFiles::open(&manifest(dir.path(), &body))
+            .err()
+            .unwrap_or_else(|| panic!("accepted:\n{body}"))
+            .to_string();
+        assert!(err.contains(want), "{body}\n{err}");
+    }
+    assert!(MeshFiles::open(&manifest(dir.path(), &shaft("", "top = \"none\""))).is_ok());
+    assert!(MeshFiles::open(&manifest(dir.path(), &shaft("shaft_rise = 64.0", ""))).is_ok());
 }

@@ -24,13 +24,26 @@
 //! files = ["corner_01.obj"]        # a corner...
 //! cap = "cap.obj"                  # ...closed by a cap on its second opening
 //! cap_faces = "north"              # which way the cap's open side faces in its file
+//!
+//! [[tile]]
+//! kind = "shaft-up"                # its foot opens like a dead end (rotation: of the foot)
+//! files = ["shaft.obj"]
+//! top = "west"                     # where its top opens when its foot faces east (default
+//!                                  #   "west"; "none": no side opening at the top)
+//! split = 32.0                     # where it is cut, above the foot's floor, file units
+//!                                  #   (default: half of shaft_rise)
 //! ```
+//!
+//! A shaft tile whose top opens sideways is cut at `split` into the foot's part and the
+//! landing's part, each turned for its own corridor (see `shaft.rs`); with `top = "none"` the
+//! whole tile stands at the foot and the landing gets the dead end's tile.
 //!
 //! Each distinct file is loaded once and reused by every tile that names it. The meshes are
 //! scaled uniformly so that the manifest's pitch becomes `world.tile_pitch`. A tile's file is
 //! chosen by the tile's own seed, so the same world always gets the same files.
 
 mod load;
+mod shaft;
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -234,12 +247,24 @@ pub struct ManifestTile {
     /// The direction the cap's open side faces in its file.
     #[serde(default)]
     pub cap_faces: Option<String>,
+    /// `shaft-up` only: which way the shaft's top opening faces when its foot opening faces
+    /// east (the kind's base orientation): `"west"` (the default, the DARPA vertical shaft's),
+    /// `"east"`, `"north"`, `"south"`, or `"none"` for a top without a side opening (the
+    /// landing then gets a dead-end tile over it).
+    #[serde(default)]
+    pub top: Option<String>,
+    /// `shaft-up` only: the height above the foot's floor (file units, like `shaft_rise`) where
+    /// the tile is cut into the foot's part and the landing's part (default: half the rise).
+    #[serde(default)]
+    pub split: Option<f64>,
 }
 
 /// A loaded, oriented mesh in metres, up axis z, rotated to its kind's base orientation.
 #[derive(Clone, Debug)]
 struct Asset {
     mesh: Mesh,
+    /// A shaft with a side opening at its top: its foot's and its landing's parts.
+    shaft: Option<shaft::ShaftParts>,
 }
 
 #[derive(Clone, Debug)]
@@ -393,6 +418,7 @@ impl MeshFiles {
             } else {
                 kind
             };
+            let shaft_top = shaft_top(&manifest, t, kind).map_err(value)?;
             let mut assets = Vec::new();
             for f in &t.files {
                 let mesh = read(f)?;
@@ -420,7 +446,10 @@ impl MeshFiles {
                 for n in &mut m.normals {
                     *n = turn(*n, back);
                 }
-                assets.push(Arc::new(Asset { mesh: m }));
+                let shaft = shaft_top.map(|(split, rise, top_turn)| {
+                    shaft::ShaftParts::new(&m, split, rise, top_turn)
+                });
+                assets.push(Arc::new(Asset { mesh: m, shaft }));
             }
             let cap = match &t.cap {
                 None => None,
@@ -444,7 +473,10 @@ impl MeshFiles {
                     for n in &mut m.normals {
                         *n = turn(*n, q);
                     }
-                    Some(Arc::new(Asset { mesh: m }))
+                    Some(Arc::new(Asset {
+                        mesh: m,
+                        shaft: None,
+                    }))
                 }
             };
             if entries.insert(kind, Entry { assets, cap }).is_some() {
@@ -469,12 +501,130 @@ impl MeshFiles {
         *self.loads.lock().expect("not poisoned")
     }
 
+    /// `m` (base orientation, metres) turned `q` quarter turns, scaled to the world's pitch and
+    /// moved to the tile's position.
+    fn place(&self, ctx: &TileContext<'_>, m: &Mesh, q: u8) -> Mesh {
+        let s =
+            (ctx.layout.resolved.tile_pitch / (self.manifest.pitch * self.manifest.scale)) as f32;
+        let [x, y, z] = ctx.position.map(|v| v as f32);
+        Mesh {
+            positions: m
+                .positions
+                .iter()
+                .map(|&p| {
+                    let r = turn(p, q);
+                    [x + s * r[0], y + s * r[1], z + s * r[2]]
+                })
+                .collect(),
+            normals: m.normals.iter().map(|&n| turn(n, q)).collect(),
+            uvs: m.uvs.clone(),
+            triangles: m.triangles.clone(),
+            materials: m.materials.clone(),
+        }
+    }
+
+    /// A shaft's foot or landing from a shaft tile cut in two (see [`shaft`]): the foot's part
+    /// turned for the foot's corridor, or the landing's part (with the collar to the foot's
+    /// part) turned for the landing's. Both draw the file the foot draws. `None` when the
+    /// manifest's shaft is not cut, or for a shaft end with more than one opening (only
+    /// imported grids have those): then the whole shaft stands at the foot, as a dead end's
+    /// tile does at the landing.
+    fn shaft_part(&self, ctx: &TileContext<'_>) -> Option<Mesh> {
+        let kind = ctx.tile.kind;
+        let s = match kind {
+            TileKind::ShaftUp => ctx.layout.shafts.iter().find(|s| s.up == ctx.cell)?,
+            TileKind::ShaftLanding => ctx.layout.shafts.iter().find(|s| s.landing == ctx.cell)?,
+            _ => return None,
+        };
+        let foot = (*ctx.layout.tiles.get(s.up))?;
+        let landing = (*ctx.layout.tiles.get(s.landing))?;
+        if foot.openings.count_ones() != 1 || landing.openings.count_ones() != 1 {
+            return None;
+        }
+        let entry = self.entries.get(&TileKind::ShaftUp)?;
+        let parts = draw(entry, ctx.seed_of(s.up)).shaft.as_ref()?;
+        Some(if kind == TileKind::ShaftUp {
+            self.place(ctx, &parts.foot, foot.rotation)
+        } else {
+            let r = (foot.rotation + 4 - landing.rotation) % 4;
+            let mut m = self.place(ctx, &parts.landing, landing.rotation);
+            m.append(&self.place(ctx, &parts.collars[usize::from(r)], landing.rotation));
+            m
+        })
+    }
+
     fn entry(&self, kind: TileKind) -> Option<&Entry> {
         self.entries.get(&kind).or(match kind {
             TileKind::ShaftUp | TileKind::ShaftLanding => self.entries.get(&TileKind::DeadEnd),
             _ => None,
         })
     }
+}
+
+/// For a `shaft-up` tile with a side opening at its top: where to cut it (metres above the
+/// foot's floor), how far it climbs (metres) and the quarter turns that take its top opening
+/// east. `None` for other kinds and for `top = "none"`; the problem, naming the key, for
+/// `top` or `split` on another kind, an unknown direction, or a split outside the climb.
+fn shaft_top(
+    manifest: &Manifest,
+    t: &ManifestTile,
+    kind: TileKind,
+) -> Result<Option<(f32, f32, u8)>, String> {
+    let name = subtgraph_core::error::excerpt(&t.kind);
+    if kind != TileKind::ShaftUp {
+        return match (&t.top, t.split) {
+            (None, None) => Ok(None),
+            _ => Err(format!(
+                "tile '{name}': `top` and `split` describe a shaft; give them on the \
+                 kind = \"shaft-up\" tile only"
+            )),
+        };
+    }
+    let top = t.top.as_deref().unwrap_or("west");
+    if top == "none" {
+        return match t.split {
+            None => Ok(None),
+            Some(_) => Err(format!(
+                "tile '{name}': split = {}: a shaft with top = \"none\" is not cut; remove \
+                 `split` or say which way the top opens",
+                t.split.unwrap_or_default()
+            )),
+        };
+    }
+    let d = direction_named(top).ok_or_else(|| {
+        format!("tile '{name}': top = \"{top}\": use east, north, west, south or none")
+    })?;
+    let Some(rise) = manifest.shaft_rise else {
+        return Err(format!(
+            "tile '{name}': its top opens {top} (top = \"{top}\", the default), so the landing \
+             gets the upper part of the shaft: set shaft_rise (how far the shaft climbs, file \
+             units), or top = \"none\" if the top has no side opening"
+        ));
+    };
+    if !(rise.is_finite() && rise > 0.0) {
+        return Err(format!(
+            "shaft_rise = {rise}: give the climb as a positive number"
+        ));
+    }
+    let split = t.split.unwrap_or(0.5 * rise);
+    if !(split.is_finite() && split > 0.0 && split < rise) {
+        return Err(format!(
+            "tile '{name}': split = {split}: cut the shaft between its foot and its top, \
+             above 0 and below shaft_rise = {rise}"
+        ));
+    }
+    let turns = (4 - d as u8) % 4;
+    Ok(Some((
+        (split * manifest.scale) as f32,
+        (rise * manifest.scale) as f32,
+        turns,
+    )))
+}
+
+/// The file a tile with this seed gets among its entry's files.
+fn draw(entry: &Entry, seed: u64) -> &Asset {
+    let mut rng = WorldRng::new(seed, "mesh-file", 0);
+    &entry.assets[rng.below(entry.assets.len() as u64) as usize]
 }
 
 /// Metres between opposite openings as the meshes have them: the extent of every file that
@@ -692,38 +842,29 @@ fn describe(o: Openings) -> String {
 impl TileSet for MeshFiles {
     fn tile(&self, ctx: &TileContext<'_>) -> Result<TileGeometry, TileSetError> {
         let kind = ctx.tile.kind;
-        let entry = self.entry(kind).ok_or_else(|| TileSetError::MissingKinds {
-            tileset: self.manifest_path.display().to_string(),
-            kinds: vec![kind.name().to_owned()],
-        })?;
-        let mut rng = WorldRng::new(ctx.seed, "mesh-file", 0);
-        let asset = &entry.assets[rng.below(entry.assets.len() as u64) as usize];
-        let s =
-            (ctx.layout.resolved.tile_pitch / (self.manifest.pitch * self.manifest.scale)) as f32;
-        let [x, y, z] = ctx.position.map(|v| v as f32);
-        let q = ctx.tile.rotation;
-        let place = |m: &Mesh| Mesh {
-            positions: m
-                .positions
-                .iter()
-                .map(|&p| {
-                    let r = turn(p, q);
-                    [x + s * r[0], y + s * r[1], z + s * r[2]]
-                })
-                .collect(),
-            normals: m.normals.iter().map(|&n| turn(n, q)).collect(),
-            uvs: m.uvs.clone(),
-            triangles: m.triangles.clone(),
-            materials: m.materials.clone(),
-        };
-        let mut visual = place(&asset.mesh);
-        if let Some(cap) = &entry.cap {
-            if matches!(kind, TileKind::DeadEnd | TileKind::ShaftLanding)
-                || (kind == TileKind::ShaftUp && !self.entries.contains_key(&TileKind::ShaftUp))
-            {
-                visual.append(&place(&cap.mesh));
+        let place = |m: &Mesh, q: u8| self.place(ctx, m, q);
+        let visual = match self.shaft_part(ctx) {
+            Some(visual) => visual,
+            None => {
+                let entry = self.entry(kind).ok_or_else(|| TileSetError::MissingKinds {
+                    tileset: self.manifest_path.display().to_string(),
+                    kinds: vec![kind.name().to_owned()],
+                })?;
+                let asset = draw(entry, ctx.seed);
+                let q = ctx.tile.rotation;
+                let mut visual = place(&asset.mesh, q);
+                if let Some(cap) = &entry.cap {
+                    if matches!(kind, TileKind::DeadEnd | TileKind::ShaftLanding)
+                        || (kind == TileKind::ShaftUp
+                            && !self.entries.contains_key(&TileKind::ShaftUp))
+                    {
+                        visual.append(&place(&cap.mesh, q));
+                    }
+                }
+                visual
             }
-        }
+        };
+        let [x, y, z] = ctx.position.map(|v| v as f32);
         // The snapping grid starts at the tile's south-west corner, so its lines fall on the
         // tile's edges: both tiles of a seam snap their edge vertices onto the seam itself.
         // (On a grid from the world's origin an 80 m tile's edges fall half way between lines,
@@ -754,8 +895,16 @@ impl TileSet for MeshFiles {
     fn estimate(&self, _world: &Layout, kind: TileKind) -> Option<TileTriangles> {
         // The files' own triangles (the mean over a kind's files, plus its cap); collision is
         // the same surface snapped to a coarser grid, measured at about a third of it on the
-        // DARPA tiles, counted at half to stay on the safe side.
-        let entry = self.entry(kind)?;
+        // DARPA tiles, counted at half to stay on the safe side. A landing that gets the upper
+        // part of a cut shaft is counted as the whole shaft.
+        let cut = self
+            .entries
+            .get(&TileKind::ShaftUp)
+            .filter(|e| e.assets.iter().any(|a| a.shaft.is_some()));
+        let entry = match (kind, cut) {
+            (TileKind::ShaftLanding, Some(e)) => e,
+            _ => self.entry(kind)?,
+        };
         let files = entry
             .assets
             .iter()
