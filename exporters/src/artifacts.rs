@@ -20,6 +20,7 @@
 //!
 //! Without a mesh (`--no-mesh`) the passages are the grid's cells, flat floors.
 
+use std::collections::HashMap;
 use std::f64::consts::TAU;
 
 use serde::Serialize;
@@ -31,7 +32,9 @@ use subtgraph_core::grid::Cell;
 use subtgraph_core::rng::WorldRng;
 use subtgraph_core::tile::TileKind;
 
+use crate::axis::Axes;
 use crate::inside::{Columns, Passages, Span, cell_at};
+use crate::sight;
 
 /// Coarsest spacing of the lines sampled under an artifact, metres.
 const STEP: f64 = 0.25;
@@ -56,6 +59,9 @@ const LIFT: f64 = 0.001;
 pub const PAD: f64 = 0.05;
 /// Spots tried per tile before the tile is given up.
 const TRIES: usize = 300;
+/// ... and when looking for a hidden spot, which few spots of a tile are (a pocket of the
+/// wall, the far side of a bend or a boulder): most fail the quick look on the raster.
+const HIDDEN_TRIES: usize = 3000;
 
 /// Where an artifact is on the graph.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
@@ -207,6 +213,17 @@ fn allowed(rule: Placement, kind: TileKind) -> bool {
     }
 }
 
+/// What a spot's line of sight from its tile's passage axis must be (`sight.rs`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Aim {
+    /// Not looked at (`hidden = 0`, as before the key existed).
+    Any,
+    /// Seen from the axis.
+    Seen,
+    /// Out of the axis's sight.
+    Hidden,
+}
+
 /// [`place`] with the section and passages given.
 pub(crate) fn place_with(
     world: &World,
@@ -216,7 +233,7 @@ pub(crate) fn place_with(
     let mut rng = WorldRng::new(world.resolved.seed, "artifact-placement", 0);
     let count = section.count.max() as usize; // fixed once resolved
     let places = cell_places(world);
-    let mut remaining: Vec<Vec<usize>> = section
+    let tiles: Vec<Vec<usize>> = section
         .placement
         .iter()
         .map(|&rule| {
@@ -231,28 +248,88 @@ pub(crate) fn place_with(
                 .collect()
         })
         .collect();
+    // Per aim (`Aim as usize`), the tiles each rule may still find a spot in: a tile without
+    // room for any spot is dropped from all three, one without a hidden (or seen) spot only
+    // from that aim's.
+    let mut remaining: [Vec<Vec<usize>>; 3] = [tiles.clone(), tiles.clone(), tiles];
     let offset = rng.below(section.classes.len() as u64) as usize;
+    // With `hidden`, which artifacts are hidden comes from a stream of its own, and they are
+    // placed first (while the others' spacing leaves them the most room); without it the
+    // artifacts are placed in order, by the same draws as before the key existed.
+    let want_hidden = section.hidden_count(count);
+    let mut aims = vec![Aim::Any; count];
+    let mut order: Vec<usize> = (0..count).collect();
+    if section.hidden > 0.0 {
+        let mut ids = order.clone();
+        WorldRng::new(world.resolved.seed, "artifact-hidden", 0).shuffle(&mut ids);
+        for (k, &id) in ids.iter().enumerate() {
+            aims[id] = if k < want_hidden {
+                Aim::Hidden
+            } else {
+                Aim::Seen
+            };
+        }
+        order.sort_by_key(|&id| (aims[id] != Aim::Hidden, id));
+    }
+    // Each tile's axis points, found when a spot's sight is first looked at there.
+    let mut axis_points: HashMap<Cell, Vec<[f64; 3]>> = HashMap::new();
     let mut placed: Vec<Artifact> = Vec::with_capacity(count);
-    for id in 0..count {
+    for id in order {
         let class = section.classes[(offset + id) % section.classes.len()];
         let first = rng.below(section.placement.len() as u64) as usize;
         let mut found = None;
-        'rules: for r in 0..section.placement.len() {
-            let ri = (first + r) % section.placement.len();
-            let rule = section.placement[ri];
-            while !remaining[ri].is_empty() {
-                let pick = rng.below(remaining[ri].len() as u64) as usize;
-                let k = remaining[ri][pick];
-                let (cell, graph, dist) = places[k];
-                match spot_in(
-                    world, passages, cell, class, rule, section, &placed, &mut rng,
-                ) {
-                    Some((position, yaw)) => {
-                        found = Some((cell, graph, dist, rule, position, yaw));
-                        break 'rules;
-                    }
-                    None => {
-                        remaining[ri].remove(pick);
+        // A hidden artifact that finds no hidden spot anywhere is placed where it fits.
+        let tries: &[Aim] = match aims[id] {
+            Aim::Hidden => &[Aim::Hidden, Aim::Any],
+            Aim::Seen => &[Aim::Seen, Aim::Any],
+            Aim::Any => &[Aim::Any],
+        };
+        'aims: for &aim in tries {
+            for r in 0..section.placement.len() {
+                let ri = (first + r) % section.placement.len();
+                let rule = section.placement[ri];
+                while !remaining[aim as usize][ri].is_empty() {
+                    let pick = rng.below(remaining[aim as usize][ri].len() as u64) as usize;
+                    let k = remaining[aim as usize][ri][pick];
+                    let (cell, graph, dist) = places[k];
+                    let sight = match aim {
+                        Aim::Any => None,
+                        Aim::Seen | Aim::Hidden => Some((
+                            aim == Aim::Seen,
+                            axis_points
+                                .entry(cell)
+                                .or_insert_with(|| {
+                                    Axes::of_cells(world, passages, &[cell])
+                                        .tile_points(world, cell)
+                                })
+                                .as_slice(),
+                        )),
+                    };
+                    let request = Request {
+                        cell,
+                        class,
+                        rule,
+                        sight,
+                    };
+                    match spot_in(world, passages, &request, section, &placed, &mut rng) {
+                        Some((position, yaw)) => {
+                            found = Some((cell, graph, dist, rule, position, yaw));
+                            break 'aims;
+                        }
+                        None => {
+                            let drop = |list: &mut Vec<usize>| {
+                                if let Some(at) = list.iter().position(|&x| x == k) {
+                                    list.remove(at);
+                                }
+                            };
+                            if aim == Aim::Any {
+                                for lists in &mut remaining {
+                                    drop(&mut lists[ri]);
+                                }
+                            } else {
+                                remaining[aim as usize][ri].remove(pick);
+                            }
+                        }
                     }
                 }
             }
@@ -260,7 +337,8 @@ pub(crate) fn place_with(
         let Some((cell, graph, dist, rule, position, yaw)) = found else {
             let rules: Vec<&str> = section.placement.iter().map(|p| p.name()).collect();
             return Err(ExportError::Unsupported(format!(
-                "artifacts: placed {id} of {count}: no tile allowed by placement = {rules:?} at least {} m from the start along the passages has room for a {} {} m from the others; lower artifacts.count, artifacts.min_spacing or artifacts.min_distance_from_start, or allow more placement rules",
+                "artifacts: placed {} of {count}: no tile allowed by placement = {rules:?} at least {} m from the start along the passages has room for a {} {} m from the others; lower artifacts.count, artifacts.min_spacing or artifacts.min_distance_from_start, or allow more placement rules",
+                placed.len(),
                 section.min_distance_from_start,
                 class.name(),
                 section.min_spacing
@@ -280,21 +358,35 @@ pub(crate) fn place_with(
             distance_from_start_m: dist,
         });
     }
+    placed.sort_by_key(|a| a.id);
     Ok(placed)
 }
 
-/// A spot in `cell` for an artifact of `class` by `rule`: its base centre and yaw.
-#[allow(clippy::too_many_arguments)]
-fn spot_in(
-    world: &World,
-    passages: &Passages,
+/// What [`spot_in`] looks for.
+struct Request<'a> {
     cell: Cell,
     class: ArtifactClass,
     rule: Placement,
+    /// Whether the spot must be seen (`true`) or hidden (`false`) from the tile's axis,
+    /// whose points are given; `None`: not looked at.
+    sight: Option<(bool, &'a [[f64; 3]])>,
+}
+
+/// A spot in `cell` for an artifact of `class` by `rule`: its base centre and yaw.
+fn spot_in(
+    world: &World,
+    passages: &Passages,
+    request: &Request,
     section: &ArtifactsSection,
     placed: &[Artifact],
     rng: &mut WorldRng,
 ) -> Option<([f64; 3], f64)> {
+    let Request {
+        cell,
+        class,
+        rule,
+        sight,
+    } = *request;
     let pitch = world.resolved.tile_pitch;
     let lh = world.resolved.level_height;
     let [cx, cy, nominal] = world.cell_position(cell);
@@ -337,6 +429,17 @@ fn spot_in(
             }
         }
     }
+    // With a sight to look for, every free stretch of each line: a quick look along a
+    // spot's line of sight before the exact one.
+    let mut free: Vec<Vec<[f64; 2]>> = Vec::new();
+    if sight.is_some() {
+        free = vec![Vec::new(); nx * ny];
+        for (j, row) in rows.iter().enumerate() {
+            for s in row {
+                free[j * nx + s.i as usize].push([s.z0, s.z1]);
+            }
+        }
+    }
     let index = |x: f64, y: f64| -> Option<usize> {
         let i = ((x - cols.x0) / step).floor();
         let j = ((y - cols.y0) / step).floor();
@@ -371,7 +474,11 @@ fn spot_in(
         Placement::Floor => GAP + OPEN,
         Placement::DeadEnd | Placement::Chamber => GAP,
     };
-    for &k in candidates.iter().take(TRIES) {
+    let tries = match sight {
+        Some((false, _)) => HIDDEN_TRIES,
+        _ => TRIES,
+    };
+    for &k in candidates.iter().take(tries) {
         let (x, y) = (cols.x(k % nx), cols.y(k / nx));
         let yaw = rng.unit() * TAU;
         let (sin, cos) = yaw.sin_cos();
@@ -434,6 +541,27 @@ fn spot_in(
         if !fits {
             continue;
         }
+        // The line of sight on the raster (each point on its nearest line; a point outside
+        // the raster is left to the exact look): a spot that looks the wrong way there is
+        // not cast exactly.
+        if let Some((seen, points)) = sight {
+            let target = [x, y, hi + LIFT + 0.5 * size[2]];
+            let rock: Vec<bool> = sight::samples(sight::eye(points, target), target)
+                .iter()
+                .map(|p| {
+                    index(p[0], p[1])
+                        .is_some_and(|l| !free[l].iter().any(|s| s[0] <= p[2] && p[2] <= s[1]))
+                })
+                .collect();
+            let fits = if seen {
+                !rock.contains(&true)
+            } else {
+                sight::walled(&rock)
+            };
+            if !fits {
+                continue;
+            }
+        }
         // The raster's lines are `step` apart: the floor between them, under the footprint's
         // exact corners and edges, may stand a little higher. Cast there and stand on the
         // highest, a millimetre above it.
@@ -472,6 +600,18 @@ fn spot_in(
                 .any(|s| s[1] < base + size[2] + CLEAR)
         {
             continue;
+        }
+        if let Some((seen, points)) = sight {
+            let target = [x, y, base + 0.5 * size[2]];
+            let rock = sight::blocked(passages, sight::eye(points, target), target);
+            let fits = if seen {
+                !rock.contains(&true)
+            } else {
+                sight::walled(&rock)
+            };
+            if !fits {
+                continue;
+            }
         }
         return Some(([x, y, base], yaw));
     }

@@ -25,7 +25,7 @@
 //! or an opening is not reached keeps its grid centre (`fallback` counts them). Without a
 //! mesh the passages are the grid's, and the axis is the line through the cell centres.
 //!
-//! Deterministic: lines come from the exact raster of [`super::inside`], paths from a Dijkstra
+//! Deterministic: lines come from the exact raster of [`crate::inside`], paths from a Dijkstra
 //! with integer costs and ties broken by index, tiles in parallel collected in order.
 
 use std::cmp::Reverse;
@@ -592,7 +592,7 @@ mod tests {
 
     #[test]
     fn nodes_and_centrelines_stand_on_the_floor_of_the_passages() {
-        let world = super::super::tests::world_with_mesh();
+        let world = crate::ground_truth::tests::world_with_mesh();
         let passages = Passages::of(&world);
         let axes = Axes::of(&world, &passages);
         assert_eq!(axes.fallback, 0, "every tile has an axis");
