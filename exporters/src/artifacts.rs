@@ -28,7 +28,7 @@ use subtgraph_core::World;
 use subtgraph_core::artifacts::{ArtifactClass, ArtifactsSection, Placement};
 use subtgraph_core::export::ExportError;
 use subtgraph_core::graph::EdgeKind;
-use subtgraph_core::grid::Cell;
+use subtgraph_core::grid::{Cell, Direction};
 use subtgraph_core::rng::WorldRng;
 use subtgraph_core::tile::TileKind;
 
@@ -203,6 +203,61 @@ fn cell_places(world: &World) -> Vec<(Cell, GraphPlace, f64)> {
     out
 }
 
+/// Graph distance from the start of every occupied cell of a corridor or node.
+pub(crate) fn distances(world: &World) -> HashMap<Cell, f64> {
+    cell_places(world)
+        .into_iter()
+        .map(|(c, _, d)| (c, d))
+        .collect()
+}
+
+/// Where the lines of sight to artifacts in one tile start (`sight.rs`).
+pub(crate) struct Lookout {
+    /// The tile's axis points (anchor first).
+    points: Vec<[f64; 3]>,
+    /// With `[artifacts] hidden`, the robot's way through the tile from the opening nearest
+    /// the start; `None` without the key, or for a tile entered from no known opening.
+    walk: Option<Vec<[f64; 3]>>,
+}
+
+impl Lookout {
+    /// The lookout of `cell`, from its axis; `approach` with `[artifacts] hidden`.
+    pub(crate) fn of(
+        world: &World,
+        axes: &Axes,
+        distances: &HashMap<Cell, f64>,
+        cell: Cell,
+        approach: bool,
+    ) -> Lookout {
+        let walk = approach
+            .then(|| {
+                Direction::ALL
+                    .into_iter()
+                    .filter_map(|d| {
+                        let n = world.occupancy.neighbour(cell, d)?;
+                        let dist = *distances.get(&n)?;
+                        let walk = axes.walk_from(cell, d)?;
+                        dist.is_finite().then_some((dist, walk))
+                    })
+                    .min_by(|a, b| a.0.total_cmp(&b.0))
+                    .map(|(_, walk)| walk)
+            })
+            .flatten();
+        Lookout {
+            points: axes.tile_points(world, cell),
+            walk,
+        }
+    }
+
+    /// The eye looking at `target`.
+    pub(crate) fn eye(&self, target: [f64; 3]) -> [f64; 3] {
+        match &self.walk {
+            Some(walk) => sight::approach_eye(walk, target),
+            None => sight::eye(&self.points, target),
+        }
+    }
+}
+
 fn allowed(rule: Placement, kind: TileKind) -> bool {
     match rule {
         Placement::DeadEnd => kind == TileKind::DeadEnd,
@@ -271,8 +326,13 @@ pub(crate) fn place_with(
         }
         order.sort_by_key(|&id| (aims[id] != Aim::Hidden, id));
     }
-    // Each tile's axis points, found when a spot's sight is first looked at there.
-    let mut axis_points: HashMap<Cell, Vec<[f64; 3]>> = HashMap::new();
+    // Each tile's lookout, found when a spot's sight is first looked at there.
+    let mut lookouts: HashMap<Cell, Lookout> = HashMap::new();
+    let distances = if section.hidden > 0.0 {
+        distances(world)
+    } else {
+        HashMap::new()
+    };
     let mut placed: Vec<Artifact> = Vec::with_capacity(count);
     for id in order {
         let class = section.classes[(offset + id) % section.classes.len()];
@@ -296,13 +356,10 @@ pub(crate) fn place_with(
                         Aim::Any => None,
                         Aim::Seen | Aim::Hidden => Some((
                             aim == Aim::Seen,
-                            axis_points
-                                .entry(cell)
-                                .or_insert_with(|| {
-                                    Axes::of_cells(world, passages, &[cell])
-                                        .tile_points(world, cell)
-                                })
-                                .as_slice(),
+                            &*lookouts.entry(cell).or_insert_with(|| {
+                                let axes = Axes::of_cells(world, passages, &[cell]);
+                                Lookout::of(world, &axes, &distances, cell, true)
+                            }),
                         )),
                     };
                     let request = Request {
@@ -367,9 +424,9 @@ struct Request<'a> {
     cell: Cell,
     class: ArtifactClass,
     rule: Placement,
-    /// Whether the spot must be seen (`true`) or hidden (`false`) from the tile's axis,
-    /// whose points are given; `None`: not looked at.
-    sight: Option<(bool, &'a [[f64; 3]])>,
+    /// Whether the spot must be seen (`true`) or hidden (`false`) from the tile's lookout;
+    /// `None`: not looked at.
+    sight: Option<(bool, &'a Lookout)>,
 }
 
 /// A spot in `cell` for an artifact of `class` by `rule`: its base centre and yaw.
@@ -544,9 +601,9 @@ fn spot_in(
         // The line of sight on the raster (each point on its nearest line; a point outside
         // the raster is left to the exact look): a spot that looks the wrong way there is
         // not cast exactly.
-        if let Some((seen, points)) = sight {
+        if let Some((seen, lookout)) = sight {
             let target = [x, y, hi + LIFT + 0.5 * size[2]];
-            let rock: Vec<bool> = sight::samples(sight::eye(points, target), target)
+            let rock: Vec<bool> = sight::samples(lookout.eye(target), target)
                 .iter()
                 .map(|p| {
                     index(p[0], p[1])
@@ -601,9 +658,9 @@ fn spot_in(
         {
             continue;
         }
-        if let Some((seen, points)) = sight {
+        if let Some((seen, lookout)) = sight {
             let target = [x, y, base + 0.5 * size[2]];
-            let rock = sight::blocked(passages, sight::eye(points, target), target);
+            let rock = sight::blocked(passages, lookout.eye(target), target);
             let fits = if seen {
                 !rock.contains(&true)
             } else {

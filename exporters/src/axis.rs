@@ -142,6 +142,23 @@ impl Axes {
         }
     }
 
+    /// A robot's way through a tile it enters from `from`: that opening's path to the anchor,
+    /// the anchor, then the paths to the other openings (east, north, west, south); `None`
+    /// for a tile without an axis or without that opening.
+    pub fn walk_from(&self, c: Cell, from: Direction) -> Option<Vec<[f64; 3]>> {
+        let a = self.tiles.get(&c)?;
+        let entry = &a.exits[from as usize];
+        if entry.is_empty() {
+            return None;
+        }
+        let mut walk: Vec<[f64; 3]> = entry.iter().rev().copied().collect();
+        walk.push(a.anchor);
+        for d in Direction::ALL.into_iter().filter(|&d| d != from) {
+            walk.extend(a.exits[d as usize].iter().copied());
+        }
+        Some(walk)
+    }
+
     /// Where a tile's node stands: its anchor, or the grid centre.
     pub fn position(&self, world: &World, c: Cell) -> [f64; 3] {
         self.tiles

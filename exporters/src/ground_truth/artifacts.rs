@@ -6,18 +6,21 @@
 //! Each artifact also says whether it is `visible_from_axis`: whether the straight line from
 //! [`EYE`](crate::sight::EYE) above the nearest point of its tile's passage axis (`axis.rs`)
 //! to the artifact's centre stays in free space, as `sight.rs` looks (the computation
-//! placement uses to hide some on purpose; `sight_from` is the eye). An artifact around a
-//! corner or in a side pocket is not. Without a mesh every artifact is visible (from its
-//! tile's centre).
+//! placement uses to hide some on purpose; `sight_from` is the eye). With `[artifacts]
+//! hidden` the eye is instead where a robot on its way from the start first comes within
+//! `sight::NEAR` of the artifact. An artifact around a corner or in a side pocket is not
+//! visible. Without a mesh every artifact is visible (from its tile's centre).
 
+use std::collections::HashMap;
 use std::fmt::Write as _;
 
 use serde::Serialize;
 use subtgraph_core::World;
 use subtgraph_core::export::{ExportError, WorldWriter, write_file};
+use subtgraph_core::grid::Cell;
 
 use super::FRAME;
-use crate::artifacts::{Artifact, GraphPlace};
+use crate::artifacts::{Artifact, GraphPlace, Lookout};
 use crate::axis::Axes;
 use crate::inside::Passages;
 use crate::sight;
@@ -36,11 +39,26 @@ fn visible_from_axis(world: &World, artifacts: &[Artifact]) -> Vec<(bool, [f64; 
     cells.sort();
     cells.dedup();
     let axes = Axes::of_cells(world, &passages, &cells);
+    // With `hidden`, from where a robot first comes near (see `sight.rs`).
+    let approach = world
+        .pipeline
+        .artifacts
+        .as_ref()
+        .is_some_and(|s| s.hidden > 0.0);
+    let distances = if approach {
+        crate::artifacts::distances(world)
+    } else {
+        HashMap::new()
+    };
+    let lookouts: HashMap<Cell, Lookout> = cells
+        .iter()
+        .map(|&c| (c, Lookout::of(world, &axes, &distances, c, approach)))
+        .collect();
     artifacts
         .iter()
         .map(|a| {
             let target = a.centre();
-            let eye = sight::eye(&axes.tile_points(world, a.cell), target);
+            let eye = lookouts[&a.cell].eye(target);
             (sight::clear(&passages, eye, target), eye)
         })
         .collect()
