@@ -22,6 +22,7 @@
 
 use std::collections::HashMap;
 use std::f64::consts::TAU;
+use std::sync::Arc;
 
 use serde::Serialize;
 use subtgraph_core::World;
@@ -106,6 +107,10 @@ pub struct Artifact {
     pub graph: GraphPlace,
     /// From the start tile's centre to its tile's centre along the graph, metres.
     pub distance_from_start_m: f64,
+    /// With `[artifacts] hidden`, whether placement found it seen from its tile's lookout,
+    /// and the eye (`sight.rs`): the ground truth's flag without looking again.
+    #[serde(skip)]
+    pub sight: Option<(bool, [f64; 3])>,
 }
 
 impl Artifact {
@@ -142,12 +147,20 @@ impl Artifact {
     }
 }
 
-/// The world's artifacts: none without `[artifacts]`.
-pub fn place(world: &World) -> Result<Vec<Artifact>, ExportError> {
-    match &world.pipeline.artifacts {
-        None => Ok(Vec::new()),
-        Some(section) => place_with(world, section, &Passages::of(world)),
-    }
+/// The world's artifacts: none without `[artifacts]`. Placed once per world and shared by
+/// every format that holds them and the ground truth ([`World::derived`]).
+pub fn place(world: &World) -> Result<Arc<Vec<Artifact>>, ExportError> {
+    /// The placement as a world keeps it.
+    struct Placed(Result<Arc<Vec<Artifact>>, String>);
+    let placed = world.derived(|world| {
+        Placed(match &world.pipeline.artifacts {
+            None => Ok(Arc::new(Vec::new())),
+            Some(section) => place_with(world, section, &Passages::of(world))
+                .map(Arc::new)
+                .map_err(|e| e.to_string()),
+        })
+    });
+    placed.0.clone().map_err(ExportError::Unsupported)
 }
 
 /// Graph distance from the start and graph place of every occupied cell of a corridor or node.
@@ -369,8 +382,8 @@ pub(crate) fn place_with(
                         sight,
                     };
                     match spot_in(world, passages, &request, section, &placed, &mut rng) {
-                        Some((position, yaw)) => {
-                            found = Some((cell, graph, dist, rule, position, yaw));
+                        Some((position, yaw, looked)) => {
+                            found = Some((cell, graph, dist, rule, position, yaw, looked));
                             break 'aims;
                         }
                         None => {
@@ -391,7 +404,7 @@ pub(crate) fn place_with(
                 }
             }
         }
-        let Some((cell, graph, dist, rule, position, yaw)) = found else {
+        let Some((cell, graph, dist, rule, position, yaw, looked)) = found else {
             let rules: Vec<&str> = section.placement.iter().map(|p| p.name()).collect();
             return Err(ExportError::Unsupported(format!(
                 "artifacts: placed {} of {count}: no tile allowed by placement = {rules:?} at least {} m from the start along the passages has room for a {} {} m from the others; lower artifacts.count, artifacts.min_spacing or artifacts.min_distance_from_start, or allow more placement rules",
@@ -413,11 +426,15 @@ pub(crate) fn place_with(
             placement: rule,
             graph,
             distance_from_start_m: dist,
+            sight: looked,
         });
     }
     placed.sort_by_key(|a| a.id);
     Ok(placed)
 }
+
+/// A spot [`spot_in`] found: base centre, yaw, and what its sight was checked to be.
+type Spot = ([f64; 3], f64, Option<(bool, [f64; 3])>);
 
 /// What [`spot_in`] looks for.
 struct Request<'a> {
@@ -437,7 +454,7 @@ fn spot_in(
     section: &ArtifactsSection,
     placed: &[Artifact],
     rng: &mut WorldRng,
-) -> Option<([f64; 3], f64)> {
+) -> Option<Spot> {
     let Request {
         cell,
         class,
@@ -658,9 +675,11 @@ fn spot_in(
         {
             continue;
         }
+        let mut looked = None;
         if let Some((seen, lookout)) = sight {
             let target = [x, y, base + 0.5 * size[2]];
-            let rock = sight::blocked(passages, lookout.eye(target), target);
+            let eye = lookout.eye(target);
+            let rock = sight::blocked(passages, eye, target);
             let fits = if seen {
                 !rock.contains(&true)
             } else {
@@ -669,8 +688,9 @@ fn spot_in(
             if !fits {
                 continue;
             }
+            looked = Some((seen, eye));
         }
-        return Some(([x, y, base], yaw));
+        return Some(([x, y, base], yaw, looked));
     }
     None
 }
