@@ -9,11 +9,17 @@
 //! min_distance_from_start = 50      # metres along the passages (the graph)
 //! placement = ["dead-end", "chamber", "wall", "floor"]
 //! min_spacing = 10                  # metres between any two artifacts
+//! hidden = 0.3                      # share placed out of sight of their tile's passage axis
 //! ```
 //!
 //! The section is optional: a pipeline without it makes exactly the files it made before the
 //! section existed. The count is drawn from a stream of its own (`"artifacts"`), and a world's
 //! `world.toml` records it fixed.
+//!
+//! `hidden` (default 0: placement does not look at sight lines, as before the key existed) is
+//! the share of artifacts placed where the passage axis does not see them: around a bend,
+//! in a pocket or behind a boulder, as DARPA's course designers hid some. A world with fewer
+//! such spots than asked for gets as many as it has, and its ground truth says so.
 
 use serde::{Deserialize, Serialize};
 
@@ -197,6 +203,14 @@ pub struct ArtifactsSection {
     /// Least distance between two artifacts, metres.
     #[serde(default = "default_spacing")]
     pub min_spacing: f64,
+    /// Share of the artifacts to place out of sight of their tile's passage axis, 0 to 1
+    /// (0, the default, is not written, so worlds made before the key existed are unchanged).
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub hidden: f64,
+}
+
+fn is_zero(v: &f64) -> bool {
+    *v == 0.0
 }
 
 fn all_classes() -> Vec<ArtifactClass> {
@@ -223,6 +237,7 @@ impl Default for ArtifactsSection {
             min_distance_from_start: default_distance(),
             placement: all_placements(),
             min_spacing: default_spacing(),
+            hidden: 0.0,
         }
     }
 }
@@ -271,7 +286,22 @@ impl ArtifactsSection {
                 return Some((key, "must be a number of metres from 0 to 1000000".into()));
             }
         }
+        if !(self.hidden.is_finite() && (0.0..=1.0).contains(&self.hidden)) {
+            return Some((
+                "artifacts.hidden",
+                format!(
+                    "is {}; it is a share of the artifacts, from 0 (none hidden) to 1 (all hidden), e.g. hidden = 0.3",
+                    self.hidden
+                ),
+            ));
+        }
         None
+    }
+
+    /// How many of `count` artifacts are to be hidden: the nearest whole number to
+    /// `hidden * count`.
+    pub fn hidden_count(&self, count: usize) -> usize {
+        ((self.hidden * count as f64).round() as usize).min(count)
     }
 
     /// Draws the count from the world's `"artifacts"` stream: resolving a pipeline fixes it.

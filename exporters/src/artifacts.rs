@@ -20,18 +20,22 @@
 //!
 //! Without a mesh (`--no-mesh`) the passages are the grid's cells, flat floors.
 
+use std::collections::HashMap;
 use std::f64::consts::TAU;
+use std::sync::Arc;
 
 use serde::Serialize;
 use subtgraph_core::World;
 use subtgraph_core::artifacts::{ArtifactClass, ArtifactsSection, Placement};
 use subtgraph_core::export::ExportError;
 use subtgraph_core::graph::EdgeKind;
-use subtgraph_core::grid::Cell;
+use subtgraph_core::grid::{Cell, Direction};
 use subtgraph_core::rng::WorldRng;
 use subtgraph_core::tile::TileKind;
 
+use crate::axis::Axes;
 use crate::inside::{Columns, Passages, Span, cell_at};
+use crate::sight;
 
 /// Coarsest spacing of the lines sampled under an artifact, metres.
 const STEP: f64 = 0.25;
@@ -56,6 +60,9 @@ const LIFT: f64 = 0.001;
 pub const PAD: f64 = 0.05;
 /// Spots tried per tile before the tile is given up.
 const TRIES: usize = 300;
+/// ... and when looking for a hidden spot, which few spots of a tile are (a pocket of the
+/// wall, the far side of a bend or a boulder): most fail the quick look on the raster.
+const HIDDEN_TRIES: usize = 3000;
 
 /// Where an artifact is on the graph.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
@@ -100,6 +107,10 @@ pub struct Artifact {
     pub graph: GraphPlace,
     /// From the start tile's centre to its tile's centre along the graph, metres.
     pub distance_from_start_m: f64,
+    /// With `[artifacts] hidden`, whether placement found it seen from its tile's lookout,
+    /// and the eye (`sight.rs`): the ground truth's flag without looking again.
+    #[serde(skip)]
+    pub sight: Option<(bool, [f64; 3])>,
 }
 
 impl Artifact {
@@ -136,12 +147,20 @@ impl Artifact {
     }
 }
 
-/// The world's artifacts: none without `[artifacts]`.
-pub fn place(world: &World) -> Result<Vec<Artifact>, ExportError> {
-    match &world.pipeline.artifacts {
-        None => Ok(Vec::new()),
-        Some(section) => place_with(world, section, &Passages::of(world)),
-    }
+/// The world's artifacts: none without `[artifacts]`. Placed once per world and shared by
+/// every format that holds them and the ground truth ([`World::derived`]).
+pub fn place(world: &World) -> Result<Arc<Vec<Artifact>>, ExportError> {
+    /// The placement as a world keeps it.
+    struct Placed(Result<Arc<Vec<Artifact>>, String>);
+    let placed = world.derived(|world| {
+        Placed(match &world.pipeline.artifacts {
+            None => Ok(Arc::new(Vec::new())),
+            Some(section) => place_with(world, section, &Passages::of(world))
+                .map(Arc::new)
+                .map_err(|e| e.to_string()),
+        })
+    });
+    placed.0.clone().map_err(ExportError::Unsupported)
 }
 
 /// Graph distance from the start and graph place of every occupied cell of a corridor or node.
@@ -197,6 +216,61 @@ fn cell_places(world: &World) -> Vec<(Cell, GraphPlace, f64)> {
     out
 }
 
+/// Graph distance from the start of every occupied cell of a corridor or node.
+pub(crate) fn distances(world: &World) -> HashMap<Cell, f64> {
+    cell_places(world)
+        .into_iter()
+        .map(|(c, _, d)| (c, d))
+        .collect()
+}
+
+/// Where the lines of sight to artifacts in one tile start (`sight.rs`).
+pub(crate) struct Lookout {
+    /// The tile's axis points (anchor first).
+    points: Vec<[f64; 3]>,
+    /// With `[artifacts] hidden`, the robot's way through the tile from the opening nearest
+    /// the start; `None` without the key, or for a tile entered from no known opening.
+    walk: Option<Vec<[f64; 3]>>,
+}
+
+impl Lookout {
+    /// The lookout of `cell`, from its axis; `approach` with `[artifacts] hidden`.
+    pub(crate) fn of(
+        world: &World,
+        axes: &Axes,
+        distances: &HashMap<Cell, f64>,
+        cell: Cell,
+        approach: bool,
+    ) -> Lookout {
+        let walk = approach
+            .then(|| {
+                Direction::ALL
+                    .into_iter()
+                    .filter_map(|d| {
+                        let n = world.occupancy.neighbour(cell, d)?;
+                        let dist = *distances.get(&n)?;
+                        let walk = axes.walk_from(cell, d)?;
+                        dist.is_finite().then_some((dist, walk))
+                    })
+                    .min_by(|a, b| a.0.total_cmp(&b.0))
+                    .map(|(_, walk)| walk)
+            })
+            .flatten();
+        Lookout {
+            points: axes.tile_points(world, cell),
+            walk,
+        }
+    }
+
+    /// The eye looking at `target`.
+    pub(crate) fn eye(&self, target: [f64; 3]) -> [f64; 3] {
+        match &self.walk {
+            Some(walk) => sight::approach_eye(walk, target),
+            None => sight::eye(&self.points, target),
+        }
+    }
+}
+
 fn allowed(rule: Placement, kind: TileKind) -> bool {
     match rule {
         Placement::DeadEnd => kind == TileKind::DeadEnd,
@@ -205,6 +279,17 @@ fn allowed(rule: Placement, kind: TileKind) -> bool {
             !matches!(kind, TileKind::ShaftUp | TileKind::ShaftLanding)
         }
     }
+}
+
+/// What a spot's line of sight from its tile's passage axis must be (`sight.rs`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Aim {
+    /// Not looked at (`hidden = 0`, as before the key existed).
+    Any,
+    /// Seen from the axis.
+    Seen,
+    /// Out of the axis's sight.
+    Hidden,
 }
 
 /// [`place`] with the section and passages given.
@@ -216,7 +301,7 @@ pub(crate) fn place_with(
     let mut rng = WorldRng::new(world.resolved.seed, "artifact-placement", 0);
     let count = section.count.max() as usize; // fixed once resolved
     let places = cell_places(world);
-    let mut remaining: Vec<Vec<usize>> = section
+    let tiles: Vec<Vec<usize>> = section
         .placement
         .iter()
         .map(|&rule| {
@@ -231,36 +316,99 @@ pub(crate) fn place_with(
                 .collect()
         })
         .collect();
+    // Per aim (`Aim as usize`), the tiles each rule may still find a spot in: a tile without
+    // room for any spot is dropped from all three, one without a hidden (or seen) spot only
+    // from that aim's.
+    let mut remaining: [Vec<Vec<usize>>; 3] = [tiles.clone(), tiles.clone(), tiles];
     let offset = rng.below(section.classes.len() as u64) as usize;
+    // With `hidden`, which artifacts are hidden comes from a stream of its own, and they are
+    // placed first (while the others' spacing leaves them the most room); without it the
+    // artifacts are placed in order, by the same draws as before the key existed.
+    let want_hidden = section.hidden_count(count);
+    let mut aims = vec![Aim::Any; count];
+    let mut order: Vec<usize> = (0..count).collect();
+    if section.hidden > 0.0 {
+        let mut ids = order.clone();
+        WorldRng::new(world.resolved.seed, "artifact-hidden", 0).shuffle(&mut ids);
+        for (k, &id) in ids.iter().enumerate() {
+            aims[id] = if k < want_hidden {
+                Aim::Hidden
+            } else {
+                Aim::Seen
+            };
+        }
+        order.sort_by_key(|&id| (aims[id] != Aim::Hidden, id));
+    }
+    // Each tile's lookout, found when a spot's sight is first looked at there.
+    let mut lookouts: HashMap<Cell, Lookout> = HashMap::new();
+    let distances = if section.hidden > 0.0 {
+        distances(world)
+    } else {
+        HashMap::new()
+    };
     let mut placed: Vec<Artifact> = Vec::with_capacity(count);
-    for id in 0..count {
+    for id in order {
         let class = section.classes[(offset + id) % section.classes.len()];
         let first = rng.below(section.placement.len() as u64) as usize;
         let mut found = None;
-        'rules: for r in 0..section.placement.len() {
-            let ri = (first + r) % section.placement.len();
-            let rule = section.placement[ri];
-            while !remaining[ri].is_empty() {
-                let pick = rng.below(remaining[ri].len() as u64) as usize;
-                let k = remaining[ri][pick];
-                let (cell, graph, dist) = places[k];
-                match spot_in(
-                    world, passages, cell, class, rule, section, &placed, &mut rng,
-                ) {
-                    Some((position, yaw)) => {
-                        found = Some((cell, graph, dist, rule, position, yaw));
-                        break 'rules;
-                    }
-                    None => {
-                        remaining[ri].remove(pick);
+        // A hidden artifact that finds no hidden spot anywhere is placed where it fits.
+        let tries: &[Aim] = match aims[id] {
+            Aim::Hidden => &[Aim::Hidden, Aim::Any],
+            Aim::Seen => &[Aim::Seen, Aim::Any],
+            Aim::Any => &[Aim::Any],
+        };
+        'aims: for &aim in tries {
+            for r in 0..section.placement.len() {
+                let ri = (first + r) % section.placement.len();
+                let rule = section.placement[ri];
+                while !remaining[aim as usize][ri].is_empty() {
+                    let pick = rng.below(remaining[aim as usize][ri].len() as u64) as usize;
+                    let k = remaining[aim as usize][ri][pick];
+                    let (cell, graph, dist) = places[k];
+                    let sight = match aim {
+                        Aim::Any => None,
+                        Aim::Seen | Aim::Hidden => Some((
+                            aim == Aim::Seen,
+                            &*lookouts.entry(cell).or_insert_with(|| {
+                                let axes = Axes::of_cells(world, passages, &[cell]);
+                                Lookout::of(world, &axes, &distances, cell, true)
+                            }),
+                        )),
+                    };
+                    let request = Request {
+                        cell,
+                        class,
+                        rule,
+                        sight,
+                    };
+                    match spot_in(world, passages, &request, section, &placed, &mut rng) {
+                        Some((position, yaw, looked)) => {
+                            found = Some((cell, graph, dist, rule, position, yaw, looked));
+                            break 'aims;
+                        }
+                        None => {
+                            let drop = |list: &mut Vec<usize>| {
+                                if let Some(at) = list.iter().position(|&x| x == k) {
+                                    list.remove(at);
+                                }
+                            };
+                            if aim == Aim::Any {
+                                for lists in &mut remaining {
+                                    drop(&mut lists[ri]);
+                                }
+                            } else {
+                                remaining[aim as usize][ri].remove(pick);
+                            }
+                        }
                     }
                 }
             }
         }
-        let Some((cell, graph, dist, rule, position, yaw)) = found else {
+        let Some((cell, graph, dist, rule, position, yaw, looked)) = found else {
             let rules: Vec<&str> = section.placement.iter().map(|p| p.name()).collect();
             return Err(ExportError::Unsupported(format!(
-                "artifacts: placed {id} of {count}: no tile allowed by placement = {rules:?} at least {} m from the start along the passages has room for a {} {} m from the others; lower artifacts.count, artifacts.min_spacing or artifacts.min_distance_from_start, or allow more placement rules",
+                "artifacts: placed {} of {count}: no tile allowed by placement = {rules:?} at least {} m from the start along the passages has room for a {} {} m from the others; lower artifacts.count, artifacts.min_spacing or artifacts.min_distance_from_start, or allow more placement rules",
+                placed.len(),
                 section.min_distance_from_start,
                 class.name(),
                 section.min_spacing
@@ -278,23 +426,41 @@ pub(crate) fn place_with(
             placement: rule,
             graph,
             distance_from_start_m: dist,
+            sight: looked,
         });
     }
+    placed.sort_by_key(|a| a.id);
     Ok(placed)
 }
 
-/// A spot in `cell` for an artifact of `class` by `rule`: its base centre and yaw.
-#[allow(clippy::too_many_arguments)]
-fn spot_in(
-    world: &World,
-    passages: &Passages,
+/// A spot [`spot_in`] found: base centre, yaw, and what its sight was checked to be.
+type Spot = ([f64; 3], f64, Option<(bool, [f64; 3])>);
+
+/// What [`spot_in`] looks for.
+struct Request<'a> {
     cell: Cell,
     class: ArtifactClass,
     rule: Placement,
+    /// Whether the spot must be seen (`true`) or hidden (`false`) from the tile's lookout;
+    /// `None`: not looked at.
+    sight: Option<(bool, &'a Lookout)>,
+}
+
+/// A spot in `cell` for an artifact of `class` by `rule`: its base centre and yaw.
+fn spot_in(
+    world: &World,
+    passages: &Passages,
+    request: &Request,
     section: &ArtifactsSection,
     placed: &[Artifact],
     rng: &mut WorldRng,
-) -> Option<([f64; 3], f64)> {
+) -> Option<Spot> {
+    let Request {
+        cell,
+        class,
+        rule,
+        sight,
+    } = *request;
     let pitch = world.resolved.tile_pitch;
     let lh = world.resolved.level_height;
     let [cx, cy, nominal] = world.cell_position(cell);
@@ -337,6 +503,17 @@ fn spot_in(
             }
         }
     }
+    // With a sight to look for, every free stretch of each line: a quick look along a
+    // spot's line of sight before the exact one.
+    let mut free: Vec<Vec<[f64; 2]>> = Vec::new();
+    if sight.is_some() {
+        free = vec![Vec::new(); nx * ny];
+        for (j, row) in rows.iter().enumerate() {
+            for s in row {
+                free[j * nx + s.i as usize].push([s.z0, s.z1]);
+            }
+        }
+    }
     let index = |x: f64, y: f64| -> Option<usize> {
         let i = ((x - cols.x0) / step).floor();
         let j = ((y - cols.y0) / step).floor();
@@ -371,7 +548,11 @@ fn spot_in(
         Placement::Floor => GAP + OPEN,
         Placement::DeadEnd | Placement::Chamber => GAP,
     };
-    for &k in candidates.iter().take(TRIES) {
+    let tries = match sight {
+        Some((false, _)) => HIDDEN_TRIES,
+        _ => TRIES,
+    };
+    for &k in candidates.iter().take(tries) {
         let (x, y) = (cols.x(k % nx), cols.y(k / nx));
         let yaw = rng.unit() * TAU;
         let (sin, cos) = yaw.sin_cos();
@@ -434,6 +615,27 @@ fn spot_in(
         if !fits {
             continue;
         }
+        // The line of sight on the raster (each point on its nearest line; a point outside
+        // the raster is left to the exact look): a spot that looks the wrong way there is
+        // not cast exactly.
+        if let Some((seen, lookout)) = sight {
+            let target = [x, y, hi + LIFT + 0.5 * size[2]];
+            let rock: Vec<bool> = sight::samples(lookout.eye(target), target)
+                .iter()
+                .map(|p| {
+                    index(p[0], p[1])
+                        .is_some_and(|l| !free[l].iter().any(|s| s[0] <= p[2] && p[2] <= s[1]))
+                })
+                .collect();
+            let fits = if seen {
+                !rock.contains(&true)
+            } else {
+                sight::walled(&rock)
+            };
+            if !fits {
+                continue;
+            }
+        }
         // The raster's lines are `step` apart: the floor between them, under the footprint's
         // exact corners and edges, may stand a little higher. Cast there and stand on the
         // highest, a millimetre above it.
@@ -473,7 +675,22 @@ fn spot_in(
         {
             continue;
         }
-        return Some(([x, y, base], yaw));
+        let mut looked = None;
+        if let Some((seen, lookout)) = sight {
+            let target = [x, y, base + 0.5 * size[2]];
+            let eye = lookout.eye(target);
+            let rock = sight::blocked(passages, eye, target);
+            let fits = if seen {
+                !rock.contains(&true)
+            } else {
+                sight::walled(&rock)
+            };
+            if !fits {
+                continue;
+            }
+            looked = Some((seen, eye));
+        }
+        return Some(([x, y, base], yaw, looked));
     }
     None
 }

@@ -19,6 +19,7 @@ use subtgraph_core::export::{ExportError, Exporter, WorldWriter};
 use subtgraph_core::registry::{DuplicateName, Registry};
 
 pub mod artifacts;
+pub(crate) mod axis;
 pub mod convex_pieces;
 mod gltf;
 pub mod ground_truth;
@@ -32,6 +33,7 @@ mod obj;
 mod occupancy_npy;
 pub mod parts;
 mod sdf;
+pub(crate) mod sight;
 mod text;
 mod topology_json;
 mod urdf;

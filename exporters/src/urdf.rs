@@ -119,7 +119,7 @@ impl Exporter for Urdf {
             ));
         }
         let artifacts = crate::artifacts::place(world)?;
-        for a in &artifacts {
+        for a in artifacts.iter() {
             // Its pad (`Artifact::pad`), part of the fixed world.
             let ([x, y, z], [l, w, h]) = a.pad();
             s.push_str(&format!(
@@ -137,7 +137,7 @@ impl Exporter for Urdf {
                 path = xml_escape(path),
             ));
         }
-        for a in &artifacts {
+        for a in artifacts.iter() {
             artifact_link(&mut s, a);
         }
         s.push_str("</robot>\n");

@@ -19,6 +19,7 @@ mod exports;
 mod ground_truth;
 mod guarantees;
 mod hazards;
+mod hidden_artifacts;
 mod limits;
 mod mesh_files;
 mod messages;

@@ -4,33 +4,38 @@
 //! `[artifacts]` (whatever the formats), so a world with artifacts always has its answers.
 //!
 //! Each artifact also says whether it is `visible_from_axis`: whether the straight line from
-//! [`EYE`] above the nearest point of its tile's passage axis (`axis.rs`) to the artifact's
-//! centre stays in free space (every [`SIGHT_STEP`] along it, the point lies in a free
-//! stretch of the collision surface's vertical line; the last [`SIGHT_END`] before the
-//! artifact, where it touches a wall or the floor, is not looked at; `sight_from` is the
-//! eye). An artifact around a corner or in a side pocket is not. Without a mesh every
-//! artifact is visible (from its tile's centre).
+//! [`EYE`](crate::sight::EYE) above the nearest point of its tile's passage axis (`axis.rs`)
+//! to the artifact's centre stays in free space, as `sight.rs` looks (the computation
+//! placement uses to hide some on purpose; `sight_from` is the eye). With `[artifacts]
+//! hidden` the eye is instead where a robot on its way from the start first comes within
+//! `sight::NEAR` of the artifact. An artifact around a corner or in a side pocket is not
+//! visible. Without a mesh every artifact is visible (from its tile's centre).
 
+use std::collections::HashMap;
 use std::fmt::Write as _;
 
 use serde::Serialize;
 use subtgraph_core::World;
 use subtgraph_core::export::{ExportError, WorldWriter, write_file};
+use subtgraph_core::grid::Cell;
 
 use super::FRAME;
-use super::axis::Axes;
-use crate::artifacts::{Artifact, GraphPlace};
+use crate::artifacts::{Artifact, GraphPlace, Lookout};
+use crate::axis::Axes;
 use crate::inside::Passages;
+use crate::sight;
 
-/// Height of the eye above the passage axis's floor, metres (a robot's sensor).
-pub const EYE: f64 = 0.5;
-/// Spacing of the points looked at along a line of sight, metres.
-pub const SIGHT_STEP: f64 = 0.2;
-/// How far from the artifact's centre the line of sight stops being looked at, metres.
-pub const SIGHT_END: f64 = 0.3;
-
-/// Whether each artifact is seen from its tile's passage axis (see the module's docs).
+/// Whether each artifact is seen from its tile's passage axis, and the eye it is looked at
+/// from (`sight.rs`).
 fn visible_from_axis(world: &World, artifacts: &[Artifact]) -> Vec<(bool, [f64; 3])> {
+    // Placement looked already when it hid some on purpose.
+    if let Some(all) = artifacts
+        .iter()
+        .map(|a| a.sight)
+        .collect::<Option<Vec<_>>>()
+    {
+        return all;
+    }
     let passages = Passages::of(world);
     if matches!(passages, Passages::Grid(_)) {
         return artifacts
@@ -42,62 +47,29 @@ fn visible_from_axis(world: &World, artifacts: &[Artifact]) -> Vec<(bool, [f64; 
     cells.sort();
     cells.dedup();
     let axes = Axes::of_cells(world, &passages, &cells);
+    // With `hidden`, from where a robot first comes near (see `sight.rs`).
+    let approach = world
+        .pipeline
+        .artifacts
+        .as_ref()
+        .is_some_and(|s| s.hidden > 0.0);
+    let distances = if approach {
+        crate::artifacts::distances(world)
+    } else {
+        HashMap::new()
+    };
+    let lookouts: HashMap<Cell, Lookout> = cells
+        .iter()
+        .map(|&c| (c, Lookout::of(world, &axes, &distances, c, approach)))
+        .collect();
     artifacts
         .iter()
         .map(|a| {
             let target = a.centre();
-            let points = axes.tile_points(world, a.cell);
-            // The nearest point of the axis's polyline pieces (anchor to each path).
-            let mut eye = points[0];
-            let mut best = f64::MAX;
-            for w in points.windows(2) {
-                let q = nearest_on_segment(target, w[0], w[1]);
-                let d = dist2(q, target);
-                if d < best {
-                    (best, eye) = (d, q);
-                }
-            }
-            if points.len() == 1 {
-                eye = points[0];
-            }
-            let eye = [eye[0], eye[1], eye[2] + EYE];
-            let len = dist2(eye, target).sqrt();
-            let n = ((len - SIGHT_END).max(0.0) / SIGHT_STEP).floor() as usize;
-            let samples: Vec<[f64; 3]> = (0..=n)
-                .map(|k| {
-                    let t = (k as f64 * SIGHT_STEP / len.max(1e-9)).min(1.0);
-                    [
-                        eye[0] + (target[0] - eye[0]) * t,
-                        eye[1] + (target[1] - eye[1]) * t,
-                        eye[2] + (target[2] - eye[2]) * t,
-                    ]
-                })
-                .collect();
-            let xy: Vec<[f64; 2]> = samples.iter().map(|p| [p[0], p[1]]).collect();
-            let columns = passages.columns_at(&xy);
-            let seen = samples
-                .iter()
-                .zip(&columns)
-                .all(|(p, spans)| spans.iter().any(|s| s[0] <= p[2] && p[2] <= s[1]));
-            (seen, eye)
+            let eye = lookouts[&a.cell].eye(target);
+            (sight::clear(&passages, eye, target), eye)
         })
         .collect()
-}
-
-fn dist2(a: [f64; 3], b: [f64; 3]) -> f64 {
-    (0..3).map(|i| (a[i] - b[i]).powi(2)).sum()
-}
-
-fn nearest_on_segment(p: [f64; 3], a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    let ab = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
-    let l2 = ab.iter().map(|v| v * v).sum::<f64>();
-    let t = if l2 > 0.0 {
-        (((p[0] - a[0]) * ab[0] + (p[1] - a[1]) * ab[1] + (p[2] - a[2]) * ab[2]) / l2)
-            .clamp(0.0, 1.0)
-    } else {
-        0.0
-    };
-    [a[0] + t * ab[0], a[1] + t * ab[1], a[2] + t * ab[2]]
 }
 
 #[derive(Serialize)]
@@ -121,7 +93,19 @@ struct Document<'a> {
     units: &'static str,
     position: &'static str,
     count: usize,
+    /// With `[artifacts] hidden`: how many were asked to be out of the axis's sight, and how
+    /// many are (fewer when the world has too few hidden spots; absent without the key).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    hidden: Option<Hidden>,
     artifacts: Vec<Entry<'a>>,
+}
+
+#[derive(Serialize)]
+struct Hidden {
+    share_requested: f64,
+    requested: usize,
+    placed: usize,
+    share_placed: f64,
 }
 
 /// The CSV's header.
@@ -141,6 +125,20 @@ pub(crate) fn write(
         units: "metres; yaw in radians counter-clockwise from east (x) about z; quaternions x, y, z, w; size is [length along the yaw, width, height]",
         position: "the centre of the artifact's base, on the floor (the collision surface)",
         count: artifacts.len(),
+        hidden: world
+            .pipeline
+            .artifacts
+            .as_ref()
+            .filter(|s| s.hidden > 0.0)
+            .map(|s| {
+                let placed = visible.iter().filter(|v| !v.0).count();
+                Hidden {
+                    share_requested: s.hidden,
+                    requested: s.hidden_count(artifacts.len()),
+                    placed,
+                    share_placed: placed as f64 / artifacts.len().max(1) as f64,
+                }
+            }),
         artifacts: artifacts
             .iter()
             .zip(&visible)

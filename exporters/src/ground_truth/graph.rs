@@ -15,8 +15,8 @@ use subtgraph_core::export::{ExportError, Exporter, WorldWriter, write_file};
 use subtgraph_core::graph::EdgeKind;
 
 use super::FRAME;
-use super::axis::Axes;
 use super::sections::Sections;
+use crate::axis::Axes;
 use crate::inside::Passages;
 use crate::text::{push_fixed, push_uint};
 
@@ -77,7 +77,7 @@ pub(crate) fn ramp_line(
     if e.kind != EdgeKind::Ramp {
         return None;
     }
-    let line = super::axis::ramp_line(world, &e.cells)?;
+    let line = crate::axis::ramp_line(world, &e.cells)?;
     let mut p = vec![axes.position(world, e.cells[0])];
     p.extend_from_slice(line);
     p.push(axes.position(world, e.cells[e.cells.len() - 1]));

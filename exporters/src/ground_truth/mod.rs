@@ -24,7 +24,6 @@ use subtgraph_core::export::{ExportError, Exporter, WorldWriter};
 use subtgraph_core::params::Params;
 
 pub(crate) mod artifacts;
-pub(crate) mod axis;
 mod free_space;
 mod graph;
 pub(crate) mod hazards;
@@ -140,7 +139,7 @@ impl Exporter for GroundTruth {
     fn export(&self, world: &World, out: &mut dyn WorldWriter) -> Result<(), ExportError> {
         let s = &self.settings;
         let passages = crate::inside::Passages::of(world);
-        let axes = axis::Axes::of(world, &passages);
+        let axes = crate::axis::Axes::of(world, &passages);
         GraphFiles.write(world, &axes, out)?;
         SemanticLabels.write(world, &axes, out)?;
         RosMap::from_settings(s).write(world, &passages, out)?;

@@ -25,7 +25,7 @@ use subtgraph_core::export::{ExportError, Exporter, WorldWriter, write_file};
 use subtgraph_core::grid::Direction;
 
 use super::FRAME;
-use super::axis::Axes;
+use crate::axis::Axes;
 use crate::inside::Passages;
 use crate::text::{push_fixed, push_uint};
 

@@ -24,8 +24,8 @@ use subtgraph_core::export::{ExportError, Exporter, WorldWriter};
 use subtgraph_core::grid::{Cell, Direction};
 use subtgraph_core::tile::TileKind;
 
-use super::axis::Axes;
 use super::{FRAME, Settings};
+use crate::axis::Axes;
 use crate::inside::{Columns, Passages, Span, cell_at};
 
 /// The cast starts this far above the nominal floor.

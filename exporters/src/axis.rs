@@ -25,7 +25,7 @@
 //! or an opening is not reached keeps its grid centre (`fallback` counts them). Without a
 //! mesh the passages are the grid's, and the axis is the line through the cell centres.
 //!
-//! Deterministic: lines come from the exact raster of [`super::inside`], paths from a Dijkstra
+//! Deterministic: lines come from the exact raster of [`crate::inside`], paths from a Dijkstra
 //! with integer costs and ties broken by index, tiles in parallel collected in order.
 
 use std::cmp::Reverse;
@@ -140,6 +140,23 @@ impl Axes {
                 .collect(),
             None => vec![world.cell_position(c)],
         }
+    }
+
+    /// A robot's way through a tile it enters from `from`: that opening's path to the anchor,
+    /// the anchor, then the paths to the other openings (east, north, west, south); `None`
+    /// for a tile without an axis or without that opening.
+    pub fn walk_from(&self, c: Cell, from: Direction) -> Option<Vec<[f64; 3]>> {
+        let a = self.tiles.get(&c)?;
+        let entry = &a.exits[from as usize];
+        if entry.is_empty() {
+            return None;
+        }
+        let mut walk: Vec<[f64; 3]> = entry.iter().rev().copied().collect();
+        walk.push(a.anchor);
+        for d in Direction::ALL.into_iter().filter(|&d| d != from) {
+            walk.extend(a.exits[d as usize].iter().copied());
+        }
+        Some(walk)
     }
 
     /// Where a tile's node stands: its anchor, or the grid centre.
@@ -592,7 +609,7 @@ mod tests {
 
     #[test]
     fn nodes_and_centrelines_stand_on_the_floor_of_the_passages() {
-        let world = super::super::tests::world_with_mesh();
+        let world = crate::ground_truth::tests::world_with_mesh();
         let passages = Passages::of(&world);
         let axes = Axes::of(&world, &passages);
         assert_eq!(axes.fallback, 0, "every tile has an axis");
