@@ -107,8 +107,9 @@ pub struct Artifact {
     pub graph: GraphPlace,
     /// From the start tile's centre to its tile's centre along the graph, metres.
     pub distance_from_start_m: f64,
-    /// With `[artifacts] hidden`, whether placement found it seen from its tile's lookout,
-    /// and the eye (`sight.rs`): the ground truth's flag without looking again.
+    /// Whether it is seen from its tile's lookout, and the eye (`sight.rs`): the ground
+    /// truth's `visible_from_axis` and `sight_from`. [`place`] fills it (from the spot's own
+    /// look with `[artifacts] hidden`, else by one look for all at once).
     #[serde(skip)]
     pub sight: Option<(bool, [f64; 3])>,
 }
@@ -155,12 +156,67 @@ pub fn place(world: &World) -> Result<Arc<Vec<Artifact>>, ExportError> {
     let placed = world.derived(|world| {
         Placed(match &world.pipeline.artifacts {
             None => Ok(Arc::new(Vec::new())),
-            Some(section) => place_with(world, section, &Passages::of(world))
-                .map(Arc::new)
-                .map_err(|e| e.to_string()),
+            Some(section) => {
+                // One look at the free space for placement and for the sight flags.
+                let passages = Passages::of(world);
+                place_with(world, section, &passages)
+                    .map(|mut placed| {
+                        if placed.iter().any(|a| a.sight.is_none()) {
+                            let seen = look(world, &passages, &placed);
+                            for (a, s) in placed.iter_mut().zip(seen) {
+                                a.sight = Some(s);
+                            }
+                        }
+                        Arc::new(placed)
+                    })
+                    .map_err(|e| e.to_string())
+            }
         })
     });
     placed.0.clone().map_err(ExportError::Unsupported)
+}
+
+/// Whether each artifact is seen from its tile's passage axis, and the eye it is looked at
+/// from (`sight.rs`): the ground truth's `visible_from_axis` and `sight_from`. With `hidden`,
+/// from where a robot first comes near.
+pub(crate) fn look(
+    world: &World,
+    passages: &Passages,
+    artifacts: &[Artifact],
+) -> Vec<(bool, [f64; 3])> {
+    if matches!(passages, Passages::Grid(_)) {
+        return artifacts
+            .iter()
+            .map(|a| (true, world.cell_position(a.cell)))
+            .collect();
+    }
+    let mut cells: Vec<_> = artifacts.iter().map(|a| a.cell).collect();
+    cells.sort();
+    cells.dedup();
+    let axes = Axes::of_cells(world, passages, &cells);
+    // With `hidden`, from where a robot first comes near (see `sight.rs`).
+    let approach = world
+        .pipeline
+        .artifacts
+        .as_ref()
+        .is_some_and(|s| s.hidden > 0.0);
+    let distances = if approach {
+        distances(world)
+    } else {
+        HashMap::new()
+    };
+    let lookouts: HashMap<Cell, Lookout> = cells
+        .iter()
+        .map(|&c| (c, Lookout::of(world, &axes, &distances, c, approach)))
+        .collect();
+    artifacts
+        .iter()
+        .map(|a| {
+            let target = a.centre();
+            let eye = lookouts[&a.cell].eye(target);
+            (sight::clear(passages, eye, target), eye)
+        })
+        .collect()
 }
 
 /// Graph distance from the start and graph place of every occupied cell of a corridor or node.

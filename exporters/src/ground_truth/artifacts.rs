@@ -11,24 +11,19 @@
 //! `sight::NEAR` of the artifact. An artifact around a corner or in a side pocket is not
 //! visible. Without a mesh every artifact is visible (from its tile's centre).
 
-use std::collections::HashMap;
 use std::fmt::Write as _;
 
 use serde::Serialize;
 use subtgraph_core::World;
 use subtgraph_core::export::{ExportError, WorldWriter, write_file};
-use subtgraph_core::grid::Cell;
 
 use super::FRAME;
-use crate::artifacts::{Artifact, GraphPlace, Lookout};
-use crate::axis::Axes;
+use crate::artifacts::{Artifact, GraphPlace};
 use crate::inside::Passages;
-use crate::sight;
 
 /// Whether each artifact is seen from its tile's passage axis, and the eye it is looked at
-/// from (`sight.rs`).
+/// from (`sight.rs`): what placement found ([`crate::artifacts::place`] looks once for all).
 fn visible_from_axis(world: &World, artifacts: &[Artifact]) -> Vec<(bool, [f64; 3])> {
-    // Placement looked already when it hid some on purpose.
     if let Some(all) = artifacts
         .iter()
         .map(|a| a.sight)
@@ -36,40 +31,7 @@ fn visible_from_axis(world: &World, artifacts: &[Artifact]) -> Vec<(bool, [f64; 
     {
         return all;
     }
-    let passages = Passages::of(world);
-    if matches!(passages, Passages::Grid(_)) {
-        return artifacts
-            .iter()
-            .map(|a| (true, world.cell_position(a.cell)))
-            .collect();
-    }
-    let mut cells: Vec<_> = artifacts.iter().map(|a| a.cell).collect();
-    cells.sort();
-    cells.dedup();
-    let axes = Axes::of_cells(world, &passages, &cells);
-    // With `hidden`, from where a robot first comes near (see `sight.rs`).
-    let approach = world
-        .pipeline
-        .artifacts
-        .as_ref()
-        .is_some_and(|s| s.hidden > 0.0);
-    let distances = if approach {
-        crate::artifacts::distances(world)
-    } else {
-        HashMap::new()
-    };
-    let lookouts: HashMap<Cell, Lookout> = cells
-        .iter()
-        .map(|&c| (c, Lookout::of(world, &axes, &distances, c, approach)))
-        .collect();
-    artifacts
-        .iter()
-        .map(|a| {
-            let target = a.centre();
-            let eye = lookouts[&a.cell].eye(target);
-            (sight::clear(&passages, eye, target), eye)
-        })
-        .collect()
+    crate::artifacts::look(world, &Passages::of(world), artifacts)
 }
 
 #[derive(Serialize)]
