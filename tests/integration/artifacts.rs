@@ -94,19 +94,11 @@ fn a_recorded_pose_inside_the_rock_is_caught() {
 fn the_same_artifacts_on_every_run_and_thread_count() {
     let dir = tempfile::tempdir().unwrap();
     let pipeline = small_cave_pipeline(dir.path(), 2, &artifacts_section(10));
-    let mut folders = Vec::new();
-    for threads in ["1", "3"] {
-        let out = dir.path().join(format!("t{threads}"));
-        let status = Command::new(env!("CARGO_BIN_EXE_subtgraph"))
-            .args(["generate", arg(&pipeline), "--out", arg(&out)])
-            .args(["--format", "mjcf,sdf,usd,urdf,gltf,ground-truth"])
-            .env("RAYON_NUM_THREADS", threads)
-            .output()
-            .unwrap();
-        assert!(status.status.success(), "{status:?}");
-        folders.push(out);
-    }
-    common::assert_same_files(&folders[0], &folders[1], &[]);
+    common::assert_same_on_one_and_three_threads(
+        dir.path(),
+        &pipeline,
+        "mjcf,sdf,usd,urdf,gltf,ground-truth",
+    );
 }
 
 #[test]

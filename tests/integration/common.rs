@@ -169,6 +169,30 @@ pub fn folder_bytes(dir: &Path) -> Vec<(String, Vec<u8>)> {
     out
 }
 
+/// `generate PIPELINE --format FORMATS` into `dir/t1` and `dir/t3` with `RAYON_NUM_THREADS` 1
+/// and 3, and asserts the two folders hold the same files, byte for byte: determinism over
+/// thread counts. Returns the two folders.
+pub fn assert_same_on_one_and_three_threads(
+    dir: &Path,
+    pipeline: &Path,
+    formats: &str,
+) -> Vec<PathBuf> {
+    let mut folders = Vec::new();
+    for threads in ["1", "3"] {
+        let out = dir.join(format!("t{threads}"));
+        let status = Command::new(env!("CARGO_BIN_EXE_subtgraph"))
+            .args(["generate", arg(pipeline), "--out", arg(&out)])
+            .args(["--format", formats])
+            .env("RAYON_NUM_THREADS", threads)
+            .output()
+            .unwrap();
+        assert!(status.status.success(), "{status:?}");
+        folders.push(out);
+    }
+    assert_same_files(&folders[0], &folders[1], &[]);
+    folders
+}
+
 /// Asserts two folders hold the same files with the same bytes, except the files named in
 /// `except`; a failure names the files that differ rather than printing their bytes. The
 /// list of written files (`.subtgraph-files`, which holds every file's size) is compared only

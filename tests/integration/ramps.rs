@@ -7,7 +7,6 @@
 use crate::common;
 
 use std::path::{Path, PathBuf};
-use std::process::Command;
 
 use common::{arg, fails, ok, read_with_python};
 use subtgraph::core::World;
@@ -174,19 +173,7 @@ fn a_ball_placed_on_a_ramp_rolls_down_it_and_stays_inside() {
 fn the_same_ramps_on_every_run_and_thread_count() {
     let tmp = tempfile::tempdir().unwrap();
     let pipeline = two_level_mine(tmp.path(), 4, "");
-    let mut folders = Vec::new();
-    for threads in ["1", "3"] {
-        let out = tmp.path().join(format!("t{threads}"));
-        let status = Command::new(env!("CARGO_BIN_EXE_subtgraph"))
-            .args(["generate", arg(&pipeline), "--out", arg(&out)])
-            .args(["--format", "obj,urdf,ground-truth"])
-            .env("RAYON_NUM_THREADS", threads)
-            .output()
-            .unwrap();
-        assert!(status.status.success(), "{status:?}");
-        folders.push(out);
-    }
-    common::assert_same_files(&folders[0], &folders[1], &[]);
+    common::assert_same_on_one_and_three_threads(tmp.path(), &pipeline, "obj,urdf,ground-truth");
 }
 
 #[test]

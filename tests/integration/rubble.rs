@@ -8,7 +8,6 @@
 use crate::common;
 
 use std::path::{Path, PathBuf};
-use std::process::Command;
 
 use common::{arg, fails, ok, read_with_python, small_cave_pipeline};
 
@@ -142,19 +141,8 @@ fn balls_dropped_on_impassable_rubble_rest_on_rocks_in_mujoco() {
 fn rubble_is_the_same_on_every_run_and_thread_count_and_absent_without_the_key() {
     let dir = tempfile::tempdir().unwrap();
     let p = pipeline(dir.path(), 2, "rubble = 0.3\ndrops = 0.1\n");
-    let mut folders = Vec::new();
-    for threads in ["1", "3"] {
-        let out = dir.path().join(format!("t{threads}"));
-        let status = Command::new(env!("CARGO_BIN_EXE_subtgraph"))
-            .args(["generate", arg(&p), "--out", arg(&out)])
-            .args(["--format", "obj,mjcf,ground-truth"])
-            .env("RAYON_NUM_THREADS", threads)
-            .output()
-            .unwrap();
-        assert!(status.status.success(), "{status:?}");
-        folders.push(out);
-    }
-    common::assert_same_files(&folders[0], &folders[1], &[]);
+    let folders =
+        common::assert_same_on_one_and_three_threads(dir.path(), &p, "obj,mjcf,ground-truth");
     // The same world with a zero share has the plain collision mesh.
     let plain = pipeline(dir.path(), 2, "rubble = 0\n");
     let pw = generate(dir.path(), "plain", &plain, "obj,ground-truth");
