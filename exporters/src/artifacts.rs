@@ -683,12 +683,7 @@ fn spot_in(
                         .is_some_and(|l| !free[l].iter().any(|s| s[0] <= p[2] && p[2] <= s[1]))
                 })
                 .collect();
-            let fits = if seen {
-                !rock.contains(&true)
-            } else {
-                sight::walled(&rock)
-            };
-            if !fits {
+            if !sight::as_aimed(seen, &rock) {
                 continue;
             }
         }
@@ -736,12 +731,7 @@ fn spot_in(
             let target = [x, y, base + 0.5 * size[2]];
             let eye = lookout.eye(target);
             let rock = sight::blocked(passages, eye, target);
-            let fits = if seen {
-                !rock.contains(&true)
-            } else {
-                sight::walled(&rock)
-            };
-            if !fits {
+            if !sight::as_aimed(seen, &rock) {
                 continue;
             }
             looked = Some((seen, eye));

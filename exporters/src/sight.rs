@@ -107,6 +107,16 @@ pub(crate) fn walled(blocked: &[bool]) -> bool {
     blocked.windows(2).skip(2).any(|w| w[0] && w[1])
 }
 
+/// Whether a spot with `blocked` along its sight line is what placement aims for: `seen`, no
+/// rock at all on the line; hidden, rock beyond doubt ([`walled`]).
+pub(crate) fn as_aimed(seen: bool, blocked: &[bool]) -> bool {
+    if seen {
+        !blocked.contains(&true)
+    } else {
+        walled(blocked)
+    }
+}
+
 pub(crate) fn dist2(a: [f64; 3], b: [f64; 3]) -> f64 {
     (0..3).map(|i| (a[i] - b[i]).powi(2)).sum()
 }
