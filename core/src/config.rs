@@ -123,7 +123,7 @@ pub struct WorldSection {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub connections: Option<Connections>,
     /// The steepest grade a ramp may have, degrees (default [`DEFAULT_RAMP_GRADE`]): each ramp
-    /// is as gentle as its cell allows, and a cell that needs a steeper one is an error.
+    /// is as gentle as its spiral block allows, and one that needs a steeper ramp is an error.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub ramp_grade: Option<f64>,
 }
@@ -139,12 +139,12 @@ pub enum Connections {
     Ramp,
 }
 
-/// The default steepest ramp grade, degrees (about 1 in 2.1). A spiral turning inside one
-/// tile is steeper than a real mine's decline (1 in 7 to 1 in 9, over a spiral 30 m or more
-/// across): each turn's drop must hold the passage and the rock above it, and a turn is one
-/// circumference of a circle that fits in the tile. The mine preset's (20 m tiles, 16 m between
-/// levels) climb at 19 to 25 degrees, by how the two levels' openings face.
-pub const DEFAULT_RAMP_GRADE: f64 = 25.0;
+/// The default steepest ramp grade, degrees: 1 in 7, a real mine decline's (1 in 7 to 1 in 9),
+/// drivable by wheeled robots. A ramp's spiral turns in a 2 x 2 block of cells beside its foot
+/// (see [`crate::grid::Shaft::block`]): each turn's drop must hold the passage and the rock
+/// above it, and a turn round a block twice a cell wide is long enough for this grade (the mine
+/// preset's, 20 m tiles and 16 m between levels, climb at about 5 degrees).
+pub const DEFAULT_RAMP_GRADE: f64 = 8.13;
 /// The steepest `world.ramp_grade` accepted, degrees.
 pub const MAX_RAMP_GRADE: f64 = 30.0;
 

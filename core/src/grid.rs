@@ -71,6 +71,36 @@ pub struct Shaft {
     pub up: Cell,
     /// The dead end where it arrives, on level `k + 1`.
     pub landing: Cell,
+    /// A ramp's spiral block (`world.connections = "ramp"`): the spiral turns in the 2 x 2
+    /// block of cells made of the foot, the cells `dr` rows and `dc` columns from it, and the
+    /// diagonal one (and the same around the landing on the level above), `[dr, dc]`, each
+    /// `+1` or `-1`. Those three cells are empty on both levels, so the spiral is twice as wide
+    /// as a cell and a decline at a drivable grade fits. `None` for a shaft, or a ramp that
+    /// turns inside its own cell (an imported grid with no free block beside the foot).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub block: Option<[i8; 2]>,
+}
+
+impl Shaft {
+    /// The three cells a spiral block adds beside `end` (the foot or the landing), when
+    /// `block` is `[dr, dc]`: `(dr, 0)`, `(0, dc)` and `(dr, dc)` from it, or `None` where one
+    /// falls off a grid of `rows` x `cols`.
+    pub fn block_cells(
+        end: Cell,
+        [dr, dc]: [i8; 2],
+        rows: usize,
+        cols: usize,
+    ) -> Option<[Cell; 3]> {
+        let at = |a: i8, b: i8| {
+            let r = end.row.checked_add_signed(isize::from(a))?;
+            let c = end.col.checked_add_signed(isize::from(b))?;
+            (r < rows && c < cols).then_some(Cell::new(end.level, r, c))
+        };
+        Some([at(dr, 0)?, at(0, dc)?, at(dr, dc)?])
+    }
+
+    /// The four spiral blocks a ramp end may take, in the order they are tried.
+    pub const BLOCKS: [[i8; 2]; 4] = [[-1, -1], [-1, 1], [1, -1], [1, 1]];
 }
 
 /// A cell of the world: level, row, column.

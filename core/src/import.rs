@@ -111,7 +111,11 @@ pub fn import_occupancy(
                         .filter(|&c| code_at(c) == 111)
                         .collect::<Vec<_>>();
                     ups.zip(landings)
-                        .map(|(up, landing)| Shaft { up, landing })
+                        .map(|(up, landing)| Shaft {
+                            up,
+                            landing,
+                            block: None,
+                        })
                         .collect::<Vec<_>>()
                 })
                 .collect()
@@ -127,6 +131,10 @@ pub fn import_occupancy(
     let level_height = p.world.level_height.unwrap_or(0.8 * p.world.tile_pitch);
     p.world.level_height = Some(level_height);
     let (connections, ramp_grade) = p.world.resolve_connections(p.tileset.as_ref());
+    let mut shafts = shafts;
+    if connections == crate::config::Connections::Ramp {
+        spiral_blocks(&occupancy, &mut shafts);
+    }
     p.generated = Some(Provenance {
         tool: "subtgraph".into(),
         version: tool_version.to_owned(),
@@ -161,6 +169,29 @@ pub fn import_occupancy(
     Ok((layout, encoding))
 }
 
+/// Gives each ramp the first spiral block (see [`Shaft::block`]) whose cells are empty beside
+/// both its ends and in no other ramp's block; a ramp with none turns inside its own cell.
+fn spiral_blocks(occ: &Occupancy, shafts: &mut [Shaft]) {
+    let mut taken: Vec<Cell> = Vec::new();
+    for s in shafts.iter_mut() {
+        s.block = Shaft::BLOCKS.into_iter().find(|&b| {
+            [s.up, s.landing].iter().all(|&end| {
+                Shaft::block_cells(end, b, occ.rows(), occ.cols())
+                    .is_some_and(|cells| cells.iter().all(|c| !*occ.get(*c) && !taken.contains(c)))
+            })
+        });
+        if let Some(b) = s.block {
+            for end in [s.up, s.landing] {
+                taken.extend(
+                    Shaft::block_cells(end, b, occ.rows(), occ.cols())
+                        .into_iter()
+                        .flatten(),
+                );
+            }
+        }
+    }
+}
+
 /// The original's shafts: first dead end of level `k` up to the next dead end of level `k+1`.
 fn original_shafts(occ: &Occupancy) -> Vec<Shaft> {
     let dead_ends = |k: usize| -> Vec<Cell> {
@@ -177,7 +208,11 @@ fn original_shafts(occ: &Occupancy) -> Vec<Shaft> {
         // The level above spends its first dead end on its own shaft up, unless it is the top.
         let skip = usize::from(k + 2 < occ.levels());
         if let Some(&landing) = above.get(skip).or(above.first()) {
-            shafts.push(Shaft { up, landing });
+            shafts.push(Shaft {
+                up,
+                landing,
+                block: None,
+            });
         }
     }
     shafts

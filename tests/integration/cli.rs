@@ -350,6 +350,10 @@ fn imports_reproduce_a_world_and_read_the_originals_encodings() {
         a["edges"].as_array().unwrap().len(),
         b["edges"].as_array().unwrap().len()
     );
+    // The imported mine's ramps get spiral blocks too (the grid left them empty).
+    for s in b["shafts"].as_array().unwrap() {
+        assert!(s["block"].is_array(), "no spiral block: {s}");
+    }
 
     // The original's topological encoding (0 / 1 edge / 10 node), two levels, int64.
     let level = [

@@ -59,6 +59,21 @@ def occupied(level, r, c):
     return out
 
 
+def in_ramp_block(level, r, c):
+    """Whether (r, c) is one of the three empty cells beside a ramp's end on `level` that its
+    spiral turns in (topology.json's shaft `block`): empty in the grid, free in the mesh."""
+    out = np.zeros(np.shape(r), dtype=bool)
+    for s in topo["shafts"]:
+        if "block" not in s:
+            continue
+        dr, dc = s["block"]
+        for end in (s["up"], s["landing"]):
+            if end["level"] == level:
+                for a, b in ((dr, 0), (0, dc), (dr, dc)):
+                    out |= (r == end["row"] + a) & (c == end["col"] + b)
+    return out
+
+
 mesh = None
 if with_mesh:
     import trimesh
@@ -225,9 +240,10 @@ for level in range(levels):
     ys = oy + (h - 1 - np.arange(h) + 0.5) * res  # row 0 is north
     X, Y = np.meshgrid(xs, ys)
     r, c = cell_of(X, Y)
-    in_cells = occupied(level, r, c)
+    in_cells = occupied(level, r, c) | in_ramp_block(level, r, c)
     free = a == 254
-    assert not (free & ~in_cells).any(), "free pixels only over occupied cells of this level"
+    assert not (free & ~in_cells).any(), \
+        "free pixels only over occupied cells of this level (and its ramps' spiral blocks)"
     # Every tile's node (its own passage's floor: a cave's corner bends away from the cell
     # centre) is free on its level's map (a ramp's cells have the spiral's rock pillar at
     # their centre, and their nodes where the spiral leaves the level).

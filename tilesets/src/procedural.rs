@@ -313,7 +313,7 @@ impl Procedural {
             Unfit::Narrow { width, room } => TileSetError::Unsuited {
                 what: format!(
                     "{name}: a ramp of passages {width:.1} m wide leaves no rock pillar in tiles \
-                     {pitch} m apart (the spiral must stay within {room:.1} m of the cell's centre)"
+                     {pitch} m apart (the spiral must stay within {room:.1} m of its centre)"
                 ),
                 fix: "use a smaller [tileset] width, a larger world.tile_pitch, a finer [tileset] \
                       resolution or collision_resolution (the pillar must hold collision lattice \
@@ -348,9 +348,21 @@ impl Procedural {
             (lo / h).floor() as i64
         };
         let (z0, z1) = (z(cell.level), z(cell.level + 1));
+        // A ramp's end meshes its whole spiral block on its level: the block's other three
+        // cells are empty on both levels, so no other tile covers them.
+        let (mut origin, mut cubes) = ([col * n - n / 2, row_up * n - n / 2, z0], [n, n]);
+        if let Some([dr, dc]) = crate::ramp::shaft_of(world, cell).and_then(|s| s.block) {
+            cubes = [2 * n, 2 * n];
+            if dc < 0 {
+                origin[0] -= n;
+            }
+            if dr > 0 {
+                origin[1] -= n;
+            }
+        }
         Block {
-            origin: [col * n - n / 2, row_up * n - n / 2, z0],
-            cubes: [n as usize, n as usize, (z1 - z0) as usize],
+            origin,
+            cubes: [cubes[0] as usize, cubes[1] as usize, (z1 - z0) as usize],
             h,
         }
     }
@@ -603,10 +615,19 @@ impl TileSet for Procedural {
             TileKind::TJunction => 3.0,
             TileKind::Intersection => 4.0,
         };
-        let shaft = if matches!(kind, TileKind::ShaftUp | TileKind::ShaftLanding) {
-            std::f64::consts::TAU * p.shaft_radius * p.width * 0.5 * world.resolved.level_height
-        } else {
-            0.0
+        let ends = matches!(kind, TileKind::ShaftUp | TileKind::ShaftLanding);
+        // A ramp's two ends share its spiral's walls (the world's first ramp stands for all).
+        let ramp = world
+            .shafts
+            .first()
+            .filter(|_| ends)
+            .and_then(|s| self.ramp_plan(world, s).ok().flatten());
+        let shaft = match ramp {
+            Some(h) => 0.5 * h.length * perimeter,
+            None if ends => {
+                std::f64::consts::TAU * p.shaft_radius * p.width * 0.5 * world.resolved.level_height
+            }
+            None => 0.0,
         };
         let rocks = p.rocks.ceil() * 2.0 * std::f64::consts::TAU * p.rock_size * p.rock_size;
         let area = arms * perimeter * 0.5 * pitch + shaft + rocks;

@@ -1,19 +1,27 @@
-//! Ramps between levels (`world.connections = "ramp"`): a spiral decline inside a shaft's cell
-//! column, as real mines join their levels, so a wheeled robot can drive from one level to the
+//! Ramps between levels (`world.connections = "ramp"`): a spiral decline beside a shaft's
+//! foot, as real mines join their levels, so a wheeled robot can drive from one level to the
 //! next.
 //!
+//! The spiral turns in its *block*: the 2 x 2 cells made of the foot and three empty cells
+//! beside it, on both levels (the grid keeps them empty: [`Shaft::block`]), so its circle is
+//! nearly a pitch in radius. One cell is too small for a drivable grade: each turn's drop must
+//! hold the passage and rock above it, and a turn round a circle inside one 20 m cell is about
+//! 31 m long, so the mine's spiral climbed at 19 to 25 degrees; round the block a turn is about
+//! 94 m and the same climb is about 6 degrees, within a real decline's 1 in 7.
+//!
 //! The foot's passage leaves its opening in a straight *lead* tangent to a circle about the
-//! cell's centre, climbs round a rock pillar along that circle (a helix whose floor is flat
+//! block's centre, climbs round a rock pillar along that circle (a helix whose floor is flat
 //! across the passage), and leaves in a second lead tangent to the circle towards the
 //! landing's opening, on the landing's floor. The helix turns as often as the level height
 //! allows with the passage and enough rock between one turn and the next (the passage's
 //! highest point plus one and a half collision lattice cells, so the coarse collision surface
-//! keeps the turns apart: no lattice edge spans the rock), which makes it as gentle as the cell allows: each turn is one circumference
-//! long (the circle is as large as the cell's block takes with the passage's half-width),
-//! so the grade is at least the rock and passage per turn over that circumference. The climb
-//! starts and ends with short blends (no kink at the foot or the top), and, when the openings
-//! leave part of a turn over, stretches flat on the floors. A ramp steeper than
-//! `world.ramp_grade` is refused, naming what to change.
+//! keeps the turns apart: no lattice edge spans the rock), which makes it as gentle as the
+//! block allows: each turn is one circumference long (the circle is as large as the block takes
+//! with the passage's half-width), so the grade is at least the rock and passage per turn over
+//! that circumference. The climb starts and ends with short blends (no kink at the foot or the
+//! top), and, when the openings leave part of a turn over, stretches flat on the floors. A ramp
+//! steeper than `world.ramp_grade` is refused, naming what to change. A ramp without a block
+//! (an imported grid with no three empty cells beside its foot) turns inside its own cell.
 //!
 //! Everything here is a function of the world (pitch, level height, openings) and the passage
 //! knobs, so every tile evaluating the ramp's field computes the same numbers.
@@ -53,7 +61,8 @@ pub struct Sizing {
     pub per_lead: f64,
     /// Horizontal rock needed between two passages, metres.
     pub rock: f64,
-    /// How far from the cell's centre a passage's side may reach, metres.
+    /// How far from a cell's centre a passage's side may reach, metres (a spiral block's reaches
+    /// half a pitch further from its centre).
     pub room: f64,
     /// The steepest grade allowed, degrees.
     pub max_grade: f64,
@@ -122,39 +131,32 @@ pub enum Unfit {
 }
 
 impl Helix {
-    /// Plans the ramp from a foot at `centre` on floor `floors[0]`, leaving through
-    /// `entry`, to the landing above on `floors[1]` leaving through `exit`.
+    /// Plans the ramp round `centre` from the foot's opening `openings[0]` on floor
+    /// `floors[0]` to the landing's `openings[1]` on `floors[1]`, its passage's side at most
+    /// `room` metres from `centre`.
     pub fn plan(
         centre: [f64; 2],
         floors: [f64; 2],
-        entry: Direction,
-        exit: Direction,
-        pitch: f64,
+        openings: [[f64; 2]; 2],
+        room: f64,
         s: &Sizing,
     ) -> Result<Helix, Unfit> {
-        let radius = s.room - s.half_width;
+        let radius = room - s.half_width;
         if radius - s.half_width < s.rock / 2.0 {
             return Err(Unfit::Narrow {
                 width: 2.0 * s.half_width,
-                room: s.room,
+                room,
             });
         }
-        let half = 0.5 * pitch;
-        let opening = |d: Direction| {
-            let (sr, sc) = d.step();
-            [
-                centre[0] + f64::from(sc) * half,
-                centre[1] - f64::from(sr) * half,
-            ]
-        };
-        let openings = [opening(entry), opening(exit)];
         let angle = |p: [f64; 2]| (p[1] - centre[1]).atan2(p[0] - centre[0]);
-        let beta = (radius / half).acos();
+        // The angle at the centre between an opening and the tangent point of its lead.
+        let beta = |p: [f64; 2]| (radius / (p[0] - centre[0]).hypot(p[1] - centre[1])).acos();
         let rise = floors[1] - floors[0];
+        let step = SAMPLE.max(radius * TAU / 64.0);
         let mut best: Option<Helix> = None;
         for sense in [1.0, -1.0] {
-            let start = angle(openings[0]) + sense * beta;
-            let end = angle(openings[1]) - sense * beta;
+            let start = angle(openings[0]) + sense * beta(openings[0]);
+            let end = angle(openings[1]) - sense * beta(openings[1]);
             let base = (sense * (end - start)).rem_euclid(TAU);
             for k in 0..8 {
                 let length = radius * (base + TAU * f64::from(k));
@@ -162,10 +164,11 @@ impl Helix {
                     break;
                 }
                 // Flat stretches, shortest in all first (the gentlest climb), split every
-                // way between the foot and the top.
+                // way between the foot and the top, in steps of half a metre (a 64th of a
+                // turn round a spiral block: as fine a grade, in a search 8 times shorter).
                 let mut total = 0;
-                'flats: while f64::from(total) * SAMPLE < length - 1.0 {
-                    let climb = length - f64::from(total) * SAMPLE;
+                'flats: while f64::from(total) * step < length - 1.0 {
+                    let climb = length - f64::from(total) * step;
                     for a in 0..=total {
                         let h = Helix {
                             centre,
@@ -173,7 +176,7 @@ impl Helix {
                             sense,
                             start,
                             length,
-                            flat: [f64::from(a) * SAMPLE, f64::from(total - a) * SAMPLE],
+                            flat: [f64::from(a) * step, f64::from(total - a) * step],
                             blend: BLEND.min(0.25 * climb),
                             floors,
                             openings,
@@ -402,20 +405,33 @@ fn first_opening(world: &Layout, cell: Cell) -> Option<Direction> {
 /// A ramp's shape (centred on the origin, from floor 0) by what it depends on: its openings and
 /// the bits of its sizes. The search for the gentlest ramp is the same for every tile around
 /// it, so it is made once.
-type Key = (u8, u8, [u64; 10]);
+type Key = (u8, u8, Option<[i8; 2]>, [u64; 10]);
 
 static PLANS: Mutex<BTreeMap<Key, Result<Helix, Unfit>>> = Mutex::new(BTreeMap::new());
 
-/// Plans the ramp of `shaft`.
+/// Plans the ramp of `shaft`: round the centre of its spiral block (see
+/// [`Shaft::block`]; a ramp without one turns round its foot cell's centre).
 pub fn plan(world: &Layout, shaft: &Shaft, s: &Sizing) -> Result<Helix, Unfit> {
     let [x, y, z0] = world.cell_position(shaft.up);
     let z1 = world.cell_position(shaft.landing)[2];
     let entry = first_opening(world, shaft.up).unwrap_or(Direction::ALL[0]);
     let exit = first_opening(world, shaft.landing).unwrap_or(Direction::ALL[0]);
     let pitch = world.resolved.tile_pitch;
+    let half = 0.5 * pitch;
+    let [cx, cy] = block_centre(shaft, half);
+    let (centre, room) = (
+        [x + cx, y + cy],
+        s.room + if shaft.block.is_some() { half } else { 0.0 },
+    );
+    // The openings on the foot's and the landing's cell edges, from the block's centre.
+    let opening = |d: Direction| {
+        let (sr, sc) = d.step();
+        [f64::from(sc) * half - cx, -f64::from(sr) * half - cy]
+    };
     let key: Key = (
         entry as u8,
         exit as u8,
+        shaft.block,
         [
             pitch,
             z1 - z0,
@@ -434,7 +450,13 @@ pub fn plan(world: &Layout, shaft: &Shaft, s: &Sizing) -> Result<Helix, Unfit> {
     let shape = match found {
         Some(p) => p,
         None => {
-            let p = Helix::plan([0.0, 0.0], [0.0, z1 - z0], entry, exit, pitch, s);
+            let p = Helix::plan(
+                [0.0, 0.0],
+                [0.0, z1 - z0],
+                [opening(entry), opening(exit)],
+                room,
+                s,
+            );
             if let Ok(mut m) = PLANS.lock() {
                 m.insert(key, p.clone());
             }
@@ -445,12 +467,19 @@ pub fn plan(world: &Layout, shaft: &Shaft, s: &Sizing) -> Result<Helix, Unfit> {
     if h.grade() > s.max_grade {
         return Err(Unfit::Steep { grade: h.grade() });
     }
-    h.centre = [x, y];
+    h.centre = centre;
     h.floors = [z0, z1];
     for o in &mut h.openings {
-        *o = [o[0] + x, o[1] + y];
+        *o = [o[0] + centre[0], o[1] + centre[1]];
     }
     Ok(h)
+}
+
+/// The centre of a ramp's spiral block from its foot cell's centre, metres east and north.
+pub fn block_centre(shaft: &Shaft, half_pitch: f64) -> [f64; 2] {
+    shaft.block.map_or([0.0, 0.0], |[dr, dc]| {
+        [f64::from(dc) * half_pitch, -f64::from(dr) * half_pitch]
+    })
 }
 
 #[cfg(test)]
@@ -471,15 +500,51 @@ mod tests {
         }
     }
 
-    #[test]
-    fn the_helix_joins_both_openings_tangentially_on_their_floors() {
+    /// The opening of a cell centred `cell` metres from the spiral's centre, `pitch` wide.
+    fn opening(cell: [f64; 2], d: Direction, pitch: f64) -> [f64; 2] {
+        let (sr, sc) = d.step();
+        [
+            cell[0] + f64::from(sc) * 0.5 * pitch,
+            cell[1] - f64::from(sr) * 0.5 * pitch,
+        ]
+    }
+
+    /// Every way a one-cell spiral's openings face, and every way a 2 x 2 block's (its foot
+    /// in the block's north-west cell, openings leaving the block).
+    fn cases() -> Vec<([[f64; 2]; 2], f64, f64)> {
+        let s = sizing();
         let pairs = Direction::ALL
             .into_iter()
             .flat_map(|a| Direction::ALL.map(|b| (a, b)));
+        let mut out = Vec::new();
         for (a, b) in pairs {
-            let h = Helix::plan([100.0, 40.0], [0.0, 16.0], a, b, 20.0, &sizing());
+            let at = |d| {
+                [
+                    100.0 + opening([0.0; 2], d, 20.0)[0],
+                    40.0 + opening([0.0; 2], d, 20.0)[1],
+                ]
+            };
+            out.push(([at(a), at(b)], s.room, 26.0));
+        }
+        let outward = [Direction::North, Direction::West];
+        for a in outward {
+            for b in outward {
+                let at = |d| {
+                    let o = opening([-10.0, 10.0], d, 20.0);
+                    [100.0 + o[0], 40.0 + o[1]]
+                };
+                out.push(([at(a), at(b)], s.room + 10.0, 8.13));
+            }
+        }
+        out
+    }
+
+    #[test]
+    fn the_helix_joins_both_openings_tangentially_on_their_floors() {
+        for (openings, room, steepest) in cases() {
+            let h = Helix::plan([100.0, 40.0], [0.0, 16.0], openings, room, &sizing());
             eprintln!(
-                "{a:?} {b:?} {:?}",
+                "{openings:?} {room} {:?}",
                 h.as_ref().map(|h| (h.grade(), h.flat, h.length, h.sense))
             );
             let h = h.unwrap();
@@ -504,7 +569,9 @@ mod tests {
                 assert!(w[1][2] >= w[0][2] - 1e-9);
             }
             assert!(h.separated(&sizing()));
-            assert!(h.grade() < 26.0, "{}", h.grade());
+            assert!(h.grade() < steepest, "{}", h.grade());
+            // The passage keeps within `room` of the centre.
+            assert!(h.radius + sizing().half_width <= room + 1e-9);
         }
     }
 
@@ -512,25 +579,12 @@ mod tests {
     fn a_passage_too_tall_or_too_wide_is_refused() {
         let mut s = sizing();
         s.max_grade = 5.0;
-        let e = Helix::plan(
-            [0.0; 2],
-            [0.0, 16.0],
-            Direction::ALL[0],
-            Direction::ALL[0],
-            20.0,
-            &s,
-        );
+        let east = opening([0.0; 2], Direction::East, 20.0);
+        let e = Helix::plan([0.0; 2], [0.0, 16.0], [east, east], s.room, &s);
         assert!(matches!(e, Err(Unfit::Steep { .. })), "{e:?}");
         let mut s = sizing();
         s.half_width = 4.5;
-        let e = Helix::plan(
-            [0.0; 2],
-            [0.0, 16.0],
-            Direction::ALL[0],
-            Direction::ALL[0],
-            20.0,
-            &s,
-        );
+        let e = Helix::plan([0.0; 2], [0.0, 16.0], [east, east], s.room, &s);
         assert!(matches!(e, Err(Unfit::Narrow { .. })), "{e:?}");
     }
 }

@@ -14,6 +14,8 @@ pub const NONE: u32 = u32::MAX;
 pub const CORRIDOR: u32 = u32::MAX - 1;
 /// `owner` of the landing of the shaft from the level below.
 pub const LANDING: u32 = u32::MAX - 2;
+/// `reserved` of a cell kept empty for the level below's ramp spiral, for the whole build.
+pub const KEPT: u32 = u32::MAX - 3;
 
 /// One level's grid while it is being built.
 #[derive(Clone, Debug)]
@@ -107,6 +109,19 @@ impl Level {
         self.view().has_fused_block()
     }
 
+    /// Whether the spiral block `block` beside cell `i` (see [`crate::grid::Shaft::block`])
+    /// is inside the level, empty, and kept for nothing else.
+    fn block_is_free(&self, i: usize, block: [i8; 2]) -> bool {
+        let (r, c) = (i / self.cols, i % self.cols);
+        let end = crate::grid::Cell::new(0, r, c);
+        crate::grid::Shaft::block_cells(end, block, self.rows, self.cols).is_some_and(|cells| {
+            cells.iter().all(|k| {
+                let j = k.row * self.cols + k.col;
+                !self.occ[j] && self.reserved[j] == NONE
+            })
+        })
+    }
+
     fn clamp_inside(&self, [r, c]: [i32; 2]) -> (i32, i32) {
         (
             r.clamp(1, self.rows as i32 - 2),
@@ -166,8 +181,9 @@ pub enum LevelFailure {
     /// The landing of the shaft from below ended up with more than one opening.
     #[error("the shaft landing is not a dead end")]
     LandingNotDeadEnd,
-    /// No dead end away from the border is left for the shaft up.
-    #[error("no dead end left for the shaft up")]
+    /// No dead end away from the border is left for the shaft up (for a ramp: none with three
+    /// empty cells beside it for the spiral).
+    #[error("no dead end left for the shaft up (a ramp's needs three empty cells beside it)")]
     NoShaftFoot,
     /// A structure could not be joined to the rest.
     #[error("could not link the {structure} at row {row}, column {col} to the rest of the level")]
@@ -207,6 +223,11 @@ pub struct LevelSpec<'a> {
     pub structures: Vec<(&'a str, &'a dyn ConstraintShape)>,
     /// The landing of the shaft from below, `(row, col)`.
     pub landing: Option<(usize, usize)>,
+    /// The spiral block of the ramp from below (see [`crate::grid::Shaft::block`]): its three
+    /// cells beside the landing stay empty.
+    pub landing_block: Option<[i8; 2]>,
+    /// Whether the shaft up is a ramp whose spiral needs a block of empty cells beside its foot.
+    pub ramp_blocks: bool,
     /// Exact topology.
     pub exact: bool,
     /// Whether a shaft up must be chosen.
@@ -217,10 +238,19 @@ pub struct LevelSpec<'a> {
 pub struct BuiltLevel {
     /// Occupied cells, row-major.
     pub occ: Vec<bool>,
-    /// The foot of the shaft up, `(row, col)`.
-    pub shaft_up: Option<(usize, usize)>,
+    /// The foot of the shaft up.
+    pub shaft_up: Option<ShaftFoot>,
     /// What the structures bring.
     pub expected: Counts,
+}
+
+/// Where a level's shaft up starts.
+#[derive(Clone, Copy, Debug)]
+pub struct ShaftFoot {
+    /// `(row, col)`.
+    pub at: (usize, usize),
+    /// Its ramp's spiral block (see [`crate::grid::Shaft::block`]).
+    pub block: Option<[i8; 2]>,
 }
 
 /// Tries once to build a level. The error says which constraint failed.
@@ -237,6 +267,14 @@ pub fn build_level(
         lvl.owner[i] = LANDING;
         i
     });
+    if let (Some((r, c)), Some(block)) = (spec.landing, spec.landing_block) {
+        let end = crate::grid::Cell::new(0, r, c);
+        if let Some(cells) = crate::grid::Shaft::block_cells(end, block, spec.rows, spec.cols) {
+            for k in cells {
+                lvl.reserved[k.row * spec.cols + k.col] = KEPT;
+            }
+        }
+    }
 
     // 1. Place structures in a random order (paper: constraint node distribution).
     let mut order: Vec<(&str, &dyn ConstraintShape)> = spec.structures.clone();
@@ -291,7 +329,11 @@ pub fn build_level(
             arm,
         )?;
     }
-    lvl.reserved.fill(NONE);
+    for r in &mut lvl.reserved {
+        if *r != KEPT {
+            *r = NONE;
+        }
+    }
 
     // 4. Link whatever is still apart (joins made without `exact` can leave nothing apart,
     //    but a spur never splits the level; this is the safety net).
@@ -322,9 +364,10 @@ pub fn build_level(
         }
     }
 
-    // 6. Choose the foot of the shaft up among the dead ends away from the border.
+    // 6. Choose the foot of the shaft up among the dead ends away from the border (for a
+    //    ramp, with a block of three empty cells beside it for the spiral).
     let shaft_up = if spec.needs_shaft_up {
-        let candidates: Vec<usize> = (0..lvl.occ.len())
+        let candidates: Vec<(usize, Option<[i8; 2]>)> = (0..lvl.occ.len())
             .filter(|&i| {
                 let (r, c) = lvl.rc(i);
                 lvl.occ[i]
@@ -335,12 +378,27 @@ pub fn build_level(
                     && (r as usize) < lvl.rows - 1
                     && (c as usize) < lvl.cols - 1
             })
+            .flat_map(|i| {
+                let blocks: Vec<Option<[i8; 2]>> = if spec.ramp_blocks {
+                    crate::grid::Shaft::BLOCKS
+                        .into_iter()
+                        .filter(|&b| lvl.block_is_free(i, b))
+                        .map(Some)
+                        .collect()
+                } else {
+                    vec![None]
+                };
+                blocks.into_iter().map(move |b| (i, b))
+            })
             .collect();
         if candidates.is_empty() {
             return Err(LevelFailure::NoShaftFoot);
         }
-        let i = candidates[rng.below(candidates.len() as u64) as usize];
-        Some((i / lvl.cols, i % lvl.cols))
+        let (i, block) = candidates[rng.below(candidates.len() as u64) as usize];
+        Some(ShaftFoot {
+            at: (i / lvl.cols, i % lvl.cols),
+            block,
+        })
     } else {
         None
     };

@@ -131,7 +131,7 @@ pub fn layout_with(
     let mut expected: Vec<Option<Counts>> = Vec::new();
     let mut attempts_used = Vec::new();
     let mut search = search::Search::new(rows * cols);
-    let mut landing: Option<(usize, usize)> = None;
+    let mut landing: Option<level::ShaftFoot> = None;
     for k in 0..resolved.levels {
         let structures: Vec<(&str, &dyn ConstraintShape)> = resolved.per_level[k]
             .iter()
@@ -144,7 +144,9 @@ pub fn layout_with(
             rows,
             cols,
             structures,
-            landing,
+            landing: landing.map(|f| f.at),
+            landing_block: landing.and_then(|f| f.block),
+            ramp_blocks: resolved.connections == crate::config::Connections::Ramp,
             exact: resolved.exact,
             needs_shaft_up: k + 1 < resolved.levels,
         };
@@ -182,12 +184,12 @@ pub fn layout_with(
                 *occupancy.get_mut(Cell::new(k, i / cols, i % cols)) = true;
             }
         }
-        if let Some((r, c)) = landing {
-            let up = shafts.len();
-            let _ = up;
+        if let Some(foot) = landing {
+            let (r, c) = foot.at;
             shafts.push(Shaft {
                 up: Cell::new(k - 1, r, c),
                 landing: Cell::new(k, r, c),
+                block: foot.block,
             });
         }
         landing = b.shaft_up;
