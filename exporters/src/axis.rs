@@ -571,15 +571,7 @@ fn tile_axis(world: &World, passages: &Passages, c: Cell) -> Option<TileAxis> {
 /// from the last kept one strays more than [`CHORD`] from the points between.
 fn kept(line: &[[f64; 2]], keep: usize) -> Vec<usize> {
     let strays = |a: [f64; 2], b: [f64; 2], p: [f64; 2]| {
-        let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
-        let len2 = dx * dx + dy * dy;
-        let t = if len2 > 0.0 {
-            (((p[0] - a[0]) * dx + (p[1] - a[1]) * dy) / len2).clamp(0.0, 1.0)
-        } else {
-            0.0
-        };
-        let (ex, ey) = (a[0] + t * dx - p[0], a[1] + t * dy - p[1]);
-        ex * ex + ey * ey > CHORD * CHORD
+        subtgraph_core::vec3::segment_distance_squared(p, a, b) > CHORD * CHORD
     };
     let mut out = Vec::new();
     let mut last = 0;

@@ -73,7 +73,9 @@ impl Centreline {
     /// slope: exact on its axis and at its faces, where it meets the neighbours).
     pub fn distance(&self, p: [f64; 2]) -> f64 {
         match *self {
-            Centreline::Segment { a, b } => segment_distance(p, a, b),
+            Centreline::Segment { a, b } => {
+                subtgraph_core::vec3::segment_distance_squared(p, a, b).sqrt()
+            }
             Centreline::Arc { c, r, e } => {
                 let w = sub(p, c);
                 if dot(w, sub(e[0], c)) >= 0.0 && dot(w, sub(e[1], c)) >= 0.0 {
@@ -227,19 +229,6 @@ pub fn meander(seed: u64, key: u64, amplitude: f64) -> f64 {
         return 0.0;
     }
     WorldRng::new(seed, "meander", key).float_in(-amplitude, amplitude)
-}
-
-/// Distance from `p` to the segment `a`-`b` in the plane.
-pub fn segment_distance(p: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
-    let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
-    let len2 = dx * dx + dy * dy;
-    let t = if len2 > 0.0 {
-        (((p[0] - a[0]) * dx + (p[1] - a[1]) * dy) / len2).clamp(0.0, 1.0)
-    } else {
-        0.0
-    };
-    let (qx, qy) = (a[0] + t * dx - p[0], a[1] + t * dy - p[1]);
-    (qx * qx + qy * qy).sqrt()
 }
 
 #[cfg(test)]
