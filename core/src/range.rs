@@ -139,7 +139,9 @@ impl<'de> Deserialize<'de> for RangeNumber {
 
 fn check_non_negative<E: de::Error>((lo, hi): (f64, Option<f64>)) -> Result<(), E> {
     if lo < 0.0 || hi.is_some_and(|h| h < 0.0) || !lo.is_finite() {
-        return Err(E::custom("must be >= 0"));
+        return Err(E::custom(
+            "must be >= 0: a number, or [low, high] with 0 <= low <= high",
+        ));
     }
     Ok(())
 }
@@ -149,7 +151,10 @@ impl<'de> Deserialize<'de> for IntRange {
         let v = d.deserialize_any(RangeVisitor::<true>)?;
         check_non_negative::<D::Error>(v)?;
         if v.0 > f64::from(u32::MAX) || v.1.is_some_and(|h| h > 1000.0) {
-            return Err(de::Error::custom("too large"));
+            return Err(de::Error::custom(
+                "too large: a count is at most 4294967295, and a [low, high] range's high end \
+                 at most 1000",
+            ));
         }
         Ok(match v {
             (x, None) => IntRange::Fixed(x as u32),
