@@ -461,11 +461,10 @@ impl MeshFiles {
             Ok(cache[&root.join(file)].clone())
         };
         let mut entries = BTreeMap::new();
-        let mut hills: Option<Hills> = None;
+        let mut climbing: Option<&ManifestTile> = None;
         for t in &manifest.tiles {
             if t.kind == ELEVATION || t.rise.is_some() || t.rate.is_some() {
-                let h = elevation_tile(path, &manifest, t, &read)?;
-                if hills.replace(h).is_some() {
+                if climbing.replace(t).is_some() {
                     return Err(ManifestError::DuplicateKind {
                         path: path.to_owned(),
                         kind: t.kind.clone(),
@@ -554,6 +553,11 @@ impl MeshFiles {
             }
         }
         check_pitch(path, &manifest, &entries)?;
+        // After the pitch: the elevation tile's floors are measured at its openings.
+        let hills = match climbing {
+            Some(t) => Some(elevation_tile(path, &manifest, t, &read)?),
+            None => None,
+        };
         Ok(Self {
             manifest_path: path.to_owned(),
             manifest,
