@@ -166,6 +166,108 @@ fn lowest_floor(triangles: &[[[f64; 3]; 3]], q: [f64; 2]) -> Option<f64> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use subtgraph_core::npy::NpyArray;
+
+    /// A layout from spatial codes (1 dead end, 2 straight), `[levels, rows, cols]`.
+    fn layout(shape: [usize; 3], codes: &[u8]) -> Layout {
+        let array = NpyArray {
+            shape: shape.to_vec(),
+            values: codes.iter().map(|&c| f64::from(c)).collect(),
+            dtype: "|u1".into(),
+        };
+        let pipeline = subtgraph_core::Pipeline::parse("[world]\nseed = 3\n", "t.toml").unwrap();
+        subtgraph_core::import::import_occupancy(&array, "t.npy", &pipeline, "test")
+            .unwrap()
+            .0
+    }
+
+    fn parts(layout: &Layout, cells: &[(usize, usize, usize)], rate: f64) -> Vec<Option<Part>> {
+        cells
+            .iter()
+            .map(|&(l, r, c)| part(layout, Cell::new(l, r, c), rate))
+            .collect()
+    }
+
+    #[test]
+    fn a_run_climbs_at_its_first_end_and_comes_down_at_its_last() {
+        // A row: dead end, four straights, dead end.
+        #[rustfmt::skip]
+        let row = layout([1, 3, 6], &[
+            0, 0, 0, 0, 0, 0,
+            1, 2, 2, 2, 2, 1,
+            0, 0, 0, 0, 0, 0,
+        ]);
+        let cells: Vec<_> = (0..6).map(|c| (0, 1, c)).collect();
+        use Part::{Climb, Raised};
+        assert_eq!(
+            parts(&row, &cells, 1.0),
+            [
+                None,
+                Some(Climb(0)),
+                Some(Raised),
+                Some(Raised),
+                Some(Climb(2)),
+                None
+            ]
+        );
+        assert_eq!(parts(&row, &cells, 0.0), [None; 6]);
+        // A column: its north end turned so the low side faces north.
+        #[rustfmt::skip]
+        let column = layout([1, 4, 3], &[
+            0, 1, 0,
+            0, 2, 0,
+            0, 2, 0,
+            0, 1, 0,
+        ]);
+        let cells: Vec<_> = (0..4).map(|r| (0, r, 1)).collect();
+        assert_eq!(
+            parts(&column, &cells, 1.0),
+            [None, Some(Climb(3)), Some(Climb(1)), None]
+        );
+    }
+
+    #[test]
+    fn a_run_under_the_level_above_or_beside_it_stays_flat() {
+        // Level 0: a run along row 1, a corner, down column 5 to the shaft's foot at row 4.
+        // Level 1: from the landing over the foot, up column 5 to row `at`, then west.
+        let make = |at: usize| {
+            #[rustfmt::skip]
+            let mut codes = vec![
+                0, 0, 0, 0, 0, 0,
+                1, 2, 2, 2, 2, 3,
+                0, 0, 0, 0, 0, 2,
+                0, 0, 0, 0, 0, 2,
+                0, 0, 0, 0, 0, 11,
+            ];
+            let mut up = vec![0u8; 30];
+            up[6 * at..6 * at + 6].copy_from_slice(&[1, 2, 2, 2, 2, 3]);
+            for r in at + 1..4 {
+                up[6 * r + 5] = 2;
+            }
+            up[6 * 4 + 5] = 111;
+            if at == 4 {
+                up[6 * 4..6 * 4 + 6].copy_from_slice(&[1, 2, 2, 2, 2, 111]);
+            }
+            codes.extend(up);
+            layout([2, 5, 6], &codes)
+        };
+        let run: Vec<_> = (1..5).map(|c| (0, 1, c)).collect();
+        let top: Vec<_> = (1..5).map(|c| (1, 4, c)).collect();
+        use Part::{Climb, Raised};
+        let hill = [Some(Climb(0)), Some(Raised), Some(Raised), Some(Climb(2))];
+        // Level 1's row 4 is three rows from the run: both runs get hills.
+        let apart = make(4);
+        assert_eq!(parts(&apart, &run, 1.0), hill);
+        assert_eq!(
+            parts(&apart, &top, 1.0),
+            hill,
+            "nothing above the top level"
+        );
+        // Level 1's row 2 is beside the run (the 8 neighbours of its cells): it stays flat.
+        assert_eq!(parts(&make(2), &run, 1.0), [None; 4]);
+        // Row 1, over it: flat too.
+        assert_eq!(parts(&make(1), &run, 1.0), [None; 4]);
+    }
 
     /// A closed box over `[-40, 40] x [-10, 10]` whose floor climbs from `z0` at the west to
     /// `z1` at the east, with a ceiling 20 m over it.

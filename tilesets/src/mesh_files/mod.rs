@@ -630,9 +630,18 @@ impl MeshFiles {
         elevation::part(layout, cell, self.hills.as_ref()?.rate)
     }
 
-    /// The share of straight runs that get a hill: 0 without an `elevation` tile.
-    pub fn elevation_rate(&self) -> f64 {
-        self.hills.as_ref().map_or(0.0, |h| h.rate)
+    /// How far a tile that is `part` of a hill has its floor lifted, lowest and highest
+    /// (metres in the world: the manifest's rise scaled with the tiles).
+    fn lift(&self, layout: &Layout, part: Option<elevation::Part>) -> [f64; 2] {
+        let (Some(h), Some(part)) = (&self.hills, part) else {
+            return [0.0, 0.0];
+        };
+        let rise =
+            h.rise * layout.resolved.tile_pitch / (self.manifest.pitch * self.manifest.scale);
+        match part {
+            elevation::Part::Climb(_) => [0.0, rise],
+            elevation::Part::Raised => [rise, rise],
+        }
     }
 
     fn entry(&self, kind: TileKind) -> Option<&Entry> {
@@ -1053,7 +1062,7 @@ impl TileSet for MeshFiles {
         let kind = ctx.tile.kind;
         let place = |m: &Mesh, q: u8| self.place(ctx, m, q);
         let hill = self.hill_part(ctx.layout, ctx.cell);
-        let lift = self.floor_lift(ctx.layout, ctx.cell)[0] as f32;
+        let lift = self.lift(ctx.layout, hill)[0] as f32;
         let visual = match (self.shaft_part(ctx), hill, &self.hills) {
             (Some(visual), _, _) => visual,
             (None, Some(elevation::Part::Climb(q)), Some(h)) => {
@@ -1089,7 +1098,14 @@ impl TileSet for MeshFiles {
         // 25 cells of 3.2 m to a tile, and the vertices each side of a seam rounded away from
         // it: a 3.2 m gap in the floor, or rock across the passage, at many seams.)
         let pitch = ctx.layout.resolved.tile_pitch as f32;
-        let collision = simplify(&visual, 0.04 * pitch, [x - 0.5 * pitch, y - 0.5 * pitch, z]);
+        let origin = [x - 0.5 * pitch, y - 0.5 * pitch, z];
+        let collision = match hill {
+            // A climb snapped to the coarse grid is a staircase of flat and 45-degree pieces
+            // a body cannot climb: the climbing tile keeps its own (light) surface, with only
+            // the vertices next to its edges put on them, so its seams meet its neighbours'.
+            Some(elevation::Part::Climb(_)) => onto_edges(&visual, 0.02 * pitch, origin, pitch),
+            _ => simplify(&visual, 0.04 * pitch, origin),
+        };
         Ok(TileGeometry {
             visual,
             collision,
@@ -1144,16 +1160,7 @@ impl TileSet for MeshFiles {
     }
 
     fn floor_lift(&self, layout: &Layout, cell: Cell) -> [f64; 2] {
-        let Some(h) = &self.hills else {
-            return [0.0, 0.0];
-        };
-        let rise =
-            h.rise * layout.resolved.tile_pitch / (self.manifest.pitch * self.manifest.scale);
-        match self.hill_part(layout, cell) {
-            Some(elevation::Part::Climb(_)) => [0.0, rise],
-            Some(elevation::Part::Raised) => [rise, rise],
-            None => [0.0, 0.0],
-        }
+        self.lift(layout, self.hill_part(layout, cell))
     }
 
     fn check(&self, world: &Layout) -> Result<(), TileSetError> {
@@ -1219,6 +1226,27 @@ pub fn simplify(mesh: &Mesh, cell: f32, origin: [f32; 3]) -> Mesh {
         k += 1;
         !fins[k - 1]
     });
+    out
+}
+
+/// `mesh`'s surface (positions and triangles, as [`simplify`] gives them) with every vertex
+/// within `near` metres of a line of the tile's edges (the square of side `pitch` from
+/// `origin`, its south-west corner) moved onto it.
+fn onto_edges(mesh: &Mesh, near: f32, origin: [f32; 3], pitch: f32) -> Mesh {
+    let mut out = Mesh {
+        positions: mesh.positions.clone(),
+        triangles: mesh.triangles.clone(),
+        ..Mesh::default()
+    };
+    for p in &mut out.positions {
+        for a in 0..2 {
+            for edge in [origin[a], origin[a] + pitch] {
+                if (p[a] - edge).abs() <= near {
+                    p[a] = edge;
+                }
+            }
+        }
+    }
     out
 }
 
