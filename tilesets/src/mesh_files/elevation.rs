@@ -288,7 +288,10 @@ mod tests {
     #[test]
     fn the_floor_is_read_at_each_opening() {
         let [w, e] = end_floors(&ramp(0.0, 32.0), 80.0).unwrap();
-        assert!((w - 0.96).abs() < 1e-6 && (e - 31.04).abs() < 1e-6, "{w} {e}");
+        assert!(
+            (w - 0.96).abs() < 1e-6 && (e - 31.04).abs() < 1e-6,
+            "{w} {e}"
+        );
         let [w, e] = end_floors(&ramp(32.0, 0.0), 80.0).unwrap();
         assert!(w > e);
         assert_eq!(end_floors(&Mesh::default(), 80.0), None);
