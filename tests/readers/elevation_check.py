@@ -13,7 +13,8 @@ exiting non-zero on the first failure:
 - over every end of a hill, the polyline climbs RISE (within 15 %) between the tile's two
   seams, and every point over a raised tile stands at least RISE - 15 % over the level;
 - no stretch of polyline over a hill (points at least 4 m apart horizontally) is steeper than
-  the elevation tile's own floor is along its middle (4 m runs), plus 5 degrees;
+  the elevation tile's own floor is along its middle (4 m runs), plus 3 degrees (the climb
+  snapped to the other tiles' 3.2 m collision grid, a staircase, reached 29.8);
 - a ball (radius 0.3 m) released 0.8 m over the node of every raised tile, after 5 simulated
   seconds in PyBullet, is still over that tile, at least RISE - 15 % over the level: it did
   not fall through the lifted floor.
@@ -181,7 +182,8 @@ def tile_grade():
     return worst
 
 
-limit = tile_grade() + 5.0
+SLACK = 3.0
+limit = tile_grade() + SLACK
 steepest = 0.0
 for line in lines:
     last = None
@@ -197,8 +199,8 @@ for line in lines:
             steepest = max(steepest, math.degrees(math.atan2(abs(p[2] - last[2]), run)))
             last = p
 if steepest > limit:
-    sys.exit(f"FAIL: a polyline over a hill is {steepest:.1f} degrees steep; the tile's floor at most {limit - 5:.1f}")
-print(f"steepest polyline over a hill: {steepest:.1f} degrees (the tile's floor: {limit - 5:.1f})")
+    sys.exit(f"FAIL: a polyline over a hill is {steepest:.1f} degrees steep; the tile's floor at most {limit - SLACK:.1f}")
+print(f"steepest polyline over a hill: {steepest:.1f} degrees (the tile's floor: {limit - SLACK:.1f})")
 
 # --- a ball on every raised tile -----------------------------------------------------------
 import pybullet as pb  # noqa: E402

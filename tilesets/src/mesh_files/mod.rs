@@ -37,6 +37,7 @@
 //! kind = "elevation"               # a straight whose floor climbs: hills on straight runs
 //! files = ["elevation.obj"]
 //! rise = 32.0                      # how far the floor climbs, low opening to high, metres
+//!                                  #   (file units times scale, as pitch)
 //! rate = 0.3                       # share of straight runs that get a hill, 0 to 1
 //! # rotation = 3                   # quarter turns from low opening west, high east (default:
 //!                                  #   measured on the floor at its openings)
