@@ -32,6 +32,9 @@ pub struct PlacedTile {
     pub collision_triangles: Range<usize>,
     /// What the tile set made of it beyond its kind ([`TileGeometry::labels`]).
     pub labels: Vec<&'static str>,
+    /// How far its floor stands above its level's floor, metres, lowest and highest
+    /// ([`TileSet::floor_lift`]).
+    pub floor_lift: [f64; 2],
 }
 
 /// The assembled world.
@@ -50,6 +53,16 @@ pub struct WorldMesh {
     /// With `world.connections = "ramp"`, per shaft of the layout (same order) the floor line
     /// of its ramp ([`TileSet::ramp`]); empty otherwise.
     pub ramps: Vec<Vec<[f64; 3]>>,
+}
+
+impl WorldMesh {
+    /// How far the floor of the tile at `cell` stands above its level's floor, metres, lowest
+    /// and highest ([`PlacedTile::floor_lift`]; `[0, 0]` for a cell without a tile).
+    pub fn floor_lift(&self, cell: Cell) -> [f64; 2] {
+        self.tiles
+            .binary_search_by_key(&cell, |t| t.cell)
+            .map_or([0.0, 0.0], |i| self.tiles[i].floor_lift)
+    }
 }
 
 fn reserve(m: &mut Mesh, vertices: usize, triangles: usize) {
@@ -212,6 +225,7 @@ pub fn assemble_within(
                 visual_triangles: start..out.visual.triangle_count(),
                 collision_triangles: collision_start..out.collision.triangle_count(),
                 labels: g.labels.clone(),
+                floor_lift: tileset.floor_lift(layout, *cell),
             });
         }
     }

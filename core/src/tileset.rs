@@ -249,6 +249,15 @@ pub trait TileSet: Send + Sync {
     fn ramp(&self, _layout: &Layout, _shaft: &crate::grid::Shaft) -> Option<Vec<[f64; 3]>> {
         None
     }
+
+    /// How far the floor of the tile at `cell` stands above its level's floor, metres, as
+    /// `[lowest, highest]`: `[0, 0]` (the default) for a tile on its level's floor, `[h, h]`
+    /// for one the tile set lifts by `h` (the top of a hill), `[0, h]` for one whose floor
+    /// climbs `h` across it. Assembly keeps it per tile ([`crate::assembly::PlacedTile`]); the
+    /// ground truth looks for the tile's floor in its level's height band moved up by it.
+    fn floor_lift(&self, _layout: &Layout, _cell: Cell) -> [f64; 2] {
+        [0.0, 0.0]
+    }
 }
 
 #[cfg(test)]

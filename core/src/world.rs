@@ -71,6 +71,15 @@ impl World {
         self.mesh.as_ref()
     }
 
+    /// How far the floor of the tile at `cell` stands above its level's floor, metres, lowest
+    /// and highest, as the tile set placed it (a hill's tiles; [`WorldMesh::floor_lift`]):
+    /// `[0, 0]` without a mesh.
+    pub fn floor_lift(&self, cell: crate::grid::Cell) -> [f64; 2] {
+        self.mesh
+            .as_ref()
+            .map_or([0.0, 0.0], |m| m.floor_lift(cell))
+    }
+
     /// The layout and the geometry, taken apart (to mesh an existing layout again, say).
     pub fn into_parts(self) -> (Layout, Option<WorldMesh>) {
         (self.layout, self.mesh)

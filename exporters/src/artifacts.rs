@@ -520,6 +520,8 @@ fn spot_in(
     let pitch = world.resolved.tile_pitch;
     let lh = world.resolved.level_height;
     let [cx, cy, nominal] = world.cell_position(cell);
+    // Where the tile set lifted the tile's floor (a hill's tiles), the band moves up with it.
+    let [low, high] = world.floor_lift(cell);
     let size = class.size();
     let half_diag = 0.5 * size[0].hypot(size[1]);
     let reach = half_diag + GAP + WALL.max(OPEN);
@@ -554,7 +556,7 @@ fn spot_in(
     for (j, row) in rows.iter().enumerate() {
         for s in row {
             let slot = &mut level_span[j * nx + s.i as usize];
-            if slot.is_none() && s.z1 >= nominal + 0.3 && s.z0 <= nominal + 0.5 * lh {
+            if slot.is_none() && s.z1 >= nominal + low + 0.3 && s.z0 <= nominal + high + 0.5 * lh {
                 *slot = Some([s.z0, s.z1]);
             }
         }

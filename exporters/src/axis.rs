@@ -269,8 +269,19 @@ fn floors(world: &World, passages: &Passages, c: Cell, n: usize) -> (Columns, Ve
         nx: n,
         ny: n,
     };
+    // The floor is looked for within 0.45 level heights of the level's floor, or of the
+    // heights the tile set lifted this tile's floor to (a hill's tiles: `floor_lift`).
     let half = 0.45 * world.resolved.level_height;
-    let nominal = centre[2];
+    let [low, high] = world.floor_lift(c).map(|l| centre[2] + l);
+    let off = |z: f64| {
+        if z < low {
+            low - z
+        } else if z > high {
+            z - high
+        } else {
+            0.0
+        }
+    };
     let bounds = [cols.x0, cols.y0, cols.x0 + pitch, cols.y0 + pitch];
     // Every line's crossings, bottom up, with the facing of their triangles. The surface need
     // not be closed (the DARPA tiles' is not: ray parity would call half their lines open), so
@@ -302,11 +313,11 @@ fn floors(world: &World, passages: &Passages, c: Cell, n: usize) -> (Columns, Ve
                 if up != floor_faces_up
                     || next_up == floor_faces_up
                     || z1 - z0 < BODY
-                    || (z0 - nominal).abs() > half
+                    || off(z0) > half
                 {
                     continue;
                 }
-                if best.is_nan() || (z0 - nominal).abs() < (best - nominal).abs() {
+                if best.is_nan() || off(z0) < off(best) {
                     best = z0;
                 }
             }

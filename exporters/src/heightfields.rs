@@ -6,12 +6,13 @@
 //! are found exactly by ray parity, or by the triangles' facing where the surface overlaps
 //! itself (as for the free-space ground truth, `inside.rs`). For a tile on level `L`,
 //! the stretches meeting the level's band (from a quarter of a level height below its floor
-//! to three quarters above) give the **floor** (the lowest bottom) and the **roof** (the
-//! highest top) of that line; a line with no free stretch in the band is rock, where floor
-//! and roof meet in the middle of the band. So a tunnel's section, however rounded, is what
-//! lies between two height functions: the floor field rises steeply into the rock at the
-//! walls and meets the roof field there, which comes down to the same height. A shaft's lines
-//! are free from the floor below to the roof above, on both levels.
+//! to three quarters above, moved up by the tile's floor lift on a hill) give the **floor**
+//! (the lowest bottom) and the **roof** (the highest top) of that line; a line with no free
+//! stretch in the band is rock, where floor and roof meet in the middle of the band. So a
+//! tunnel's section, however rounded, is what lies between two height functions: the floor
+//! field rises steeply into the rock at the walls and meets the roof field there, which comes
+//! down to the same height. A shaft's lines are free from the floor below to the roof above,
+//! on both levels.
 //!
 //! What is lost: rock that hangs inside a line's free stretch (an overhang, a ledge) becomes
 //! free, and a wall stands up to one `step` into the passage (the field rises between the last
@@ -92,8 +93,10 @@ pub fn tile_fields(world: &World, mesh: &WorldMesh, step: f64) -> Vec<TileField>
         .map(|t| {
             let (gx, gy) = lattice(t);
             let z = t.cell.level as f64 * lh;
-            let (band_lo, band_hi) = ((z - 0.25 * lh) as f32, (z + 0.75 * lh) as f32);
-            let rock = (z + 0.25 * lh) as f32;
+            // Moved up with the tile's floor where the tile set lifted it (a hill's tiles).
+            let [low, high] = t.floor_lift;
+            let (band_lo, band_hi) = ((z + low - 0.25 * lh) as f32, (z + high + 0.75 * lh) as f32);
+            let rock = (z + 0.5 * (low + high) + 0.25 * lh) as f32;
             let (i0, j0) = ((gx - lo.0) as usize * n, (gy - lo.1) as usize * n);
             let mut floor = Vec::with_capacity((n + 1) * (n + 1));
             let mut roof = Vec::with_capacity((n + 1) * (n + 1));

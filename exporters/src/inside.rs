@@ -210,7 +210,10 @@ impl<'a> Passages<'a> {
 
     /// The free stretches along the vertical lines through a few `points` close together, as
     /// [`column`](Self::column) gives them one at a time, with the triangles near them gathered
-    /// once. A line crossing the surface an odd number of times (an open surface) has none.
+    /// once: read from the triangles' facing where the crossings do not alternate (a surface
+    /// that overlaps itself, as the DARPA tiles' collision copy does: two coincident floors
+    /// under one ceiling left such a line with no free stretch, though `column` and the
+    /// collision mesh have one).
     pub fn columns_at(&self, points: &[[f64; 2]]) -> Vec<Vec<[f64; 2]>> {
         match self {
             Passages::Grid(world) => points
@@ -247,19 +250,24 @@ impl<'a> Passages<'a> {
                 lattice
                     .iter()
                     .map(|&p| {
-                        let mut zs: Vec<f64> = near
+                        let mut hits: Vec<Hit> = near
                             .iter()
                             .filter_map(|&t| {
                                 let idx = mesh.triangles[t];
                                 let [a, b, c] = idx.map(|v| xy[v as usize]);
-                                crossing(a, b, c, idx.map(|v| mesh.positions[v as usize][2]), p)
+                                let z = idx.map(|v| mesh.positions[v as usize][2]);
+                                crossing(a, b, c, z, p).map(|z| Hit {
+                                    j: 0,
+                                    i: 0,
+                                    z,
+                                    up: orient(a, b, c) > 0,
+                                })
                             })
                             .collect();
-                        if zs.len() % 2 == 1 {
-                            return Vec::new();
-                        }
-                        zs.sort_by(f64::total_cmp);
-                        zs.chunks_exact(2).map(|c| [c[0], c[1]]).collect()
+                        hits.sort_unstable_by(|p, q| p.z.total_cmp(&q.z).then(p.up.cmp(&q.up)));
+                        let mut spans = Vec::new();
+                        stretches(&hits, |z0, z1| spans.push([z0, z1]));
+                        spans
                     })
                     .collect()
             }

@@ -202,6 +202,7 @@ mod tests {
                 visual_triangles: i..i + 1,
                 collision_triangles: 0..0,
                 labels: Vec::new(),
+                floor_lift: [0.0, 0.0],
             });
         }
         mesh

@@ -487,6 +487,13 @@ impl TileSet for Guarded<dyn TileSet> {
     fn ramp(&self, layout: &Layout, shaft: &subtgraph_core::grid::Shaft) -> Option<Vec<[f64; 3]>> {
         self.call("TileSet::ramp", || None, |t| t.ramp(layout, shaft))
     }
+    fn floor_lift(&self, layout: &Layout, cell: subtgraph_core::grid::Cell) -> [f64; 2] {
+        self.call(
+            "TileSet::floor_lift",
+            || [0.0, 0.0],
+            |t| t.floor_lift(layout, cell),
+        )
+    }
 }
 
 #[deny(clippy::missing_trait_methods)] // a new defaulted method must be forwarded, not skipped

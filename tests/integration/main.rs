@@ -13,6 +13,7 @@ mod chambers;
 mod cli;
 mod dataset;
 mod drive;
+mod elevation;
 mod export_physics;
 mod export_scenes;
 mod exports;

@@ -229,7 +229,7 @@ fn the_darpa_manifest_builds_the_papers_worlds() {
     let manifest =
         Path::new(env!("CARGO_MANIFEST_DIR")).join("tilesets/manifests/darpa-cave-type-b.toml");
     let m = MeshFiles::open(&manifest).unwrap();
-    assert_eq!(m.files_loaded(), 11, "11 distinct files, each read once");
+    assert_eq!(m.files_loaded(), 12, "12 distinct files, each read once");
     // A two-level world at the original's 80 m pitch: shafts climb 64 m, as the tiles do.
     let mut p = subtgraph::presets::load("mine").unwrap();
     p.world.levels = subtgraph::core::config::IntRange::Fixed(2);

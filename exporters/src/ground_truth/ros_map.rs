@@ -117,7 +117,19 @@ impl RosMap {
         let lh = world.resolved.level_height;
         let height = self.height;
         // One raster gives every level's row: the lines are the same, only the height differs.
-        let raster = passages.raster(&px, |_, spans, open| {
+        // A hill's tiles (`floor_lift`) have their floor higher up: the level's band reaches
+        // that much higher over them.
+        let hills = world
+            .mesh()
+            .is_some_and(|m| m.tiles.iter().any(|t| t.floor_lift[1] > 0.0));
+        let raised = |l: usize, i: u32, j: usize| {
+            if !hills {
+                return 0.0;
+            }
+            crate::inside::cell_at(world, l, px.x(i as usize), px.y(j))
+                .map_or(0.0, |c| world.floor_lift(c)[1])
+        };
+        let raster = passages.raster(&px, |j, spans, open| {
             let mut rows = vec![vec![OCCUPIED; px.nx]; levels];
             for s in spans {
                 for (l, row) in rows.iter_mut().enumerate() {
@@ -126,7 +138,7 @@ impl RosMap {
                     // one), the nominal floor if it starts below (a shaft from the level
                     // below).
                     let nominal = l as f64 * lh;
-                    if s.z0 >= nominal + 0.75 * lh {
+                    if s.z0 >= nominal + raised(l, s.i, j) + 0.75 * lh {
                         continue;
                     }
                     let z = s.z0.max(nominal) + height;

@@ -32,7 +32,20 @@
 //!                                  #   "west"; "none": no side opening at the top)
 //! split = 32.0                     # where it is cut, above the foot's floor, file units
 //!                                  #   (default: half of shaft_rise)
+//!
+//! [[tile]]
+//! kind = "elevation"               # a straight whose floor climbs: hills on straight runs
+//! files = ["elevation.obj"]
+//! rise = 32.0                      # how far the floor climbs, low opening to high, metres
+//!                                  #   (file units times scale, as pitch)
+//! rate = 0.3                       # share of straight runs that get a hill, 0 to 1
+//! # rotation = 3                   # quarter turns from low opening west, high east (default:
+//!                                  #   measured on the floor at its openings)
 //! ```
+//!
+//! With an `elevation` tile, runs of straight tiles get hills (see `elevation.rs`): the
+//! elevation tile at each end of the run, the straights between lifted by `rise`.
+//! `[tileset] elevation_rate` overrides the manifest's `rate` for one world.
 //!
 //! A shaft tile whose top opens sideways is cut at `split` into the foot's part and the
 //! landing's part, each turned for its own corridor (see `shaft.rs`); with `top = "none"` the
@@ -42,6 +55,7 @@
 //! scaled uniformly so that the manifest's pitch becomes `world.tile_pitch`. A tile's file is
 //! chosen by the tile's own seed, so the same world always gets the same files.
 
+mod elevation;
 mod load;
 mod shaft;
 
@@ -53,7 +67,7 @@ use serde::Deserialize;
 use subtgraph_core::Layout;
 use subtgraph_core::budget::TileTriangles;
 use subtgraph_core::error::ConfigError;
-use subtgraph_core::grid::{Direction, Openings, rotate_openings};
+use subtgraph_core::grid::{Cell, Direction, Openings, rotate_openings};
 use subtgraph_core::mesh::{Material, Mesh};
 use subtgraph_core::params::Params;
 use subtgraph_core::rng::WorldRng;
@@ -95,7 +109,7 @@ pub enum ManifestError {
     },
     /// A `[[tile]]` entry whose `kind` is not a tile kind.
     #[error(
-        "{}: unknown tile kind '{kind}'; the kinds are {}",
+        "{}: unknown tile kind '{kind}'; the kinds are {} and elevation",
         path.display(),
         TileKind::ALL.map(TileKind::name).join(", ")
     )]
@@ -257,6 +271,13 @@ pub struct ManifestTile {
     /// the tile is cut into the foot's part and the landing's part (default: half the rise).
     #[serde(default)]
     pub split: Option<f64>,
+    /// `elevation` only: how far the floor climbs from the low opening to the high one
+    /// (file units times `scale`: metres at the manifest's `pitch`).
+    #[serde(default)]
+    pub rise: Option<f64>,
+    /// `elevation` only: the share of runs of straight tiles that get a hill, 0 to 1.
+    #[serde(default)]
+    pub rate: Option<f64>,
 }
 
 /// A loaded, oriented mesh in metres, up axis z, rotated to its kind's base orientation.
@@ -273,11 +294,21 @@ struct Entry {
     cap: Option<Arc<Asset>>,
 }
 
+/// The manifest's `elevation` tile: its files (base orientation: low opening west), how far
+/// they climb (metres at the manifest's pitch) and the share of straight runs that get a hill.
+#[derive(Clone, Debug)]
+struct Hills {
+    entry: Entry,
+    rise: f64,
+    rate: f64,
+}
+
 /// The mesh-file tile set.
 pub struct MeshFiles {
     manifest_path: PathBuf,
     manifest: Manifest,
     entries: BTreeMap<TileKind, Entry>,
+    hills: Option<Hills>,
     materials: Vec<Material>,
     loads: Arc<Mutex<usize>>,
 }
@@ -309,10 +340,36 @@ impl MeshFiles {
         #[serde(deny_unknown_fields)]
         struct Settings {
             manifest: String,
+            /// Overrides the manifest's elevation `rate`.
+            #[serde(default)]
+            elevation_rate: Option<f64>,
         }
         let s: Settings = p.deserialize()?;
         let path = p.resolve_path(&s.manifest);
-        Self::open(&path).map_err(|e| p.error("manifest", e.to_string()))
+        let mut set = Self::open(&path).map_err(|e| p.error("manifest", e.to_string()))?;
+        if let Some(rate) = s.elevation_rate {
+            if !(0.0..=1.0).contains(&rate) {
+                return Err(p.error(
+                    "elevation_rate",
+                    format!(
+                        "elevation_rate = {rate}: give the share of straight runs that get a \
+                         hill, from 0 to 1"
+                    ),
+                ));
+            }
+            let Some(hills) = &mut set.hills else {
+                return Err(p.error(
+                    "elevation_rate",
+                    format!(
+                        "{} has no [[tile]] kind = \"elevation\" to make hills of; add one or \
+                         remove elevation_rate",
+                        path.display()
+                    ),
+                ));
+            };
+            hills.rate = rate;
+        }
+        Ok(set)
     }
 
     /// Opens a manifest and loads its meshes. The error names the file and what to change.
@@ -405,7 +462,17 @@ impl MeshFiles {
             Ok(cache[&root.join(file)].clone())
         };
         let mut entries = BTreeMap::new();
+        let mut climbing: Option<&ManifestTile> = None;
         for t in &manifest.tiles {
+            if t.kind == ELEVATION || t.rise.is_some() || t.rate.is_some() {
+                if climbing.replace(t).is_some() {
+                    return Err(ManifestError::DuplicateKind {
+                        path: path.to_owned(),
+                        kind: t.kind.clone(),
+                    });
+                }
+                continue;
+            }
             let kind = kind_named(&t.kind).ok_or_else(|| ManifestError::UnknownKind {
                 path: path.to_owned(),
                 kind: t.kind.clone(),
@@ -487,10 +554,16 @@ impl MeshFiles {
             }
         }
         check_pitch(path, &manifest, &entries)?;
+        // After the pitch: the elevation tile's floors are measured at its openings.
+        let hills = match climbing {
+            Some(t) => Some(elevation_tile(path, &manifest, t, &read)?),
+            None => None,
+        };
         Ok(Self {
             manifest_path: path.to_owned(),
             manifest,
             entries,
+            hills,
             materials,
             loads,
         })
@@ -553,12 +626,158 @@ impl MeshFiles {
         })
     }
 
+    /// The part of a hill the tile at `cell` is, if any (see [`elevation`]).
+    fn hill_part(&self, layout: &Layout, cell: Cell) -> Option<elevation::Part> {
+        elevation::part(layout, cell, self.hills.as_ref()?.rate)
+    }
+
+    /// How far a tile that is `part` of a hill has its floor lifted, lowest and highest
+    /// (metres in the world: the manifest's rise scaled with the tiles).
+    fn lift(&self, layout: &Layout, part: Option<elevation::Part>) -> [f64; 2] {
+        let (Some(h), Some(part)) = (&self.hills, part) else {
+            return [0.0, 0.0];
+        };
+        let rise =
+            h.rise * layout.resolved.tile_pitch / (self.manifest.pitch * self.manifest.scale);
+        match part {
+            elevation::Part::Climb(_) => [0.0, rise],
+            elevation::Part::Raised => [rise, rise],
+        }
+    }
+
     fn entry(&self, kind: TileKind) -> Option<&Entry> {
         self.entries.get(&kind).or(match kind {
             TileKind::ShaftUp | TileKind::ShaftLanding => self.entries.get(&TileKind::DeadEnd),
             _ => None,
         })
     }
+}
+
+/// The manifest's name for the elevation tile, and the label of a hill's ends.
+const ELEVATION: &str = "elevation";
+
+/// The `elevation` tile: its files turned so the low opening faces west (the given `rotation`,
+/// or the one the floors at its openings show), checked against `rise` and `rate`.
+fn elevation_tile(
+    path: &Path,
+    manifest: &Manifest,
+    t: &ManifestTile,
+    read: &dyn Fn(&str) -> Result<Arc<Mesh>, ManifestError>,
+) -> Result<Hills, ManifestError> {
+    let value = |problem: String| ManifestError::Value {
+        path: path.to_owned(),
+        problem,
+    };
+    let name = subtgraph_core::error::excerpt(&t.kind);
+    if t.kind != ELEVATION {
+        return Err(value(format!(
+            "tile '{name}': `rise` and `rate` describe hills; give them on the kind = \
+             \"elevation\" tile only"
+        )));
+    }
+    if t.cap.is_some() || t.cap_faces.is_some() || t.top.is_some() || t.split.is_some() {
+        return Err(value(
+            "tile 'elevation': `cap`, `cap_faces`, `top` and `split` are not for the elevation \
+             tile; remove them"
+                .into(),
+        ));
+    }
+    if t.files.is_empty() {
+        return Err(value("tile 'elevation' lists no files".into()));
+    }
+    let Some(rise) = t.rise else {
+        return Err(value(
+            "tile 'elevation': give rise, how far its floor climbs from the low opening to the \
+             high one (metres, file units times scale)"
+                .into(),
+        ));
+    };
+    if !(rise.is_finite() && rise > 0.0) {
+        return Err(value(format!(
+            "tile 'elevation': rise = {rise}: give the climb as a positive number of metres"
+        )));
+    }
+    let Some(rate) = t.rate else {
+        return Err(value(
+            "tile 'elevation': give rate, the share of straight runs that get a hill (0 to 1)"
+                .into(),
+        ));
+    };
+    if !(0.0..=1.0).contains(&rate) {
+        return Err(value(format!(
+            "tile 'elevation': rate = {rate}: give the share of straight runs that get a hill, \
+             from 0 to 1"
+        )));
+    }
+    let pitch = manifest.pitch * manifest.scale;
+    let rise = rise * manifest.scale;
+    let mut assets = Vec::new();
+    for f in &t.files {
+        let mesh = read(f)?;
+        let turned = |q: u8| {
+            let mut m = (*mesh).clone();
+            let back = (4 - q) % 4;
+            for p in &mut m.positions {
+                *p = turn(*p, back);
+            }
+            for n in &mut m.normals {
+                *n = turn(*n, back);
+            }
+            m
+        };
+        // The openings say east-west or north-south; the floors say which end is low.
+        let q0 = match t.rotation {
+            Some(r) => r,
+            None => {
+                let found = openings(&mesh, pitch, TileKind::Straight);
+                (0..2)
+                    .find(|&q| rotate_openings(TileKind::Straight.base_openings(), q) == found)
+                    .ok_or_else(|| ManifestError::Openings {
+                        path: path.to_owned(),
+                        file: f.clone(),
+                        kind: t.kind.clone(),
+                        found: describe(found),
+                        half: pitch / 2.0,
+                    })?
+            }
+        };
+        let m = turned(q0);
+        let Some([west, east]) = elevation::end_floors(&m, pitch) else {
+            return Err(value(format!(
+                "tile 'elevation': {f} has no floor near one of its openings (turned {q0} \
+                 quarter turns); check `pitch`, `up` and `rotation`"
+            )));
+        };
+        let (m, climb) = match t.rotation {
+            _ if east > west => (m, east - west),
+            None => (turned(q0 + 2), west - east),
+            Some(r) => {
+                return Err(value(format!(
+                    "tile 'elevation': rotation = {r} puts {f}'s high opening west (floor {west:.1} \
+                     m, east {east:.1} m); the base orientation is low west, high east: give \
+                     rotation = {}",
+                    (r + 2) % 4
+                )));
+            }
+        };
+        // Measured a few metres in from the openings, where the floor still climbs.
+        if (climb - rise).abs() > 0.25 * rise {
+            return Err(value(format!(
+                "tile 'elevation': rise = {}: {f}'s floor climbs {climb:.1} m between its \
+                 openings (measured); set rise to what the tile climbs",
+                rise / manifest.scale
+            )));
+        }
+        assets.push(Arc::new(Asset {
+            mesh: m,
+            shaft: None,
+        }));
+    }
+    Ok(Hills {
+        entry: Entry { assets, cap: None },
+        rise,
+        rate,
+    })
 }
 
 /// For a `shaft-up` tile with a side opening at its top: where to cut it (metres above the
@@ -843,9 +1062,14 @@ impl TileSet for MeshFiles {
     fn tile(&self, ctx: &TileContext<'_>) -> Result<TileGeometry, TileSetError> {
         let kind = ctx.tile.kind;
         let place = |m: &Mesh, q: u8| self.place(ctx, m, q);
-        let visual = match self.shaft_part(ctx) {
-            Some(visual) => visual,
-            None => {
+        let hill = self.hill_part(ctx.layout, ctx.cell);
+        let lift = self.lift(ctx.layout, hill)[0] as f32;
+        let visual = match (self.shaft_part(ctx), hill, &self.hills) {
+            (Some(visual), _, _) => visual,
+            (None, Some(elevation::Part::Climb(q)), Some(h)) => {
+                place(&draw(&h.entry, ctx.seed).mesh, q)
+            }
+            (None, _, _) => {
                 let entry = self.entry(kind).ok_or_else(|| TileSetError::MissingKinds {
                     tileset: self.manifest_path.display().to_string(),
                     kinds: vec![kind.name().to_owned()],
@@ -861,23 +1085,38 @@ impl TileSet for MeshFiles {
                         visual.append(&place(&cap.mesh, q));
                     }
                 }
+                for p in &mut visual.positions {
+                    p[2] += lift;
+                }
                 visual
             }
         };
         let [x, y, z] = ctx.position.map(|v| v as f32);
+        let z = z + lift;
         // The snapping grid starts at the tile's south-west corner, so its lines fall on the
         // tile's edges: both tiles of a seam snap their edge vertices onto the seam itself.
         // (On a grid from the world's origin an 80 m tile's edges fall half way between lines,
         // 25 cells of 3.2 m to a tile, and the vertices each side of a seam rounded away from
         // it: a 3.2 m gap in the floor, or rock across the passage, at many seams.)
         let pitch = ctx.layout.resolved.tile_pitch as f32;
-        let collision = simplify(&visual, 0.04 * pitch, [x - 0.5 * pitch, y - 0.5 * pitch, z]);
+        let origin = [x - 0.5 * pitch, y - 0.5 * pitch, z];
+        let collision = match hill {
+            // A climb snapped to the coarse grid is a staircase of flat and 45-degree pieces
+            // a body cannot climb: the climbing tile keeps its own (light) surface, with only
+            // the vertices next to its edges put on them, so its seams meet its neighbours'.
+            Some(elevation::Part::Climb(_)) => onto_edges(&visual, 0.02 * pitch, origin, pitch),
+            _ => simplify(&visual, 0.04 * pitch, origin),
+        };
         Ok(TileGeometry {
             visual,
             collision,
             // Mesh tiles are not designed to weld: nothing to merge.
             seams: Seams::None,
-            labels: Vec::new(),
+            labels: match hill {
+                Some(elevation::Part::Climb(_)) => vec![ELEVATION],
+                Some(elevation::Part::Raised) => vec!["raised"],
+                None => Vec::new(),
+            },
             // No rubble or drops (`makes_hazards` is false: assembly refuses a pipeline
             // asking for them, naming the key).
             hazards: Vec::new(),
@@ -919,6 +1158,10 @@ impl TileSet for MeshFiles {
             visual: files + cap,
             collision: 0.5 * (files + cap),
         })
+    }
+
+    fn floor_lift(&self, layout: &Layout, cell: Cell) -> [f64; 2] {
+        self.lift(layout, self.hill_part(layout, cell))
     }
 
     fn check(&self, world: &Layout) -> Result<(), TileSetError> {
@@ -984,6 +1227,27 @@ pub fn simplify(mesh: &Mesh, cell: f32, origin: [f32; 3]) -> Mesh {
         k += 1;
         !fins[k - 1]
     });
+    out
+}
+
+/// `mesh`'s surface (positions and triangles, as [`simplify`] gives them) with every vertex
+/// within `near` metres of a line of the tile's edges (the square of side `pitch` from
+/// `origin`, its south-west corner) moved onto it.
+fn onto_edges(mesh: &Mesh, near: f32, origin: [f32; 3], pitch: f32) -> Mesh {
+    let mut out = Mesh {
+        positions: mesh.positions.clone(),
+        triangles: mesh.triangles.clone(),
+        ..Mesh::default()
+    };
+    for p in &mut out.positions {
+        for a in 0..2 {
+            for edge in [origin[a], origin[a] + pitch] {
+                if (p[a] - edge).abs() <= near {
+                    p[a] = edge;
+                }
+            }
+        }
+    }
     out
 }
 
