@@ -150,7 +150,7 @@ pub fn layout_with(
             exact: resolved.exact,
             needs_shaft_up: k + 1 < resolved.levels,
         };
-        let mut last_failure = String::new();
+        let mut last_failure = None;
         let mut built = None;
         for attempt in 0..resolved.attempts {
             let mut rng = WorldRng::new(
@@ -163,20 +163,24 @@ pub fn layout_with(
                     built = Some((b, attempt + 1));
                     break;
                 }
-                Err(why) => last_failure = why.to_string(),
+                Err(why) => last_failure = Some(why),
             }
         }
         let Some((b, used)) = built else {
+            let mut advice = "use a larger grid (raise world.min_length, or world.rows and \
+                              world.cols), ask for fewer structures on this level, or set \
+                              topology.exact = false"
+                .to_owned();
+            if spec.ramp_blocks && last_failure == Some(level::LevelFailure::NoShaftFoot) {
+                advice.push_str(", or join the levels by shafts (world.connections = \"shaft\")");
+            }
             return Err(Error::Unsatisfiable {
                 level: k,
-                what: last_failure,
+                what: last_failure.map(|w| w.to_string()).unwrap_or_default(),
                 attempts: resolved.attempts,
                 rows,
                 cols,
-                advice:
-                    "use a larger grid (raise world.min_length, or world.rows and world.cols), \
-                         ask for fewer structures on this level, or set topology.exact = false"
-                        .into(),
+                advice,
             });
         };
         for (i, &o) in b.occ.iter().enumerate() {
