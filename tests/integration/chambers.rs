@@ -138,10 +138,7 @@ fn check_world(p: &Pipeline, clearance: [f64; 2], what: &str) -> Seen {
     };
     let graph = json("graph.json");
     let labels = json("semantic_labels.json");
-    let point = |v: &serde_json::Value| -> [f64; 3] {
-        let a = v.as_array().unwrap();
-        [0, 1, 2].map(|k| a[k].as_f64().unwrap())
-    };
+    let point = crate::common::json_point;
     let [cw, ch] = clearance;
     let mut seen = Seen {
         points: 0,

@@ -287,3 +287,18 @@ pub fn sdf_report(dir: &Path, sdf: &Path) -> Option<String> {
     );
     Some(String::from_utf8(out.stdout).unwrap())
 }
+
+/// `ground_truth/graph.json` of `world`, as the `graph` exporter writes it (in memory).
+pub fn graph_json(world: &subtgraph::core::World) -> serde_json::Value {
+    use subtgraph::core::export::{Exporter, MemoryWriter};
+    let mut out = MemoryWriter::default();
+    subtgraph::exporters::GraphFiles
+        .export(world, &mut out)
+        .unwrap();
+    serde_json::from_slice(out.get("ground_truth/graph.json").unwrap()).unwrap()
+}
+
+/// A JSON `[x, y, z]` as numbers.
+pub fn json_point(v: &serde_json::Value) -> [f64; 3] {
+    [0, 1, 2].map(|k| v[k].as_f64().unwrap())
+}

@@ -255,10 +255,7 @@ fn gazebo_physics_holds_balls_on_the_floor_in_dartsim() {
         .as_array()
         .unwrap()
         .iter()
-        .map(|r| {
-            let p = &r["spawn"]["position"];
-            [0, 1, 2].map(|k| p[k].as_f64().unwrap())
-        })
+        .map(|r| crate::common::json_point(&r["spawn"]["position"]))
         .collect();
     assert!(drops.len() >= 2, "{poses}");
     // A cell of level 0 no passage crosses: solid rock at its centre.

@@ -301,19 +301,10 @@ fn graph_points_stand_on_floors(p: &subtgraph::core::Pipeline, what: &str) -> us
 }
 
 fn world_points_stand_on_floors(world: &subtgraph::core::World, what: &str) -> usize {
-    use subtgraph::core::export::{Exporter, MemoryWriter};
     let mesh = &world.mesh().expect("a mesh").collision;
     let soup = Soup::new(mesh, world.resolved.tile_pitch / 4.0);
-    let mut out = MemoryWriter::default();
-    subtgraph::exporters::GraphFiles
-        .export(world, &mut out)
-        .unwrap();
-    let doc: serde_json::Value =
-        serde_json::from_slice(out.get("ground_truth/graph.json").unwrap()).unwrap();
-    let point = |v: &serde_json::Value| -> [f64; 3] {
-        let a = v.as_array().unwrap();
-        [0, 1, 2].map(|k| a[k].as_f64().unwrap())
-    };
+    let doc = crate::common::graph_json(world);
+    let point = crate::common::json_point;
     let mut checked = 0;
     for n in doc["nodes"].as_array().unwrap() {
         let p = point(&n["position"]);
@@ -386,20 +377,11 @@ fn graph_nodes_and_centrelines_stand_on_floors_of_the_darpa_tiles() {
 /// segments between the points of each corridor's polyline (1 m above them) leaving the foot
 /// or the landing, within its tile.
 fn shaft_connections(world: &subtgraph::core::World, what: &str) -> (Vec<String>, Vec<u8>) {
-    use subtgraph::core::export::{Exporter, MemoryWriter};
     let mesh = &world.mesh().expect("a mesh").collision;
     let pitch = world.resolved.tile_pitch;
     let soup = Soup::new(mesh, pitch / 4.0);
-    let mut out = MemoryWriter::default();
-    subtgraph::exporters::GraphFiles
-        .export(world, &mut out)
-        .unwrap();
-    let doc: serde_json::Value =
-        serde_json::from_slice(out.get("ground_truth/graph.json").unwrap()).unwrap();
-    let point = |v: &serde_json::Value| -> [f64; 3] {
-        let a = v.as_array().unwrap();
-        [0, 1, 2].map(|k| a[k].as_f64().unwrap())
-    };
+    let doc = crate::common::graph_json(world);
+    let point = crate::common::json_point;
     let nodes = doc["nodes"].as_array().unwrap();
     let node = |id: &serde_json::Value| nodes.iter().find(|n| n["id"] == *id).unwrap();
     let cell = |n: &serde_json::Value| {

@@ -31,12 +31,7 @@ fn world(preset: &str, seed: u64, extra: &str) -> World {
 
 /// The corridor polylines of `graph.json`.
 fn polylines(world: &World) -> Vec<Vec<[f64; 3]>> {
-    let mut out = MemoryWriter::default();
-    subtgraph::exporters::GraphFiles
-        .export(world, &mut out)
-        .unwrap();
-    let doc: serde_json::Value =
-        serde_json::from_slice(out.get("ground_truth/graph.json").unwrap()).unwrap();
+    let doc = crate::common::graph_json(world);
     doc["edges"]
         .as_array()
         .unwrap()
@@ -47,7 +42,7 @@ fn polylines(world: &World) -> Vec<Vec<[f64; 3]>> {
                 .as_array()
                 .unwrap()
                 .iter()
-                .map(|v| [0, 1, 2].map(|k| v[k].as_f64().unwrap()))
+                .map(crate::common::json_point)
                 .collect()
         })
         .collect()
