@@ -131,6 +131,7 @@ pub(super) fn end_floors(mesh: &Mesh, pitch: f64) -> Option<[f64; 2]> {
         .triangles
         .iter()
         .map(|t| t.map(|i| mesh.positions[i as usize].map(f64::from)))
+        .filter(|p| super::area(p) != 0.0)
         .collect();
     let side = |x: f64| {
         let mut found: Vec<f64> = [-0.1, -0.05, 0.0, 0.05, 0.1]
@@ -146,20 +147,7 @@ pub(super) fn end_floors(mesh: &Mesh, pitch: f64) -> Option<[f64; 2]> {
 /// The lowest floor on the vertical line through `q`: a crossing of a triangle facing up (seen
 /// from above, counter-clockwise) whose next crossing up faces down.
 fn lowest_floor(triangles: &[[[f64; 3]; 3]], q: [f64; 2]) -> Option<f64> {
-    let mut hits: Vec<(f64, bool)> = Vec::new();
-    for p in triangles {
-        let cross = |a: [f64; 3], b: [f64; 3]| {
-            (a[0] - q[0]) * (b[1] - q[1]) - (a[1] - q[1]) * (b[0] - q[0])
-        };
-        let w = [cross(p[1], p[2]), cross(p[2], p[0]), cross(p[0], p[1])];
-        let area = w[0] + w[1] + w[2];
-        if area == 0.0 || w.iter().any(|&b| b * area < 0.0) {
-            continue;
-        }
-        let z = (w[0] * p[0][2] + w[1] * p[1][2] + w[2] * p[2][2]) / area;
-        hits.push((z, area > 0.0));
-    }
-    hits.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let hits = super::line_crossings(triangles, q);
     hits.windows(2).find(|w| w[0].1 && !w[1].1).map(|w| w[0].0)
 }
 

@@ -1256,12 +1256,8 @@ fn onto_edges(mesh: &Mesh, near: f32, origin: [f32; 3], pitch: f32) -> Mesh {
 /// along the vertical line; normals point into the passage).
 fn is_fin(mesh: &Mesh, flat: &Flat, t: [u32; 3], cell: f32) -> bool {
     let p = t.map(|i| mesh.positions[i as usize].map(f64::from));
-    let (u, v) = (sub(p[1], p[0]), sub(p[2], p[0]));
-    let n = [
-        u[1] * v[2] - u[2] * v[1],
-        u[2] * v[0] - u[0] * v[2],
-        u[0] * v[1] - u[1] * v[0],
-    ];
+    use subtgraph_core::vec3::{cross, sub};
+    let n = cross(sub(p[1], p[0]), sub(p[2], p[0]));
     let h = (n[0] * n[0] + n[1] * n[1]).sqrt();
     if h == 0.0 || n[2].abs() > 1e-6 * h {
         return false;
@@ -1277,10 +1273,6 @@ fn is_fin(mesh: &Mesh, flat: &Flat, t: [u32; 3], cell: f32) -> bool {
         ];
         flat.free_at(q, c[2])
     })
-}
-
-fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
 }
 
 /// The triangles of a mesh that a vertical line can cross (not vertical), bucketed by squares
@@ -1323,20 +1315,7 @@ impl Flat {
         let Some(bucket) = self.buckets.get(&key) else {
             return false;
         };
-        let mut hits: Vec<(f64, bool)> = Vec::new();
-        for &k in bucket {
-            let p = &self.triangles[k as usize];
-            let a = area(p);
-            let w = [
-                ((p[1][0] - q[0]) * (p[2][1] - q[1]) - (p[1][1] - q[1]) * (p[2][0] - q[0])) / a,
-                ((p[2][0] - q[0]) * (p[0][1] - q[1]) - (p[2][1] - q[1]) * (p[0][0] - q[0])) / a,
-            ];
-            let w = [w[0], w[1], 1.0 - w[0] - w[1]];
-            if w.iter().all(|&b| b >= 0.0) {
-                hits.push((w[0] * p[0][2] + w[1] * p[1][2] + w[2] * p[2][2], a > 0.0));
-            }
-        }
-        hits.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+        let hits = line_crossings(bucket.iter().map(|&k| &self.triangles[k as usize]), q);
         let mut floor = None;
         for (h, up) in hits {
             if up {
@@ -1349,6 +1328,29 @@ impl Flat {
         }
         false
     }
+}
+
+/// Where the vertical line through `q` crosses `triangles` (none of them vertical): each
+/// crossing's height and whether its triangle faces up (a floor) or down (a ceiling), from the
+/// bottom up, a ceiling before a floor at the same height.
+fn line_crossings<'a>(
+    triangles: impl IntoIterator<Item = &'a [[f64; 3]; 3]>,
+    q: [f64; 2],
+) -> Vec<(f64, bool)> {
+    let mut hits: Vec<(f64, bool)> = Vec::new();
+    for p in triangles {
+        let a = area(p);
+        let w = [
+            ((p[1][0] - q[0]) * (p[2][1] - q[1]) - (p[1][1] - q[1]) * (p[2][0] - q[0])) / a,
+            ((p[2][0] - q[0]) * (p[0][1] - q[1]) - (p[2][1] - q[1]) * (p[0][0] - q[0])) / a,
+        ];
+        let w = [w[0], w[1], 1.0 - w[0] - w[1]];
+        if w.iter().all(|&b| b >= 0.0) {
+            hits.push((w[0] * p[0][2] + w[1] * p[1][2] + w[2] * p[2][2], a > 0.0));
+        }
+    }
+    hits.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+    hits
 }
 
 /// Twice the signed area of a triangle seen from above (positive: its normal points up).
