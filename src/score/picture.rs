@@ -3,7 +3,7 @@
 //! without a map), found artifacts as green squares, missed ones red, and reports that did
 //! not score as black crosses. Drawn with the statistics' own figure and rasteriser.
 
-use crate::stats::figure::{Anchor, Figure, Rgb, Shape};
+use subtgraph_plot::{Anchor, Figure, Rgb, Shape};
 
 use super::coverage::Coverage;
 use super::reports::{Outcome, Truth, Verdict};
@@ -129,5 +129,5 @@ pub fn level(
         line(&mut f, (x - h, y - h), (x + h, y + h), 1.5);
         line(&mut f, (x - h, y + h), (x + h, y - h), 1.5);
     }
-    crate::stats::raster::to_png(&f, 1.0)
+    subtgraph_plot::to_png(&f, 1.0)
 }

@@ -7,15 +7,14 @@ use std::path::Path;
 use anyhow::{Context, Result};
 
 use super::Group;
-use super::figure::{Figure, PALETTE, Rgb};
-use super::plot::{bars, boxes, heatmap};
 use super::report::{GroupStats, PAPER_KINDS, Stats, Summary};
 use crate::dataset::index::write_atomic;
+use subtgraph_plot::{Figure, PALETTE, Rgb, bars, boxes, heatmap};
 
 fn save(out: &Path, stem: &str, figure: &Figure) -> Result<()> {
     write_atomic(&out.join(format!("{stem}.svg")), figure.to_svg().as_bytes())
         .with_context(|| format!("writing {stem}.svg"))?;
-    let png = super::raster::to_png(figure, 2.0);
+    let png = subtgraph_plot::to_png(figure, 2.0);
     write_atomic(&out.join(format!("{stem}.png")), &png)
         .with_context(|| format!("writing {stem}.png"))
 }

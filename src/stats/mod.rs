@@ -11,12 +11,8 @@
 //! asymmetry is per level, averaged over every level of every world of the group.
 
 mod charts;
-pub mod figure;
-mod font;
 mod load;
 pub mod metrics;
-pub mod plot;
-pub(crate) mod raster;
 mod report;
 mod tables;
 

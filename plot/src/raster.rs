@@ -1,8 +1,8 @@
 //! A small rasteriser for [`Figure`]s: rectangles, lines and labels in the built-in bitmap
 //! font (scaled by nearest neighbour), into an RGB image encoded as PNG.
 
-use super::figure::{Anchor, Figure, Rgb, Shape, text_width};
-use super::font;
+use crate::figure::{Anchor, Figure, Rgb, Shape, text_width};
+use crate::font;
 
 struct Canvas {
     width: usize,

@@ -1,9 +1,9 @@
-//! The report's kinds of plot: grouped bar charts, box plots and heatmaps, laid out as
+//! The kinds of plot: grouped bar charts, box plots and heatmaps, laid out as
 //! [`Figure`]s with titled, labelled axes. No plotting crate, and the same numbers always
 //! give the same figure.
 
-use super::figure::{Anchor, BLACK, Figure, LIGHT, PALETTE, Rgb, WHITE};
-use super::report::Summary;
+use crate::Summary;
+use crate::figure::{Anchor, BLACK, Figure, LIGHT, PALETTE, Rgb, WHITE};
 
 /// A "nice" tick step (1, 2 or 5 times a power of ten) for about five ticks up to `max`.
 fn tick_step(max: f64) -> f64 {
