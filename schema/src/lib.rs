@@ -42,7 +42,7 @@ pub use graph::{Graph, GraphEdge, GraphNode};
 pub use hazards::{HazardPatch, Hazards};
 pub use semantic_labels::{SemanticLabels, TileLabel};
 pub use spawn_poses::{Goal, Pose, Robot, SpawnPoses};
-pub use topology::Topology;
+pub use topology::{StructureCounts, Topology, structure_counts};
 
 /// A document of a world folder: its path inside the folder and the `format` it carries.
 pub trait Document: DeserializeOwned {

@@ -161,3 +161,33 @@ impl Document for Topology<'_> {
         Ok(())
     }
 }
+
+/// One structure's counts on a level: what was requested, what the requested structures
+/// bring (`None` for an imported world, which records no expectation) and what the final grid
+/// has.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct StructureCounts {
+    /// `t-junction`, `intersection` or `loop`: the shape's name in `requested`.
+    pub structure: &'static str,
+    /// Requested.
+    pub requested: u64,
+    /// Brought by the requested structures.
+    pub expected: Option<u64>,
+    /// Counted on the final grid.
+    pub achieved: u64,
+}
+
+/// A level's counts of the three structures the statistics and the dataset index compare
+/// (T-junctions, intersections, loops), in that order.
+pub fn structure_counts(l: &LevelReport) -> [StructureCounts; 3] {
+    let of = |c: &subtgraph_core::topology::Counts, k: usize| {
+        u64::from([c.t_junctions, c.intersections, c.loops][k])
+    };
+    let names = ["t-junction", "intersection", "loop"];
+    std::array::from_fn(|k| StructureCounts {
+        structure: names[k],
+        requested: u64::from(l.requested.get(names[k]).copied().unwrap_or(0)),
+        expected: l.expected.as_ref().map(|c| of(c, k)),
+        achieved: of(&l.achieved, k),
+    })
+}

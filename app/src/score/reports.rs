@@ -7,8 +7,11 @@
 
 use std::path::Path;
 
-use crate::core::artifacts::ArtifactClass;
-use anyhow::{Context, Result, bail};
+use subtgraph_core::artifacts::ArtifactClass;
+
+use crate::Error;
+
+type Result<T> = std::result::Result<T, Error>;
 use serde::Serialize;
 
 /// The DARPA rule's distance, metres.
@@ -141,26 +144,28 @@ pub fn score(reports: &[Report], truth: &[Truth]) -> (Vec<Verdict>, Vec<Option<u
 }
 
 fn class_of(text: &str, file: &Path, at: &str) -> Result<ArtifactClass> {
-    ArtifactClass::parse(text).with_context(|| {
+    ArtifactClass::parse(text).ok_or_else(|| {
         let known: Vec<&str> = ArtifactClass::ALL.iter().map(|c| c.name()).collect();
-        format!(
+        Error::Input(format!(
             "{}: {at}: unknown artifact class '{text}'; the classes are {}",
             file.display(),
             known.join(", ")
-        )
+        ))
     })
 }
 
 fn number(text: &str, file: &Path, at: &str, what: &str) -> Result<f64> {
-    let v: f64 = text
-        .trim()
-        .parse()
-        .with_context(|| format!("{}: {at}: {what} is '{text}', not a number", file.display()))?;
+    let v: f64 = text.trim().parse().map_err(|_| {
+        Error::Input(format!(
+            "{}: {at}: {what} is '{text}', not a number",
+            file.display()
+        ))
+    })?;
     if !v.is_finite() {
-        bail!(
+        return Err(Error::Input(format!(
             "{}: {at}: {what} is {text}; every time and coordinate must be a finite number",
             file.display()
-        );
+        )));
     }
     Ok(v)
 }
@@ -169,18 +174,18 @@ fn number(text: &str, file: &Path, at: &str, what: &str) -> Result<f64> {
 /// object holding such a list under `reports`) or CSV with a header naming those columns
 /// (any order, any case, other columns ignored).
 pub fn read(path: &Path) -> Result<Vec<Report>> {
-    let bytes = std::fs::read(path).with_context(|| format!("reading {}", path.display()))?;
+    let bytes = std::fs::read(path).map_err(Error::io(format!("reading {}", path.display())))?;
     let text = String::from_utf8(bytes).map_err(|_| {
-        anyhow::anyhow!(
+        Error::Input(format!(
             "{}: not UTF-8 text; reports are CSV or JSON",
             path.display()
-        )
+        ))
     })?;
     if text.trim().is_empty() {
-        bail!(
+        return Err(Error::Input(format!(
             "{}: the file is empty; write a header `time,class,x,y,z` and one row per report (CSV), or a JSON list of {{\"time\", \"class\", \"x\", \"y\", \"z\"}}",
             path.display()
-        );
+        )));
     }
     let json = path
         .extension()
@@ -195,20 +200,24 @@ pub fn read(path: &Path) -> Result<Vec<Report>> {
 
 fn read_json(path: &Path, text: &str) -> Result<Vec<Report>> {
     let doc: serde_json::Value = serde_json::from_str(text)
-        .with_context(|| format!("{}: not valid JSON", path.display()))?;
+        .map_err(|e| Error::Input(format!("{}: not valid JSON: {e}", path.display())))?;
     let list = match &doc {
         serde_json::Value::Array(a) => a,
         serde_json::Value::Object(o) => match o.get("reports") {
             Some(serde_json::Value::Array(a)) => a,
-            _ => bail!(
-                "{}: a JSON reports file is a list of reports, or an object with a `reports` list",
-                path.display()
-            ),
+            _ => {
+                return Err(Error::Input(format!(
+                    "{}: a JSON reports file is a list of reports, or an object with a `reports` list",
+                    path.display()
+                )));
+            }
         },
-        _ => bail!(
-            "{}: a JSON reports file is a list of reports",
-            path.display()
-        ),
+        _ => {
+            return Err(Error::Input(format!(
+                "{}: a JSON reports file is a list of reports",
+                path.display()
+            )));
+        }
     };
     list.iter()
         .enumerate()
@@ -218,15 +227,20 @@ fn read_json(path: &Path, text: &str) -> Result<Vec<Report>> {
                 match r.get(k) {
                     Some(serde_json::Value::Number(n)) => number(&n.to_string(), path, &at, k),
                     Some(serde_json::Value::String(s)) => number(s, path, &at, k),
-                    _ => bail!(
+                    _ => Err(Error::Input(format!(
                         "{}: {at}: needs a number `{k}` (reports have time, class, x, y, z)",
                         path.display()
-                    ),
+                    ))),
                 }
             };
             let class = match r.get("class") {
                 Some(serde_json::Value::String(s)) => class_of(s, path, &at)?,
-                _ => bail!("{}: {at}: needs a string `class`", path.display()),
+                _ => {
+                    return Err(Error::Input(format!(
+                        "{}: {at}: needs a string `class`",
+                        path.display()
+                    )));
+                }
             };
             Ok(Report {
                 row: i,
@@ -249,12 +263,12 @@ fn read_csv(path: &Path, text: &str) -> Result<Vec<Report>> {
         .map(|s| s.trim().trim_matches('"').to_ascii_lowercase())
         .collect();
     let col = |k: &str| -> Result<usize> {
-        names.iter().position(|n| n == k).with_context(|| {
-            format!(
+        names.iter().position(|n| n == k).ok_or_else(|| {
+            Error::Input(format!(
                 "{}: line 1: the header has no `{k}` column (it has {}); reports need time, class, x, y, z",
                 path.display(),
                 names.join(", ")
-            )
+            ))
         })
     };
     let (t, c, x, y, z) = (col("time")?, col("class")?, col("x")?, col("y")?, col("z")?);
@@ -266,13 +280,13 @@ fn read_csv(path: &Path, text: &str) -> Result<Vec<Report>> {
                 .map(|s| s.trim().trim_matches('"'))
                 .collect();
             let cell = |k: usize| -> Result<&str> {
-                cells.get(k).copied().with_context(|| {
-                    format!(
+                cells.get(k).copied().ok_or_else(|| {
+                    Error::Input(format!(
                         "{}: {at}: has {} values, the header {}",
                         path.display(),
                         cells.len(),
                         names.len()
-                    )
+                    ))
                 })
             };
             Ok(Report {

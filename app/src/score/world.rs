@@ -4,48 +4,13 @@
 
 use std::path::Path;
 
-use crate::core::artifacts::ArtifactClass;
-use anyhow::{Context, Result, bail};
-use serde::Deserialize;
+use subtgraph_schema::{Artifacts, Document, FreeSpace, Topology};
+
+use crate::Error;
 
 use super::cloud::Grid;
 use super::coverage::Bits;
 use super::reports::Truth;
-
-#[derive(Deserialize)]
-struct CellJson {
-    level: usize,
-    row: usize,
-    col: usize,
-}
-
-#[derive(Deserialize)]
-struct NodeJson {
-    id: usize,
-    cell: CellJson,
-    position: [f64; 3],
-}
-
-#[derive(Deserialize)]
-struct EdgeJson {
-    id: usize,
-    kind: String,
-    from: usize,
-    to: usize,
-    cells: Vec<CellJson>,
-    length_m: f64,
-}
-
-#[derive(Deserialize)]
-struct TopologyJson {
-    levels: usize,
-    rows: usize,
-    cols: usize,
-    tile_pitch_m: f64,
-    level_height_m: f64,
-    nodes: Vec<NodeJson>,
-    edges: Vec<EdgeJson>,
-}
 
 /// A graph region a voxel belongs to.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -170,23 +135,25 @@ impl Cells {
     }
 }
 
-fn read_json<T: serde::de::DeserializeOwned>(world: &Path, file: &str, hint: &str) -> Result<T> {
-    let path = world.join(file);
-    let bytes = std::fs::read(&path)
-        .with_context(|| format!("{} has no {file}: {hint}", world.display()))?;
-    serde_json::from_slice(&bytes).with_context(|| format!("reading {}", path.display()))
+/// Reads and checks a file of a world folder; `hint` says what to do when it is missing.
+fn read_doc<D: Document>(world: &Path, hint: &str) -> Result<D, Error> {
+    let bytes = std::fs::read(world.join(D::PATH)).map_err(Error::io(format!(
+        "{} has no {}: {hint}",
+        world.display(),
+        D::PATH
+    )))?;
+    subtgraph_schema::read(&bytes).map_err(|source| Error::WorldFile {
+        world: world.to_owned(),
+        source,
+    })
 }
 
 /// Reads `topology.json`.
-pub fn cells(world: &Path) -> Result<Cells> {
-    let t: TopologyJson = read_json(
+pub fn cells(world: &Path) -> Result<Cells, Error> {
+    let t: Topology = read_doc(
         world,
-        "topology.json",
         "is it a world folder written by `subtgraph generate`?",
     )?;
-    if t.levels == 0 || t.rows == 0 || t.cols == 0 {
-        bail!("{}: topology.json describes an empty grid", world.display());
-    }
     let mut offsets = vec![[0i64, 0i64]; t.levels];
     for (level, offset) in offsets.iter_mut().enumerate() {
         if let Some(n) = t.nodes.iter().find(|n| n.cell.level == level) {
@@ -196,14 +163,13 @@ pub fn cells(world: &Path) -> Result<Cells> {
         }
     }
     let mut region = vec![u32::MAX; t.levels * t.rows * t.cols];
-    let idx = |c: &CellJson| (c.level * t.rows + c.row) * t.cols + c.col;
-    let fits = |c: &CellJson| c.level < t.levels && c.row < t.rows && c.col < t.cols;
-    for e in &t.edges {
-        for c in e.cells.iter().filter(|c| fits(c)) {
+    let idx = |c: &subtgraph_core::grid::Cell| (c.level * t.rows + c.row) * t.cols + c.col;
+    for e in t.edges.iter() {
+        for c in &e.cells {
             region[idx(c)] = (t.nodes.len() + e.id) as u32;
         }
     }
-    for n in t.nodes.iter().filter(|n| fits(&n.cell)) {
+    for n in t.nodes.iter() {
         region[idx(&n.cell)] = n.id as u32;
     }
     let edges = t
@@ -211,7 +177,7 @@ pub fn cells(world: &Path) -> Result<Cells> {
         .iter()
         .map(|e| EdgeInfo {
             id: e.id,
-            kind: e.kind.clone(),
+            kind: edge_kind(e.kind).to_owned(),
             from: e.from,
             to: e.to,
             level: e.cells.first().map_or(0, |c| c.level),
@@ -238,81 +204,51 @@ pub fn cells(world: &Path) -> Result<Cells> {
     })
 }
 
-#[derive(Deserialize)]
-struct ArtifactJson {
-    id: usize,
-    name: String,
-    class: String,
-    position: [f64; 3],
-    cell: CellJson,
-}
-
-#[derive(Deserialize)]
-struct ArtifactsJson {
-    artifacts: Vec<ArtifactJson>,
+fn edge_kind(k: subtgraph_core::graph::EdgeKind) -> &'static str {
+    use subtgraph_core::graph::EdgeKind;
+    match k {
+        EdgeKind::Corridor => "corridor",
+        EdgeKind::Shaft => "shaft",
+        EdgeKind::Ramp => "ramp",
+    }
 }
 
 /// Reads `ground_truth/artifacts.json`.
-pub fn artifacts(world: &Path) -> Result<Vec<Truth>> {
-    let doc: ArtifactsJson = read_json(
+pub fn artifacts(world: &Path) -> Result<Vec<Truth>, Error> {
+    let doc: Artifacts = read_doc(
         world,
-        "ground_truth/artifacts.json",
         "the world was made without [artifacts]; add an [artifacts] section to its pipeline and generate it again",
     )?;
-    doc.artifacts
+    Ok(doc
+        .artifacts
         .into_iter()
-        .enumerate()
-        .map(|(i, a)| {
-            if a.id != i {
-                bail!(
-                    "{}: ground_truth/artifacts.json: artifact {i} has id {}",
-                    world.display(),
-                    a.id
-                );
-            }
-            Ok(Truth {
-                id: a.id,
-                class: ArtifactClass::parse(&a.class).with_context(|| {
-                    format!(
-                        "{}: ground_truth/artifacts.json: unknown class '{}'",
-                        world.display(),
-                        a.class
-                    )
-                })?,
-                name: a.name,
-                position: a.position,
-                level: a.cell.level,
-            })
+        .map(|a| Truth {
+            id: a.id,
+            class: a.class,
+            name: a.name.into_owned(),
+            position: a.position,
+            level: a.cell.level,
         })
-        .collect()
-}
-
-#[derive(Deserialize)]
-struct FreeSpaceJson {
-    shape: [usize; 3],
-    voxel_m: f64,
-    origin: [f64; 3],
+        .collect())
 }
 
 /// Reads `ground_truth/free_space.npy` and its `.json`: the grid and its free voxels.
-pub fn free_space(world: &Path) -> Result<(Grid, Bits)> {
+pub fn free_space(world: &Path) -> Result<(Grid, Bits), Error> {
     let hint = "scoring a map needs the world's free space: make it again with `subtgraph generate PIPELINE --format free-space` (or ground-truth), PIPELINE being its world.toml";
-    let doc: FreeSpaceJson = read_json(world, "ground_truth/free_space.json", hint)?;
+    let doc: FreeSpace = read_doc(world, hint)?;
     let path = world.join("ground_truth/free_space.npy");
-    let bytes = std::fs::read(&path).with_context(|| {
-        format!(
-            "{} has no ground_truth/free_space.npy: {hint}",
-            world.display()
-        )
-    })?;
+    let bytes = std::fs::read(&path).map_err(Error::io(format!(
+        "{} has no ground_truth/free_space.npy: {hint}",
+        world.display()
+    )))?;
     let [nz, ny, nx] = doc.shape;
     let packed = nz * ny * nx.div_ceil(8);
     if bytes.len() < packed {
-        bail!(
+        return Err(Error::Input(format!(
             "{}: shorter than its shape {:?} needs",
             path.display(),
             doc.shape
-        );
+        )));
     }
     let grid = Grid {
         origin: doc.origin,

@@ -9,10 +9,13 @@
 use std::collections::BTreeMap;
 use std::path::Path;
 
-use anyhow::{Context, Result, anyhow};
 use serde::{Deserialize, Serialize};
 
 use subtgraph_core::tile::TileKind;
+use subtgraph_schema::Topology;
+
+use crate::Error;
+use crate::folder::write_file_atomically;
 
 /// What the run that made a world measured, kept outside the world folder.
 #[derive(Clone, Debug, Serialize, Deserialize)]
@@ -35,23 +38,7 @@ pub fn write_facts(out: &Path, name: &str, facts: &RunFacts) -> std::io::Result<
     let dir = out.join(FACTS_DIR);
     std::fs::create_dir_all(&dir)?;
     let text = serde_json::to_string_pretty(facts).expect("plain data serializes");
-    write_atomic(&dir.join(format!("{name}.json")), text.as_bytes())
-}
-
-/// Writes a file through a temporary file beside it and a rename.
-pub fn write_atomic(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
-    let name = path
-        .file_name()
-        .map_or("file".into(), |n| n.to_string_lossy());
-    // Process id and time: shards on several machines may share the folder.
-    let nanos = std::time::SystemTime::now()
-        .duration_since(std::time::UNIX_EPOCH)
-        .map_or(0, |d| d.as_nanos());
-    let tmp = path.with_file_name(format!(".{name}.tmp-{}-{nanos}", std::process::id()));
-    std::fs::write(&tmp, bytes)?;
-    std::fs::rename(&tmp, path).inspect_err(|_| {
-        let _ = std::fs::remove_file(&tmp);
-    })
+    write_file_atomically(&dir.join(format!("{name}.json")), text.as_bytes())
 }
 
 /// One world of the index.
@@ -100,17 +87,24 @@ const STRUCTURES: [(&str, &str); 3] = [
 ];
 
 /// Reads a world folder's row; an error says what is missing or broken.
-pub fn row(out: &Path, name: &str) -> Result<Row> {
+pub fn row(out: &Path, name: &str) -> Result<Row, Error> {
     let dir = out.join(name);
     let read = |file: &str| {
-        std::fs::read(dir.join(file)).with_context(|| format!("reading {}/{file}", dir.display()))
+        std::fs::read(dir.join(file))
+            .map_err(Error::io(format!("reading {}/{file}", dir.display())))
     };
-    let topo: serde_json::Value = serde_json::from_slice(&read("topology.json")?)
-        .with_context(|| format!("{}/topology.json is not JSON", dir.display()))?;
+    let topo: Topology =
+        subtgraph_schema::read(&read("topology.json")?).map_err(|source| Error::WorldFile {
+            world: dir.clone(),
+            source,
+        })?;
     let world: toml::Table = toml::from_str(&String::from_utf8_lossy(&read("world.toml")?))
-        .with_context(|| format!("{}/world.toml is not TOML", dir.display()))?;
-    let grid = subtgraph_core::npy::decode(&read("occupancy.npy")?)
-        .map_err(|e| anyhow!("{}/occupancy.npy: {e}", dir.display()))?;
+        .map_err(|e| Error::Input(format!("{}/world.toml is not TOML: {e}", dir.display())))?;
+    let grid =
+        subtgraph_core::npy::decode(&read("occupancy.npy")?).map_err(|source| Error::Npy {
+            file: format!("{}/occupancy.npy", dir.display()),
+            source,
+        })?;
     let mut tiles: BTreeMap<String, usize> = TileKind::ALL
         .iter()
         .map(|k| (k.name().to_owned(), 0))
@@ -120,23 +114,14 @@ pub fn row(out: &Path, name: &str) -> Result<Row> {
             *tiles.entry(k.name().to_owned()).or_default() += 1;
         }
     }
-    let num = |v: &serde_json::Value| v.as_u64().unwrap_or(0);
     let (mut requested, mut expected, mut achieved) =
         (BTreeMap::new(), BTreeMap::new(), BTreeMap::new());
-    for (shape, key) in STRUCTURES {
-        let levels = topo["per_level"].as_array().map_or(&[][..], |v| v);
-        requested.insert(
-            shape.to_owned(),
-            levels.iter().map(|l| num(&l["requested"][shape])).sum(),
-        );
-        expected.insert(
-            shape.to_owned(),
-            levels.iter().map(|l| num(&l["expected"][key])).sum(),
-        );
-        achieved.insert(
-            shape.to_owned(),
-            levels.iter().map(|l| num(&l["achieved"][key])).sum(),
-        );
+    for l in topo.per_level.iter() {
+        for c in subtgraph_schema::structure_counts(l) {
+            *requested.entry(c.structure.to_owned()).or_default() += c.requested;
+            *expected.entry(c.structure.to_owned()).or_default() += c.expected.unwrap_or(0);
+            *achieved.entry(c.structure.to_owned()).or_default() += c.achieved;
+        }
     }
     let facts: Option<RunFacts> = std::fs::read(out.join(FACTS_DIR).join(format!("{name}.json")))
         .ok()
@@ -172,16 +157,16 @@ pub fn row(out: &Path, name: &str) -> Result<Row> {
             .and_then(|s| s.as_str())
             .unwrap_or("")
             .to_owned(),
-        seed: num(&topo["seed"]),
-        levels: num(&topo["levels"]) as usize,
-        rows: num(&topo["rows"]) as usize,
-        cols: num(&topo["cols"]) as usize,
-        occupied_cells: num(&topo["occupied_cells"]) as usize,
+        seed: topo.seed,
+        levels: topo.levels,
+        rows: topo.rows,
+        cols: topo.cols,
+        occupied_cells: topo.occupied_cells,
         tiles,
         requested,
         expected,
         achieved,
-        total_length_m: topo["total_length_m"].as_f64().unwrap_or(0.0),
+        total_length_m: topo.total_length_m,
         visual_triangles,
         collision_triangles,
         generation_s: facts.as_ref().map(|f| f.generation_s),
@@ -191,10 +176,11 @@ pub fn row(out: &Path, name: &str) -> Result<Row> {
 
 /// Every complete world folder of a dataset folder (a visible folder with `world.toml`), by
 /// name.
-pub fn world_names(out: &Path) -> Result<Vec<String>> {
+pub fn world_names(out: &Path) -> Result<Vec<String>, Error> {
     let mut names = Vec::new();
-    for entry in std::fs::read_dir(out).with_context(|| format!("reading {}", out.display()))? {
-        let entry = entry?;
+    let reading = || Error::io(format!("reading {}", out.display()));
+    for entry in std::fs::read_dir(out).map_err(reading())? {
+        let entry = entry.map_err(reading())?;
         let name = entry.file_name().to_string_lossy().into_owned();
         if !name.starts_with('.') && entry.path().join("world.toml").is_file() {
             names.push(name);
@@ -205,23 +191,26 @@ pub fn world_names(out: &Path) -> Result<Vec<String>> {
 }
 
 /// Rebuilds `index.json` and `index.csv` from the world folders; returns the number of rows.
-pub fn rebuild(out: &Path) -> Result<usize> {
+pub fn rebuild(out: &Path) -> Result<usize, Error> {
     // The facts folder marks the folder as a dataset's, even when no world was made yet.
     std::fs::create_dir_all(out.join(FACTS_DIR))
-        .with_context(|| format!("creating {}/{FACTS_DIR}", out.display()))?;
+        .map_err(Error::io(format!("creating {}/{FACTS_DIR}", out.display())))?;
     let mut rows = Vec::new();
     for name in world_names(out)? {
         match row(out, &name) {
             Ok(r) => rows.push(r),
-            Err(e) => eprintln!("warning: leaving {name} out of the index: {e:#}"),
+            Err(e) => eprintln!(
+                "warning: leaving {name} out of the index: {}",
+                crate::message(&e)
+            ),
         }
     }
     let mut json = serde_json::to_string_pretty(&rows).expect("plain data serializes");
     json.push('\n');
-    write_atomic(&out.join("index.json"), json.as_bytes())
-        .with_context(|| format!("writing {}/index.json", out.display()))?;
-    write_atomic(&out.join("index.csv"), csv(&rows).as_bytes())
-        .with_context(|| format!("writing {}/index.csv", out.display()))?;
+    write_file_atomically(&out.join("index.json"), json.as_bytes())
+        .map_err(Error::io(format!("writing {}/index.json", out.display())))?;
+    write_file_atomically(&out.join("index.csv"), csv(&rows).as_bytes())
+        .map_err(Error::io(format!("writing {}/index.csv", out.display())))?;
     Ok(rows.len())
 }
 

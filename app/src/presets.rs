@@ -5,9 +5,9 @@ use subtgraph_core::{ConfigError, Pipeline};
 
 /// `(name, pipeline text)` of every preset.
 pub const PRESETS: [(&str, &str); 3] = [
-    ("mine", include_str!("../examples/mine.toml")),
-    ("cave", include_str!("../examples/cave.toml")),
-    ("lava-tube", include_str!("../examples/lava-tube.toml")),
+    ("mine", include_str!("../../examples/mine.toml")),
+    ("cave", include_str!("../../examples/cave.toml")),
+    ("lava-tube", include_str!("../../examples/lava-tube.toml")),
 ];
 
 /// The text of a preset.
@@ -29,6 +29,13 @@ pub fn load(name: &str) -> Option<Pipeline> {
 
 fn parse(name: &str, text: &str) -> Result<Pipeline, ConfigError> {
     Pipeline::parse(text, &format!("examples/{name}.toml"))
+}
+
+/// The folder the presets' files are in (`examples/` of the repository): relative paths in a
+/// preset are read from there.
+pub fn examples_dir() -> std::path::PathBuf {
+    let app = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    app.parent().unwrap_or(app).join("examples")
 }
 
 /// The preset names, comma separated, for messages.

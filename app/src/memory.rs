@@ -3,9 +3,10 @@
 //! is refused up front with its estimate (see [`subtgraph_core::budget`]) instead of ending in
 //! an allocation failure.
 
-use anyhow::{Result, bail};
 use subtgraph_core::Budget;
 use subtgraph_core::budget::Bytes;
+
+use crate::Error;
 
 /// The share of physical memory a run may use by default: the rest is left to the system,
 /// page cache and whatever else runs.
@@ -32,7 +33,7 @@ fn meminfo_total(text: &str) -> Option<u64> {
 
 /// Parses a size: bytes, or a number with a unit, `k`/`M`/`G`/`T` (powers of 1000) or
 /// `Ki`/`Mi`/`Gi`/`Ti` (powers of 1024), with or without a trailing `B`: `16G`, `512MiB`, `1.5GB`.
-pub fn parse_size(text: &str) -> Result<u64, String> {
+pub fn parse_size(text: &str) -> Result<u64, Error> {
     let t = text.trim();
     let split = t
         .find(|c: char| !(c.is_ascii_digit() || c == '.'))
@@ -55,28 +56,25 @@ pub fn parse_size(text: &str) -> Result<u64, String> {
     let value = number.parse::<f64>().map(|n| n * factor);
     match value {
         Ok(v) if (1e6..1e18).contains(&v) => Ok(v as u64),
-        Ok(v) if v.is_finite() && (0.0..1e6).contains(&v) => Err(format!(
+        Ok(v) if v.is_finite() && (0.0..1e6).contains(&v) => Err(Error::Usage(format!(
             "--max-memory {}: at least 1M is needed for any world",
             subtgraph_core::error::excerpt(text)
-        )),
-        _ => Err(format!(
+        ))),
+        _ => Err(Error::Usage(format!(
             "--max-memory {}: give a size like 16G, 512M or 2GiB",
             subtgraph_core::error::excerpt(text)
-        )),
+        ))),
     }
 }
 
 /// The budget of a run: `--max-memory` when given, else three quarters of physical memory.
-pub fn budget(max_memory: Option<&str>) -> Result<Budget> {
+pub fn budget(max_memory: Option<&str>) -> Result<Budget, Error> {
     match max_memory {
-        Some(text) => match parse_size(text) {
-            Ok(bytes) => Ok(Budget {
-                bytes,
-                knob: "--max-memory".into(),
-                note: String::new(),
-            }),
-            Err(e) => bail!(e),
-        },
+        Some(text) => Ok(Budget {
+            bytes: parse_size(text)?,
+            knob: "--max-memory".into(),
+            note: String::new(),
+        }),
         None => Ok(match physical_memory() {
             Some(total) => Budget {
                 bytes: (total as f64 * DEFAULT_SHARE) as u64,
@@ -118,12 +116,17 @@ mod tests {
 
     #[test]
     fn sizes_and_meminfo_parse() {
-        assert_eq!(parse_size("16G"), Ok(16_000_000_000));
-        assert_eq!(parse_size("512MiB"), Ok(512 << 20));
-        assert_eq!(parse_size("1.5GB"), Ok(1_500_000_000));
-        assert_eq!(parse_size("2000000"), Ok(2_000_000));
+        assert_eq!(parse_size("16G").unwrap(), 16_000_000_000);
+        assert_eq!(parse_size("512MiB").unwrap(), 512 << 20);
+        assert_eq!(parse_size("1.5GB").unwrap(), 1_500_000_000);
+        assert_eq!(parse_size("2000000").unwrap(), 2_000_000);
         assert!(parse_size("12 parsecs").is_err());
-        assert!(parse_size("10").unwrap_err().contains("at least 1M"));
+        assert!(
+            parse_size("10")
+                .unwrap_err()
+                .to_string()
+                .contains("at least 1M")
+        );
         assert!(parse_size("-4G").is_err());
         let m = "MemTotal:       24684084 kB\nMemFree:        23132068 kB\n";
         assert_eq!(meminfo_total(m), Some(24684084 * 1024));

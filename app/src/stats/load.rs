@@ -14,13 +14,14 @@
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
-use anyhow::{Result, anyhow};
-
 use subtgraph_core::graph::EdgeKind;
 use subtgraph_core::tile::TileKind;
 use subtgraph_core::{Layout, Pipeline, import, npy};
 
 use super::metrics::Mask;
+use crate::Error;
+
+type Result<T> = std::result::Result<T, Error>;
 
 /// One world, reduced to what the statistics need.
 #[derive(Clone, Debug)]
@@ -69,7 +70,7 @@ pub fn load(inputs: &[PathBuf]) -> Result<Vec<Group>> {
     let mut groups: Vec<Group> = Vec::new();
     for path in inputs {
         if !path.exists() {
-            return Err(anyhow!("{} does not exist", path.display()));
+            return Err(Error::Input(format!("{} does not exist", path.display())));
         }
         let mut name = path
             .canonicalize()
@@ -141,7 +142,7 @@ fn collect(path: &Path, group: &str, out: &mut Vec<Sample>, top: bool) {
         if path.extension().is_some_and(|e| e == "npy") {
             match load_npy(path, group, None) {
                 Ok(s) => out.push(s),
-                Err(e) => warn(path, &format!("{e:#}")),
+                Err(e) => warn(path, &crate::message(&e)),
             }
         } else if top {
             warn(path, "not a world folder, a dataset folder or a .npy grid");
@@ -151,7 +152,7 @@ fn collect(path: &Path, group: &str, out: &mut Vec<Sample>, top: bool) {
     if path.join("occupancy.npy").is_file() {
         match load_world_folder(path, group) {
             Ok(s) => out.push(s),
-            Err(e) => warn(path, &format!("{e:#}")),
+            Err(e) => warn(path, &crate::message(&e)),
         }
         return;
     }
@@ -302,7 +303,7 @@ fn add_grids(
                     out.push(s);
                     break;
                 }
-                Err(e) => warn(file, &format!("{e:#}")),
+                Err(e) => warn(file, &crate::message(&e)),
             }
         }
     }
@@ -318,27 +319,23 @@ fn load_world_folder(dir: &Path, group: &str) -> Result<Sample> {
     let mut sample = load_npy(&dir.join("occupancy.npy"), group, pipeline.as_ref())?;
     sample.name = name;
     if let Ok(bytes) = std::fs::read(dir.join("topology.json")) {
-        let topo: serde_json::Value = serde_json::from_slice(&bytes)
-            .map_err(|e| anyhow!("topology.json is not JSON: {e}"))?;
-        let num = |v: &serde_json::Value| v.as_u64().unwrap_or(0);
-        sample.constraints = topo["per_level"]
-            .as_array()
-            .map_or(&[][..], |v| v)
+        let topo: subtgraph_schema::Topology =
+            subtgraph_schema::read(&bytes).map_err(|source| Error::WorldFile {
+                world: dir.to_owned(),
+                source,
+            })?;
+        sample.constraints = topo
+            .per_level
             .iter()
             .map(|l| {
-                [
-                    ("t-junction", "t_junctions"),
-                    ("intersection", "intersections"),
-                    ("loop", "loops"),
-                ]
-                .iter()
-                .map(|(shape, key)| {
-                    let req = num(&l["requested"][shape]);
-                    // Imported worlds have no expectation: what was asked is what is expected.
-                    let exp = l["expected"][key].as_u64().unwrap_or(req);
-                    ((*shape).to_owned(), (req, exp, num(&l["achieved"][key])))
-                })
-                .collect()
+                subtgraph_schema::structure_counts(l)
+                    .iter()
+                    .map(|c| {
+                        // Imported worlds have no expectation: what was asked is expected.
+                        let expected = c.expected.unwrap_or(c.requested);
+                        (c.structure.to_owned(), (c.requested, expected, c.achieved))
+                    })
+                    .collect()
             })
             .collect();
     }
@@ -346,8 +343,9 @@ fn load_world_folder(dir: &Path, group: &str) -> Result<Sample> {
 }
 
 fn load_npy(path: &Path, group: &str, pipeline: Option<&Pipeline>) -> Result<Sample> {
-    let bytes = std::fs::read(path).map_err(|e| anyhow!("cannot read it: {e}"))?;
-    let array = npy::decode(&bytes).map_err(|e| anyhow!(e))?;
+    let bytes = std::fs::read(path).map_err(Error::io("cannot read it"))?;
+    // The warning that skips the file names it already.
+    let array = npy::decode(&bytes).map_err(|e| Error::Input(e.to_string()))?;
     let default = Pipeline::default();
     let name = path.display().to_string();
     let (world, _) = import::import_occupancy(

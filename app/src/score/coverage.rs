@@ -16,7 +16,7 @@
 //! a radius is a few shifts and ORs per word, and a 10 M-point map of the lava-tube preset
 //! scores in about a second.
 
-use anyhow::{Result, bail};
+use crate::Error;
 
 use super::cloud::{Grid, Points};
 use super::world::Cells;
@@ -178,7 +178,7 @@ pub struct Coverage {
 }
 
 /// Refuses a map in another frame or unit: a point more than `margin` metres outside the grid.
-pub fn check_bounds(points: &Points, grid: &Grid, margin: f64, file: &str) -> Result<()> {
+pub fn check_bounds(points: &Points, grid: &Grid, margin: f64, file: &str) -> Result<(), Error> {
     let lo = grid.origin;
     let hi = [0, 1, 2].map(|k| grid.origin[k] + grid.n[k] as f64 * grid.voxel);
     for (i, p) in points.iter().enumerate() {
@@ -187,18 +187,10 @@ pub fn check_bounds(points: &Points, grid: &Grid, margin: f64, file: &str) -> Re
             v < lo[k] - margin || v > hi[k] + margin
         });
         if out {
-            bail!(
+            return Err(Error::Input(format!(
                 "{file}: point {i} ({}, {}, {}) is more than {margin:.0} m outside the world (x {:.1} to {:.1}, y {:.1} to {:.1}, z {:.1} to {:.1} m): the map must be in the world frame in metres (x east, y north, z up, as topology.json), not in millimetres or the robot's odometry frame",
-                p[0],
-                p[1],
-                p[2],
-                lo[0],
-                hi[0],
-                lo[1],
-                hi[1],
-                lo[2],
-                hi[2]
-            );
+                p[0], p[1], p[2], lo[0], hi[0], lo[1], hi[1], lo[2], hi[2]
+            )));
         }
     }
     Ok(())

@@ -4,19 +4,18 @@
 
 use std::path::Path;
 
-use anyhow::{Context, Result};
-
 use super::Group;
 use super::report::{GroupStats, PAPER_KINDS, Stats, Summary};
-use crate::dataset::index::write_atomic;
+use crate::Error;
+use crate::folder::write_file_atomically;
 use subtgraph_plot::{Figure, PALETTE, Rgb, bars, boxes, heatmap};
 
-fn save(out: &Path, stem: &str, figure: &Figure) -> Result<()> {
-    write_atomic(&out.join(format!("{stem}.svg")), figure.to_svg().as_bytes())
-        .with_context(|| format!("writing {stem}.svg"))?;
+fn save(out: &Path, stem: &str, figure: &Figure) -> Result<(), Error> {
+    write_file_atomically(&out.join(format!("{stem}.svg")), figure.to_svg().as_bytes())
+        .map_err(Error::io(format!("writing {stem}.svg")))?;
     let png = subtgraph_plot::to_png(figure, 2.0);
-    write_atomic(&out.join(format!("{stem}.png")), &png)
-        .with_context(|| format!("writing {stem}.png"))
+    write_file_atomically(&out.join(format!("{stem}.png")), &png)
+        .map_err(Error::io(format!("writing {stem}.png")))
 }
 
 /// A file-name-safe form of a group name.
@@ -33,7 +32,7 @@ fn slug(name: &str) -> String {
 }
 
 /// Writes every plot of the report.
-pub fn write_all(stats: &Stats, groups: &[Group], out: &Path) -> Result<()> {
+pub fn write_all(stats: &Stats, groups: &[Group], out: &Path) -> Result<(), Error> {
     let gs: &[GroupStats] = &stats.groups;
     let color = |i: usize| PALETTE[i % PALETTE.len()];
 

@@ -4,24 +4,23 @@
 use std::fmt::Write as _;
 use std::path::Path;
 
-use anyhow::{Context, Result};
-
 use subtgraph_core::tile::TileKind;
 
 use super::report::{PAPER_KINDS, Stats};
 use super::{Group, Sample};
-use crate::dataset::index::write_atomic;
+use crate::Error;
+use crate::folder::write_file_atomically;
 
 fn f(v: f64) -> String {
     format!("{v:.4}")
 }
 
-fn save(out: &Path, file: &str, text: &str) -> Result<()> {
-    write_atomic(&out.join(file), text.as_bytes())
-        .with_context(|| format!("writing {}", out.join(file).display()))
+fn save(out: &Path, file: &str, text: &str) -> Result<(), Error> {
+    write_file_atomically(&out.join(file), text.as_bytes())
+        .map_err(Error::io(format!("writing {}", out.join(file).display())))
 }
 
-pub(super) fn write(stats: &Stats, groups: &[Group], out: &Path) -> Result<()> {
+pub(super) fn write(stats: &Stats, groups: &[Group], out: &Path) -> Result<(), Error> {
     let mut json = serde_json::to_string_pretty(stats).expect("plain data serializes");
     json.push('\n');
     save(out, "stats.json", &json)?;

@@ -8,7 +8,9 @@
 
 use std::path::Path;
 
-use anyhow::{Context, Result, bail};
+use crate::Error;
+
+type Result<T> = std::result::Result<T, Error>;
 
 /// Points as `f32` triples (a 10 M-point map is 120 MB).
 pub type Points = Vec<[f32; 3]>;
@@ -26,12 +28,12 @@ pub struct Grid {
 
 /// Reads a map by its extension (`.ply`, `.pcd`, `.npy`).
 pub fn read(path: &Path, grid: Option<&Grid>) -> Result<Points> {
-    let bytes = std::fs::read(path).with_context(|| format!("reading {}", path.display()))?;
+    let bytes = std::fs::read(path).map_err(Error::io(format!("reading {}", path.display())))?;
     if bytes.is_empty() {
-        bail!(
+        return Err(Error::Input(format!(
             "{}: the file is empty; a map is a point cloud (PLY, PCD) or an occupancy .npy",
             path.display()
-        );
+        )));
     }
     let ext = path
         .extension()
@@ -41,22 +43,27 @@ pub fn read(path: &Path, grid: Option<&Grid>) -> Result<Points> {
         "ply" => ply(path, &bytes)?,
         "pcd" => pcd(path, &bytes)?,
         "npy" => npy(path, &bytes, grid)?,
-        _ => bail!(
-            "{}: unknown map format; use a .ply or .pcd point cloud or a .npy occupancy grid",
-            path.display()
-        ),
+        _ => {
+            return Err(Error::Input(format!(
+                "{}: unknown map format; use a .ply or .pcd point cloud or a .npy occupancy grid",
+                path.display()
+            )));
+        }
     };
     if points.is_empty() {
-        bail!("{}: the map has no points", path.display());
+        return Err(Error::Input(format!(
+            "{}: the map has no points",
+            path.display()
+        )));
     }
     if let Some(i) = points.iter().position(|p| p.iter().any(|v| !v.is_finite())) {
-        bail!(
+        return Err(Error::Input(format!(
             "{}: point {i} is ({}, {}, {}): every coordinate must be a finite number (drop the points without a return before scoring)",
             path.display(),
             points[i][0],
             points[i][1],
             points[i][2]
-        );
+        )));
     }
     Ok(points)
 }
@@ -135,13 +142,13 @@ fn binary_records(
     let stride: usize = fields.iter().map(|f| f.size()).sum();
     let need = count
         .checked_mul(stride)
-        .context("the point count overflows")?;
+        .ok_or_else(|| Error::Input(format!("{}: the point count overflows", path.display())))?;
     if data.len() < need {
-        bail!(
+        return Err(Error::Input(format!(
             "{}: the header promises {count} points of {stride} bytes ({need} bytes), the file holds {} after its header; it is cut short",
             path.display(),
             data.len()
-        );
+        )));
     }
     let offset = |k: usize| fields[..k].iter().map(|f| f.size()).sum::<usize>();
     let (ox, oy, oz) = (offset(xyz[0]), offset(xyz[1]), offset(xyz[2]));
@@ -170,44 +177,44 @@ fn ascii_records(
         let cells: Vec<&str> = line.split_ascii_whitespace().collect();
         let mut p = [0f32; 3];
         for (axis, &c) in xyz.iter().enumerate() {
-            let cell = cells.get(c).with_context(|| {
-                format!(
+            let cell = cells.get(c).ok_or_else(|| {
+                Error::Input(format!(
                     "{}: point {k} (line {}): too few values",
                     path.display(),
                     first_line + k
-                )
+                ))
             })?;
             p[axis] = match cell.to_ascii_lowercase().as_str() {
                 "nan" | "-nan" => f32::NAN,
-                _ => cell.parse().with_context(|| {
-                    format!(
+                _ => cell.parse().map_err(|_| {
+                    Error::Input(format!(
                         "{}: point {k} (line {}): '{cell}' is not a number",
                         path.display(),
                         first_line + k
-                    )
+                    ))
                 })?,
             };
         }
         out.push(p);
     }
     if out.len() < count {
-        bail!(
+        return Err(Error::Input(format!(
             "{}: the header promises {count} points, the file has {}",
             path.display(),
             out.len()
-        );
+        )));
     }
     Ok(out)
 }
 
 fn xyz_of(names: &[String], path: &Path) -> Result<[usize; 3]> {
     let find = |k: &str| {
-        names.iter().position(|n| n == k).with_context(|| {
-            format!(
+        names.iter().position(|n| n == k).ok_or_else(|| {
+            Error::Input(format!(
                 "{}: the points have no `{k}` field (they have {})",
                 path.display(),
                 names.join(", ")
-            )
+            ))
         })
     };
     Ok([find("x")?, find("y")?, find("z")?])
@@ -215,13 +222,17 @@ fn xyz_of(names: &[String], path: &Path) -> Result<[usize; 3]> {
 
 fn ply(path: &Path, bytes: &[u8]) -> Result<Points> {
     if !bytes.starts_with(b"ply") {
-        bail!(
+        return Err(Error::Input(format!(
             "{}: not a PLY file (it does not start with `ply`)",
             path.display()
-        );
+        )));
     }
-    let end = header_end(bytes, b"end_header")
-        .with_context(|| format!("{}: the PLY header has no end_header", path.display()))?;
+    let end = header_end(bytes, b"end_header").ok_or_else(|| {
+        Error::Input(format!(
+            "{}: the PLY header has no end_header",
+            path.display()
+        ))
+    })?;
     let header = String::from_utf8_lossy(&bytes[..end]);
     let mut format = "";
     let mut count = None;
@@ -234,23 +245,26 @@ fn ply(path: &Path, bytes: &[u8]) -> Result<Points> {
             ["format", f, ..] => format = f,
             ["element", "vertex", n] => {
                 in_vertex = true;
-                count = Some(n.parse::<usize>().with_context(|| {
-                    format!(
+                count = Some(n.parse::<usize>().map_err(|_| {
+                    Error::Input(format!(
                         "{}: element vertex count '{n}' is not a number",
                         path.display()
-                    )
+                    ))
                 })?);
             }
             ["element", ..] => in_vertex = false,
             ["property", "list", ..] if in_vertex => {
-                bail!(
+                return Err(Error::Input(format!(
                     "{}: list properties on vertices are not supported",
                     path.display()
-                )
+                )));
             }
             ["property", t, name] if in_vertex => {
-                let s = Scalar::ply(t).with_context(|| {
-                    format!("{}: unknown PLY property type '{t}'", path.display())
+                let s = Scalar::ply(t).ok_or_else(|| {
+                    Error::Input(format!(
+                        "{}: unknown PLY property type '{t}'",
+                        path.display()
+                    ))
                 })?;
                 names.push((*name).to_owned());
                 types.push(s);
@@ -258,27 +272,33 @@ fn ply(path: &Path, bytes: &[u8]) -> Result<Points> {
             _ => {}
         }
     }
-    let count =
-        count.with_context(|| format!("{}: no `element vertex` in the header", path.display()))?;
+    let count = count.ok_or_else(|| {
+        Error::Input(format!(
+            "{}: no `element vertex` in the header",
+            path.display()
+        ))
+    })?;
     let xyz = xyz_of(&names, path)?;
     match format {
         "binary_little_endian" => binary_records(&bytes[end..], count, &types, xyz, path),
         "ascii" => {
-            let text = std::str::from_utf8(&bytes[end..])
-                .with_context(|| format!("{}: ASCII PLY data is not text", path.display()))?;
+            let text = std::str::from_utf8(&bytes[end..]).map_err(|_| {
+                Error::Input(format!("{}: ASCII PLY data is not text", path.display()))
+            })?;
             let first = header.lines().count() + 1;
             ascii_records(text, count, xyz, path, first)
         }
-        other => bail!(
+        other => Err(Error::Input(format!(
             "{}: PLY format '{other}' is not supported; write ascii or binary_little_endian",
             path.display()
-        ),
+        ))),
     }
 }
 
 fn pcd(path: &Path, bytes: &[u8]) -> Result<Points> {
-    let end = header_end(bytes, b"DATA")
-        .with_context(|| format!("{}: not a PCD file (no DATA line)", path.display()))?;
+    let end = header_end(bytes, b"DATA").ok_or_else(|| {
+        Error::Input(format!("{}: not a PCD file (no DATA line)", path.display()))
+    })?;
     let header = String::from_utf8_lossy(&bytes[..end]);
     let mut names: Vec<String> = Vec::new();
     let (mut sizes, mut kinds, mut counts) = (Vec::new(), Vec::new(), Vec::new());
@@ -295,8 +315,8 @@ fn pcd(path: &Path, bytes: &[u8]) -> Result<Points> {
             _ => {}
         }
     }
-    let count =
-        points.with_context(|| format!("{}: no POINTS line in the header", path.display()))?;
+    let count = points
+        .ok_or_else(|| Error::Input(format!("{}: no POINTS line in the header", path.display())))?;
     if counts.is_empty() {
         counts = vec![1usize; names.len()];
     }
@@ -317,10 +337,12 @@ fn pcd(path: &Path, bytes: &[u8]) -> Result<Points> {
             ("U", 2) => Scalar::U16,
             ("I", 4) => Scalar::I32,
             ("U", 4) => Scalar::U32,
-            _ => bail!(
-                "{}: field {name}: TYPE {kind} SIZE {size} is not supported",
-                path.display()
-            ),
+            _ => {
+                return Err(Error::Input(format!(
+                    "{}: field {name}: TYPE {kind} SIZE {size} is not supported",
+                    path.display()
+                )));
+            }
         };
         for _ in 0..counts.get(k).copied().unwrap_or(1) {
             cols.push(name.clone());
@@ -331,34 +353,38 @@ fn pcd(path: &Path, bytes: &[u8]) -> Result<Points> {
     match data {
         "binary" => binary_records(&bytes[end..], count, &types, xyz, path),
         "ascii" => {
-            let text = std::str::from_utf8(&bytes[end..])
-                .with_context(|| format!("{}: ASCII PCD data is not text", path.display()))?;
+            let text = std::str::from_utf8(&bytes[end..]).map_err(|_| {
+                Error::Input(format!("{}: ASCII PCD data is not text", path.display()))
+            })?;
             ascii_records(text, count, xyz, path, header.lines().count() + 1)
         }
-        other => bail!(
+        other => Err(Error::Input(format!(
             "{}: PCD DATA {other} is not supported; save it as ascii or binary",
             path.display()
-        ),
+        ))),
     }
 }
 
 fn npy(path: &Path, bytes: &[u8], grid: Option<&Grid>) -> Result<Points> {
-    let grid = grid.with_context(|| {
-        format!(
+    let grid = grid.ok_or_else(|| {
+        Error::Input(format!(
             "{}: an occupancy .npy map is read on the world's free-space grid: make the world again with `subtgraph generate PIPELINE --format free-space` (or ground-truth), PIPELINE being its world.toml",
             path.display()
-        )
+        ))
     })?;
-    let shape =
-        crate::core::npy::shape(bytes).map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
+    let npy_error = |source| Error::Npy {
+        file: path.display().to_string(),
+        source,
+    };
+    let shape = subtgraph_core::npy::shape(bytes).map_err(npy_error)?;
     let want = [grid.n[2], grid.n[1], grid.n[0]];
     if shape != want {
-        bail!(
+        return Err(Error::Input(format!(
             "{}: shape {shape:?}, but the world's free-space grid is {want:?} ([z, y, x], {} m voxels from {:?}, as in ground_truth/free_space.json)",
             path.display(),
             grid.voxel,
             grid.origin
-        );
+        )));
     }
     // One-byte C-order arrays (what numpy writes for uint8 and bool) are read in place; other
     // dtypes through the decoder.
@@ -371,8 +397,7 @@ fn npy(path: &Path, bytes: &[u8], grid: Option<&Grid>) -> Result<Points> {
     let values: Box<dyn Iterator<Item = bool>> = if one_byte {
         Box::new(bytes[bytes.len() - count..].iter().map(|&b| b != 0))
     } else {
-        decoded = crate::core::npy::decode(bytes)
-            .map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
+        decoded = subtgraph_core::npy::decode(bytes).map_err(npy_error)?;
         Box::new(decoded.values.iter().map(|&x| x != 0.0))
     };
     let mut out = Vec::new();

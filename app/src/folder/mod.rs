@@ -80,6 +80,23 @@ impl WorldWriter for FolderWriter {
     }
 }
 
+/// Writes one file through a temporary file beside it and a rename, so a reader never sees
+/// it half-written (the dataset index, a report's files).
+pub fn write_file_atomically(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
+    let name = path
+        .file_name()
+        .map_or("file".into(), |n| n.to_string_lossy());
+    // Process id and time: shards on several machines may share the folder.
+    let nanos = std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .map_or(0, |d| d.as_nanos());
+    let tmp = path.with_file_name(format!(".{name}.tmp-{}-{nanos}", std::process::id()));
+    std::fs::write(&tmp, bytes)?;
+    std::fs::rename(&tmp, path).inspect_err(|_| {
+        let _ = std::fs::remove_file(&tmp);
+    })
+}
+
 /// Why a world folder could not be written.
 #[derive(Debug, thiserror::Error)]
 pub enum FolderError {
@@ -129,7 +146,7 @@ pub enum FolderError {
     },
     /// The content could not be produced.
     #[error(transparent)]
-    Content(#[from] anyhow::Error),
+    Content(Box<crate::Error>),
 }
 
 fn list(items: &[String]) -> String {
@@ -403,7 +420,7 @@ fn keep_elsewhere(tmp: &Path, dest: &Path, name: &str) -> Result<PathBuf, Folder
 pub fn write_atomically(
     out: &Path,
     force: bool,
-    fill: impl FnOnce(&mut FolderWriter) -> anyhow::Result<()>,
+    fill: impl FnOnce(&mut FolderWriter) -> Result<(), crate::Error>,
 ) -> Result<(), FolderError> {
     let (parent, name) = destination(out)?;
     // Named as the user wrote it (`race`, not `./race`) in messages.
@@ -443,7 +460,7 @@ pub fn write_atomically(
 /// Writes the partial marker, the content, and last the manifest of what was written.
 fn fill_and_seal(
     tmp: &Path,
-    fill: impl FnOnce(&mut FolderWriter) -> anyhow::Result<()>,
+    fill: impl FnOnce(&mut FolderWriter) -> Result<(), crate::Error>,
 ) -> Result<(), FolderError> {
     let marker = tmp.join(manifest::FILE);
     fs::write(
@@ -454,7 +471,7 @@ fn fill_and_seal(
     let mut writer = FolderWriter {
         root: tmp.to_owned(),
     };
-    fill(&mut writer)?;
+    fill(&mut writer).map_err(|e| FolderError::Content(Box::new(e)))?;
     let files = manifest::list_files(tmp).map_err(io("listing", tmp))?;
     fs::write(&marker, manifest::complete_text(&files)).map_err(io("writing", &marker))?;
     Ok(())
@@ -534,6 +551,10 @@ fn place(
 mod tests {
     use super::*;
 
+    fn io_err(e: std::io::Error) -> crate::Error {
+        crate::Error::io("writing")(e)
+    }
+
     const WORLD: &[u8] = b"[generated]\ntool = \"subtgraph\"\n";
 
     fn names(dir: &Path) -> Vec<String> {
@@ -550,19 +571,22 @@ mod tests {
         let dir = tempfile::tempdir().unwrap();
         let out = dir.path().join("w");
         let e = write_atomically(&out, false, |w| {
-            w.write("world.toml", b"x")?;
-            anyhow::bail!("disk full")
+            w.write("world.toml", b"x").map_err(io_err)?;
+            Err(crate::Error::Usage("disk full".into()))
         })
         .unwrap_err();
         assert!(e.to_string().contains("disk full"));
         assert_eq!(fs::read_dir(dir.path()).unwrap().count(), 0, "no leftovers");
 
-        write_atomically(&out, false, |w| Ok(w.write("world.toml", WORLD)?)).unwrap();
+        write_atomically(&out, false, |w| {
+            w.write("world.toml", WORLD).map_err(io_err)
+        })
+        .unwrap();
         let e = write_atomically(&out, false, |_| Ok(())).unwrap_err();
         assert!(matches!(e, FolderError::Exists(_)));
         write_atomically(&out, true, |w| {
-            w.write("world.toml", WORLD)?;
-            Ok(w.write("maps/level-0.png", b"2")?)
+            w.write("world.toml", WORLD).map_err(io_err)?;
+            w.write("maps/level-0.png", b"2").map_err(io_err)
         })
         .unwrap();
         assert_eq!(fs::read(out.join("maps/level-0.png")).unwrap(), b"2");
@@ -585,17 +609,26 @@ mod tests {
         fs::create_dir(&fake).unwrap();
         fs::write(fake.join("world.toml"), b"mine").unwrap();
         fs::write(fake.join("data.bin"), b"v").unwrap();
-        let e = write_atomically(&fake, true, |w| Ok(w.write("world.toml", WORLD)?)).unwrap_err();
+        let e = write_atomically(&fake, true, |w| {
+            w.write("world.toml", WORLD).map_err(io_err)
+        })
+        .unwrap_err();
         assert!(matches!(e, FolderError::NotAWorld(..)), "{e}");
         assert_eq!(fs::read(fake.join("data.bin")).unwrap(), b"v");
         assert_eq!(fs::read(fake.join("world.toml")).unwrap(), b"mine");
 
         // A real world folder with a user's file added to it.
         let real = dir.path().join("r");
-        write_atomically(&real, false, |w| Ok(w.write("world.toml", WORLD)?)).unwrap();
+        write_atomically(&real, false, |w| {
+            w.write("world.toml", WORLD).map_err(io_err)
+        })
+        .unwrap();
         fs::write(real.join("data.bin"), b"v").unwrap();
         fs::create_dir(real.join("runs")).unwrap();
-        let e = write_atomically(&real, true, |w| Ok(w.write("world.toml", WORLD)?)).unwrap_err();
+        let e = write_atomically(&real, true, |w| {
+            w.write("world.toml", WORLD).map_err(io_err)
+        })
+        .unwrap_err();
         let text = e.to_string();
         assert!(matches!(e, FolderError::NotOurs { .. }), "{text}");
         assert!(text.contains("data.bin") && text.contains("runs"), "{text}");
@@ -608,10 +641,10 @@ mod tests {
         let dir = tempfile::tempdir().unwrap();
         let out = dir.path().join("race");
         let e = write_atomically(&out, false, |w| {
-            w.write("world.toml", WORLD)?;
+            w.write("world.toml", WORLD).map_err(io_err)?;
             // Someone makes the folder while the world is being written.
-            fs::create_dir(&out)?;
-            fs::write(out.join("thesis.txt"), b"x")?;
+            fs::create_dir(&out).map_err(io_err)?;
+            fs::write(out.join("thesis.txt"), b"x").map_err(io_err)?;
             Ok(())
         })
         .unwrap_err();
@@ -625,8 +658,8 @@ mod tests {
         // Even an empty folder that appears is left alone.
         let out2 = dir.path().join("race2");
         let e = write_atomically(&out2, false, |w| {
-            fs::create_dir(&out2)?;
-            Ok(w.write("world.toml", WORLD)?)
+            fs::create_dir(&out2).map_err(io_err)?;
+            w.write("world.toml", WORLD).map_err(io_err)
         })
         .unwrap_err();
         assert!(matches!(e, FolderError::AppearedMeanwhile { .. }), "{e}");
@@ -643,8 +676,8 @@ mod tests {
                     let (out, barrier) = (&out, &barrier);
                     s.spawn(move || {
                         write_atomically(out, false, |w| {
-                            w.write("world.toml", WORLD)?;
-                            w.write("which", &[i])?;
+                            w.write("world.toml", WORLD).map_err(io_err)?;
+                            w.write("which", &[i]).map_err(io_err)?;
                             barrier.wait();
                             Ok(())
                         })
@@ -668,13 +701,19 @@ mod tests {
     fn odd_destinations_work() {
         let dir = tempfile::tempdir().unwrap();
         let w = dir.path().join("w");
-        write_atomically(&w, false, |x| Ok(x.write("world.toml", WORLD)?)).unwrap();
+        write_atomically(&w, false, |x| x.write("world.toml", WORLD).map_err(io_err)).unwrap();
         // `w/.` is `w`.
-        write_atomically(&w.join("."), true, |x| Ok(x.write("world.toml", WORLD)?)).unwrap();
+        write_atomically(&w.join("."), true, |x| {
+            x.write("world.toml", WORLD).map_err(io_err)
+        })
+        .unwrap();
         assert_eq!(names(dir.path()), ["w"]);
         // A long name still leaves room for the temporary folder's suffix.
         let long = dir.path().join("n".repeat(240));
-        write_atomically(&long, false, |x| Ok(x.write("world.toml", WORLD)?)).unwrap();
+        write_atomically(&long, false, |x| {
+            x.write("world.toml", WORLD).map_err(io_err)
+        })
+        .unwrap();
         assert!(long.join("world.toml").is_file());
     }
 
