@@ -55,7 +55,10 @@ fn classify(e: &Error) -> (&'static str, Place) {
             ("ComponentError", Place::default())
         }
         Error::Plugin(_) | Error::PluginFailed(_) => ("PluginError", Place::default()),
-        Error::Folder(FolderError::Content(inner)) => classify(inner),
+        Error::Folder(FolderError::Content(inner)) => match inner.downcast_ref::<Error>() {
+            Some(inner) => classify(inner),
+            None => ("FolderError", Place::default()),
+        },
         Error::Folder(_) => ("FolderError", Place::default()),
         _ => ("Error", Place::default()),
     }

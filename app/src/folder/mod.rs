@@ -144,9 +144,10 @@ pub enum FolderError {
         /// The cause.
         source: std::io::Error,
     },
-    /// The content could not be produced.
+    /// The content could not be produced (the writer's own error: an exporter's, a full
+    /// disk's).
     #[error(transparent)]
-    Content(Box<crate::Error>),
+    Content(Box<dyn std::error::Error + Send + Sync>),
 }
 
 fn list(items: &[String]) -> String {
@@ -417,10 +418,10 @@ fn keep_elsewhere(tmp: &Path, dest: &Path, name: &str) -> Result<PathBuf, Folder
 /// Writes a world folder at `out` through `fill`, atomically. With `force`, an existing
 /// folder is replaced if subtgraph wrote everything in it (or it is empty); see the module
 /// documentation for what is guaranteed.
-pub fn write_atomically(
+pub fn write_atomically<E: std::error::Error + Send + Sync + 'static>(
     out: &Path,
     force: bool,
-    fill: impl FnOnce(&mut FolderWriter) -> Result<(), crate::Error>,
+    fill: impl FnOnce(&mut FolderWriter) -> Result<(), E>,
 ) -> Result<(), FolderError> {
     let (parent, name) = destination(out)?;
     // Named as the user wrote it (`race`, not `./race`) in messages.
@@ -458,9 +459,9 @@ pub fn write_atomically(
 }
 
 /// Writes the partial marker, the content, and last the manifest of what was written.
-fn fill_and_seal(
+fn fill_and_seal<E: std::error::Error + Send + Sync + 'static>(
     tmp: &Path,
-    fill: impl FnOnce(&mut FolderWriter) -> Result<(), crate::Error>,
+    fill: impl FnOnce(&mut FolderWriter) -> Result<(), E>,
 ) -> Result<(), FolderError> {
     let marker = tmp.join(manifest::FILE);
     fs::write(
@@ -551,10 +552,6 @@ fn place(
 mod tests {
     use super::*;
 
-    fn io_err(e: std::io::Error) -> crate::Error {
-        crate::Error::io("writing")(e)
-    }
-
     const WORLD: &[u8] = b"[generated]\ntool = \"subtgraph\"\n";
 
     fn names(dir: &Path) -> Vec<String> {
@@ -571,22 +568,19 @@ mod tests {
         let dir = tempfile::tempdir().unwrap();
         let out = dir.path().join("w");
         let e = write_atomically(&out, false, |w| {
-            w.write("world.toml", b"x").map_err(io_err)?;
-            Err(crate::Error::Usage("disk full".into()))
+            w.write("world.toml", b"x")?;
+            Err(std::io::Error::other("disk full"))
         })
         .unwrap_err();
         assert!(e.to_string().contains("disk full"));
         assert_eq!(fs::read_dir(dir.path()).unwrap().count(), 0, "no leftovers");
 
-        write_atomically(&out, false, |w| {
-            w.write("world.toml", WORLD).map_err(io_err)
-        })
-        .unwrap();
-        let e = write_atomically(&out, false, |_| Ok(())).unwrap_err();
+        write_atomically(&out, false, |w| w.write("world.toml", WORLD)).unwrap();
+        let e = write_atomically(&out, false, |_| Ok::<(), std::io::Error>(())).unwrap_err();
         assert!(matches!(e, FolderError::Exists(_)));
         write_atomically(&out, true, |w| {
-            w.write("world.toml", WORLD).map_err(io_err)?;
-            w.write("maps/level-0.png", b"2").map_err(io_err)
+            w.write("world.toml", WORLD)?;
+            w.write("maps/level-0.png", b"2")
         })
         .unwrap();
         assert_eq!(fs::read(out.join("maps/level-0.png")).unwrap(), b"2");
@@ -596,7 +590,7 @@ mod tests {
         let precious = dir.path().join("home");
         fs::create_dir(&precious).unwrap();
         fs::write(precious.join("thesis.tex"), b"...").unwrap();
-        let e = write_atomically(&precious, true, |_| Ok(())).unwrap_err();
+        let e = write_atomically(&precious, true, |_| Ok::<(), std::io::Error>(())).unwrap_err();
         assert!(matches!(e, FolderError::NotAWorld(..)), "{e}");
         assert!(precious.join("thesis.tex").exists());
     }
@@ -609,26 +603,17 @@ mod tests {
         fs::create_dir(&fake).unwrap();
         fs::write(fake.join("world.toml"), b"mine").unwrap();
         fs::write(fake.join("data.bin"), b"v").unwrap();
-        let e = write_atomically(&fake, true, |w| {
-            w.write("world.toml", WORLD).map_err(io_err)
-        })
-        .unwrap_err();
+        let e = write_atomically(&fake, true, |w| w.write("world.toml", WORLD)).unwrap_err();
         assert!(matches!(e, FolderError::NotAWorld(..)), "{e}");
         assert_eq!(fs::read(fake.join("data.bin")).unwrap(), b"v");
         assert_eq!(fs::read(fake.join("world.toml")).unwrap(), b"mine");
 
         // A real world folder with a user's file added to it.
         let real = dir.path().join("r");
-        write_atomically(&real, false, |w| {
-            w.write("world.toml", WORLD).map_err(io_err)
-        })
-        .unwrap();
+        write_atomically(&real, false, |w| w.write("world.toml", WORLD)).unwrap();
         fs::write(real.join("data.bin"), b"v").unwrap();
         fs::create_dir(real.join("runs")).unwrap();
-        let e = write_atomically(&real, true, |w| {
-            w.write("world.toml", WORLD).map_err(io_err)
-        })
-        .unwrap_err();
+        let e = write_atomically(&real, true, |w| w.write("world.toml", WORLD)).unwrap_err();
         let text = e.to_string();
         assert!(matches!(e, FolderError::NotOurs { .. }), "{text}");
         assert!(text.contains("data.bin") && text.contains("runs"), "{text}");
@@ -641,11 +626,11 @@ mod tests {
         let dir = tempfile::tempdir().unwrap();
         let out = dir.path().join("race");
         let e = write_atomically(&out, false, |w| {
-            w.write("world.toml", WORLD).map_err(io_err)?;
+            w.write("world.toml", WORLD)?;
             // Someone makes the folder while the world is being written.
-            fs::create_dir(&out).map_err(io_err)?;
-            fs::write(out.join("thesis.txt"), b"x").map_err(io_err)?;
-            Ok(())
+            fs::create_dir(&out)?;
+            fs::write(out.join("thesis.txt"), b"x")?;
+            Ok::<(), std::io::Error>(())
         })
         .unwrap_err();
         let FolderError::AppearedMeanwhile { kept, .. } = &e else {
@@ -658,8 +643,8 @@ mod tests {
         // Even an empty folder that appears is left alone.
         let out2 = dir.path().join("race2");
         let e = write_atomically(&out2, false, |w| {
-            fs::create_dir(&out2).map_err(io_err)?;
-            w.write("world.toml", WORLD).map_err(io_err)
+            fs::create_dir(&out2)?;
+            w.write("world.toml", WORLD)
         })
         .unwrap_err();
         assert!(matches!(e, FolderError::AppearedMeanwhile { .. }), "{e}");
@@ -676,10 +661,10 @@ mod tests {
                     let (out, barrier) = (&out, &barrier);
                     s.spawn(move || {
                         write_atomically(out, false, |w| {
-                            w.write("world.toml", WORLD).map_err(io_err)?;
-                            w.write("which", &[i]).map_err(io_err)?;
+                            w.write("world.toml", WORLD)?;
+                            w.write("which", &[i])?;
                             barrier.wait();
-                            Ok(())
+                            Ok::<(), std::io::Error>(())
                         })
                     })
                 })
@@ -701,19 +686,13 @@ mod tests {
     fn odd_destinations_work() {
         let dir = tempfile::tempdir().unwrap();
         let w = dir.path().join("w");
-        write_atomically(&w, false, |x| x.write("world.toml", WORLD).map_err(io_err)).unwrap();
+        write_atomically(&w, false, |x| x.write("world.toml", WORLD)).unwrap();
         // `w/.` is `w`.
-        write_atomically(&w.join("."), true, |x| {
-            x.write("world.toml", WORLD).map_err(io_err)
-        })
-        .unwrap();
+        write_atomically(&w.join("."), true, |x| x.write("world.toml", WORLD)).unwrap();
         assert_eq!(names(dir.path()), ["w"]);
         // A long name still leaves room for the temporary folder's suffix.
         let long = dir.path().join("n".repeat(240));
-        write_atomically(&long, false, |x| {
-            x.write("world.toml", WORLD).map_err(io_err)
-        })
-        .unwrap();
+        write_atomically(&long, false, |x| x.write("world.toml", WORLD)).unwrap();
         assert!(long.join("world.toml").is_file());
     }
 

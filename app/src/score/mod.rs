@@ -233,7 +233,7 @@ impl ScoreRequest {
                 std::fs::write(w.root().join(name), bytes)
                     .map_err(Error::io(format!("writing {name}")))?;
             }
-            Ok(())
+            Ok::<(), Error>(())
         })?;
         Ok(scored)
     }
