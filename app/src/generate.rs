@@ -7,6 +7,7 @@ use std::time::{Duration, Instant};
 
 use subtgraph_core::{Budget, Components, Layout, Pipeline, Registry, World, import, npy};
 
+use crate::folder::{Kind, Out};
 use crate::pipeline::{self, Adjustments, NamedExporter, PipelineSource};
 use crate::{Error, Frontend, memory};
 
@@ -155,13 +156,29 @@ impl GenerateRequest {
         self.make(self.prepare(&mut |_| Ok(()))?)
     }
 
+    /// Everything this request reads: the pipeline file, the occupancy grid, the plugins.
+    pub fn reading(&self) -> Vec<&Path> {
+        let mut r: Vec<&Path> = self.source.file().into_iter().collect();
+        r.extend(self.occupancy.as_deref());
+        r.extend(self.plugins.iter().map(PathBuf::as_path));
+        r
+    }
+
     /// Makes the world and writes its folder at `out` (replacing a world folder there only
-    /// with `force`), atomically.
+    /// with `force`), atomically. `--out` is checked before anything is read or made.
     pub fn write(&self, out: &Path, force: bool) -> Result<Written, Error> {
+        let reading = self.reading();
+        let out = Out {
+            path: out,
+            kind: Kind::World,
+            force,
+            reading: &reading,
+        };
+        out.check()?;
         let generated = self.generate()?;
         let writing = Instant::now();
-        let swept = crate::folder::sweep_stale_beside(out);
-        pipeline::write_folder(&generated.world, &generated.exporters, out, force)?;
+        let swept = crate::folder::sweep_stale_beside(out.path);
+        pipeline::write_folder(&generated.world, &generated.exporters, &out)?;
         Ok(Written {
             generated,
             took: writing.elapsed(),
@@ -178,7 +195,7 @@ fn import_world(
     budget: &Budget,
 ) -> Result<(Layout, (String, import::Encoding)), Error> {
     use subtgraph_core::budget;
-    let bytes = std::fs::read(path).map_err(Error::io(format!("reading {}", path.display())))?;
+    let bytes = crate::input::read(path)?;
     let name = path.display().to_string();
     let npy_error = |source| Error::Npy {
         file: name.clone(),

@@ -35,6 +35,7 @@ mod error;
 pub mod folder;
 pub mod frontend;
 pub mod generate;
+pub mod input;
 pub mod memory;
 pub mod pipeline;
 pub mod plugins;

@@ -11,7 +11,7 @@ use subtgraph_core::export::WorldWriter;
 use subtgraph_core::params::ComponentSpec;
 use subtgraph_core::{Budget, Components, Pipeline, Registry, World};
 
-use crate::folder::{self, FolderError};
+use crate::folder::{self, FolderError, Out};
 use crate::{Error, Frontend, presets};
 
 pub use subtgraph_core::components::NamedExporter;
@@ -119,10 +119,9 @@ pub fn generate(
 pub fn write_folder(
     world: &World,
     exporters: &[NamedExporter],
-    out: &Path,
-    force: bool,
+    out: &Out<'_>,
 ) -> Result<(), FolderError> {
-    write_folder_recording(world, exporters, out, force, None)
+    write_folder_recording(world, exporters, out, None)
 }
 
 /// [`write_folder`], with `world_toml` written as `world.toml` instead of the world's own
@@ -131,12 +130,11 @@ pub fn write_folder(
 pub fn write_folder_recording(
     world: &World,
     exporters: &[NamedExporter],
-    out: &Path,
-    force: bool,
+    out: &Out<'_>,
     world_toml: Option<&str>,
 ) -> Result<(), FolderError> {
     let default_obj = !exporters.iter().any(|e| e.exporter.needs_geometry());
-    folder::write_atomically(out, force, |w| {
+    folder::write_atomically(out, |w| {
         let mut recording;
         let w: &mut dyn WorldWriter = match world_toml {
             Some(text) => {
@@ -217,10 +215,19 @@ impl PipelineSource {
     pub fn load(&self) -> Result<(Pipeline, String), Error> {
         match self {
             PipelineSource::File(path) => {
-                let text = std::fs::read_to_string(path).map_err(Error::io(format!(
-                    "reading pipeline file {}",
-                    path.display()
-                )))?;
+                let text = String::from_utf8(crate::input::read(path).map_err(|e| match e {
+                    Error::Io { source, .. } => Error::Io {
+                        what: format!("reading pipeline file {}", path.display()),
+                        source,
+                    },
+                    e => e,
+                })?)
+                .map_err(|_| {
+                    Error::Input(format!(
+                        "pipeline file {} is not UTF-8 text",
+                        path.display()
+                    ))
+                })?;
                 let mut p = Pipeline::parse(&text, &path.display().to_string())?;
                 p.anchor_paths(path.parent().unwrap_or(Path::new(".")));
                 Ok((p, path.display().to_string()))

@@ -46,19 +46,21 @@ impl ValidateRequest {
     }
 }
 
-/// The layout of a pipeline's world, checked by its tile set (passages that fit the tiles and
-/// the levels), without meshing. Every component is built once, exporters included.
+/// The layout of a pipeline's world, checked by its tile set as `generate` checks it before
+/// meshing ([`subtgraph_core::assembly::check`]: passages that fit the tiles and the levels,
+/// hazards and ramps it can make), without meshing. Every component is built once, exporters
+/// included.
 fn layout_checked(p: &Pipeline, registry: &Registry) -> Result<Layout, subtgraph_core::Error> {
     let components = p.build(registry)?;
     let layout = subtgraph_core::layout_with(p, &components, &Budget::unlimited())?;
     if let Some(t) = &components.tileset {
-        t.tileset
-            .check(&layout)
-            .map_err(|e| subtgraph_core::Error::Component {
+        subtgraph_core::assembly::check(&layout, t.tileset.as_ref()).map_err(|e| {
+            subtgraph_core::Error::Component {
                 component: "tile set",
                 name: t.name.clone(),
                 message: e.to_string(),
-            })?;
+            }
+        })?;
     }
     Ok(layout)
 }

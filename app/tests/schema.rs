@@ -3,7 +3,7 @@
 //! dataset index) see every field the writers write, in the writers' own types. On a cave with
 //! artifacts, floor hazards and rubble, and the whole ground truth.
 
-use subtgraph_core::export::{Exporter, MemoryWriter};
+use subtgraph_core::export::MemoryWriter;
 use subtgraph_schema::{
     Artifacts, Document, FreeSpace, Graph, Hazards, SemanticLabels, SpawnPoses, Topology,
 };

@@ -417,13 +417,13 @@ impl PyWorld {
                 }
             };
             folder::sweep_stale_beside(&folder);
-            pipeline::write_folder_recording(
-                &self.world,
-                exporters,
-                &folder,
+            let out = folder::Out {
+                path: &folder,
+                kind: folder::Kind::World,
                 force,
-                world_toml.as_deref(),
-            )?;
+                reading: &[],
+            };
+            pipeline::write_folder_recording(&self.world, exporters, &out, world_toml.as_deref())?;
             Ok(())
         })
         .or_raise(py)

@@ -11,7 +11,8 @@ pub struct Args {
     /// tool's .npy grids. Each argument is one group in the report.
     #[arg(required = true)]
     inputs: Vec<PathBuf>,
-    /// The report folder (created; files in it are replaced).
+    /// The report folder (created; an earlier stats report there is replaced, anything else
+    /// is refused).
     #[arg(long)]
     out: PathBuf,
     /// How pairwise IoU treats grids of different sizes: `common` crops both to the rows

@@ -48,7 +48,15 @@ pub(super) fn existing(out: &Path, w: &Planned, expected_toml: &str) -> Result<E
         return Ok(Existing::Absent);
     }
     let listed = match manifest::read(&dir) {
-        Some(manifest::Manifest::Complete(listed)) => listed,
+        Some(manifest::Manifest::Complete(Some(manifest::Kind::World), listed)) => listed,
+        Some(manifest::Manifest::Complete(Some(kind), _)) => {
+            return Err(Error::Input(format!(
+                "{} is a {} (written by `{}`), not a world of this dataset; nothing was changed: give another --out, or move it away",
+                dir.display(),
+                kind.what(),
+                kind.command()
+            )));
+        }
         _ => {
             let seed = std::fs::read_to_string(dir.join("world.toml"))
                 .ok()

@@ -127,8 +127,9 @@ impl Default for DatasetRequest {
 }
 
 impl DatasetRequest {
-    /// The run's options, its numbers checked: the memory budget, the seed, at least one
-    /// world, one job and one source.
+    /// The run's options, its numbers checked (the memory budget, the seed, at least one
+    /// world, one job and one source) and `--out` checked, before any pipeline is read or any
+    /// world made.
     pub fn options(&self) -> Result<Options, Error> {
         let max_memory = crate::memory::budget(self.max_memory.as_deref())?;
         let f = self.frontend;
@@ -157,6 +158,12 @@ impl DatasetRequest {
                 ),
             }));
         }
+        let names: Vec<String> = self.chosen().map(|s| s.name()).collect();
+        let names: Vec<&str> = names.iter().map(String::as_str).collect();
+        let mut reading: Vec<&std::path::Path> =
+            self.pipelines.iter().map(PathBuf::as_path).collect();
+        reading.extend(self.plugins.iter().map(PathBuf::as_path));
+        run::check_out(&self.out, &plan(&names, self.count, seed), &reading)?;
         Ok(Options {
             count: self.count,
             seed,
@@ -169,6 +176,18 @@ impl DatasetRequest {
         })
     }
 
+    /// Where the sources come from: pipeline files first, then presets.
+    fn chosen(&self) -> impl Iterator<Item = PipelineSource> + '_ {
+        self.pipelines
+            .iter()
+            .map(|p| PipelineSource::File(p.clone()))
+            .chain(
+                self.presets
+                    .iter()
+                    .map(|n| PipelineSource::Preset(n.clone())),
+            )
+    }
+
     /// Every source (pipeline files first, then presets), each with its registry (plus what
     /// `extend` adds: the Python package's components) and components, built once for all its
     /// worlds; and the exporters left out under `--no-mesh`, each named once.
@@ -176,15 +195,7 @@ impl DatasetRequest {
         &self,
         extend: &mut dyn FnMut(&mut Registry) -> Result<(), Error>,
     ) -> Result<(Vec<Source>, Vec<String>), Error> {
-        let chosen = self
-            .pipelines
-            .iter()
-            .map(|p| PipelineSource::File(p.clone()))
-            .chain(
-                self.presets
-                    .iter()
-                    .map(|n| PipelineSource::Preset(n.clone())),
-            );
+        let chosen = self.chosen();
         let mut sources = Vec::new();
         let mut skipped: Vec<String> = Vec::new();
         for from in chosen {

@@ -10,7 +10,7 @@ use super::existing::{Existing, description, existing, expected_world_toml};
 use super::index::{self, RunFacts};
 use super::plan::{Planned, plan};
 use super::{Options, Source, Summary, progress};
-use crate::folder::{FolderError, manifest};
+use crate::folder::{FolderError, Kind, Out, manifest};
 use crate::{Error, pipeline};
 
 /// Makes this shard's worlds of the dataset in `opts.out`, then rebuilds the index.
@@ -131,10 +131,11 @@ pub fn run(sources: &[Source], opts: &Options) -> Result<Summary, Error> {
     })
 }
 
-/// Creates the dataset folder and checks it can be written to, before any world is made. A
-/// folder that is not a dataset's yet must hold nothing but this dataset's worlds: the index
-/// files written there would replace a user's files of the same names.
-fn prepare_out(out: &Path, all: &[Planned]) -> Result<(), Error> {
+/// Checks the dataset folder before any work: a folder (or nothing yet) where the user can
+/// write, holding none of the files the run reads; a folder that is not a dataset's yet must
+/// hold nothing but this dataset's worlds: the index files written there would replace a
+/// user's files of the same names.
+pub fn check_out(out: &Path, all: &[Planned], reading: &[&Path]) -> Result<(), Error> {
     if out.exists() && !out.is_dir() {
         return Err(Error::Usage(format!(
             "--out {} is a file; give a folder for the dataset",
@@ -163,6 +164,34 @@ fn prepare_out(out: &Path, all: &[Planned]) -> Result<(), Error> {
             )));
         }
     }
+    if let Ok(real) = out.canonicalize() {
+        if let Some(input) = reading
+            .iter()
+            .find(|r| r.canonicalize().is_ok_and(|r| r.starts_with(&real)))
+        {
+            return Err(Error::Usage(format!(
+                "--out {} holds {}, which this command reads; write the dataset elsewhere: choose another --out",
+                out.display(),
+                input.display()
+            )));
+        }
+    }
+    #[cfg(unix)]
+    if let Some(existing) = out.ancestors().find(|a| a.is_dir()) {
+        rustix::fs::access(existing, rustix::fs::Access::WRITE_OK).map_err(|e| {
+            Error::io(format!(
+                "cannot write into --out {}; choose a folder you can write to",
+                out.display()
+            ))(e.into())
+        })?;
+    }
+    Ok(())
+}
+
+/// Creates the dataset folder and checks it can be written to, before any world is made
+/// (after [`check_out`]).
+fn prepare_out(out: &Path, all: &[Planned]) -> Result<(), Error> {
+    check_out(out, all, &[])?;
     // The facts folder marks it as a dataset's before anything else is written into it, so
     // shards starting at the same time see each other's files as this dataset's.
     std::fs::create_dir_all(out.join(index::FACTS_DIR)).map_err(Error::io(format!(
@@ -268,7 +297,13 @@ fn write_world(
     replace: bool,
 ) -> Result<Made, Error> {
     let dest = opts.out.join(&w.name);
-    let e = match pipeline::write_folder(world, &source.components.exporters, &dest, replace) {
+    let out = Out {
+        path: &dest,
+        kind: Kind::World,
+        force: replace,
+        reading: &[],
+    };
+    let e = match pipeline::write_folder(world, &source.components.exporters, &out) {
         Ok(()) => return Ok(Made::Here),
         Err(e) => e,
     };

@@ -10,6 +10,11 @@
 //!   with a `partial` manifest naming the host, process and its start time, so a later run can
 //!   tell a dead run's leftovers (removed) from a live run's work (left alone).
 //!
+//! - **ownership by command**: its `complete` line names what the folder is (`complete world`,
+//!   `complete stats`, `complete score`), so each command's `--force` replaces only a folder
+//!   that command wrote: `stats` never replaces a world, `score` never replaces a world or a
+//!   stats report, `generate` never replaces a report.
+//!
 //! The file is plain text, one entry per line, in path order, so it is byte-identical between
 //! runs like every other file of the world.
 
@@ -20,15 +25,70 @@ use std::path::{Path, PathBuf};
 /// The manifest's file name inside a folder the tool writes.
 pub const FILE: &str = ".subtgraph-files";
 
-const COMPLETE_HEADER: &str = "# subtgraph world folder: the files subtgraph wrote here (bytes, path).\n\
-# `--force` and dataset resume delete only these; anything else in this folder is yours and\n\
-# is never touched.\ncomplete\n";
+/// What a folder the tool writes is, and so which command's `--force` may replace it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Kind {
+    /// A world folder (`generate`, a `dataset`'s worlds, Python's `World.export`).
+    World,
+    /// A `stats` report.
+    Stats,
+    /// A `score` report.
+    Score,
+}
+
+impl Kind {
+    /// Every kind.
+    pub const ALL: [Kind; 3] = [Kind::World, Kind::Stats, Kind::Score];
+
+    /// Its word on the manifest's `complete` line.
+    pub fn token(self) -> &'static str {
+        match self {
+            Kind::World => "world",
+            Kind::Stats => "stats",
+            Kind::Score => "score",
+        }
+    }
+
+    /// What it is, in messages.
+    pub fn what(self) -> &'static str {
+        match self {
+            Kind::World => "world folder",
+            Kind::Stats => "stats report",
+            Kind::Score => "score report",
+        }
+    }
+
+    /// The command that writes it, in messages.
+    pub fn command(self) -> &'static str {
+        match self {
+            Kind::World => "subtgraph generate",
+            Kind::Stats => "subtgraph stats",
+            Kind::Score => "subtgraph score",
+        }
+    }
+
+    /// The kind of a folder whose manifest predates kinds: told by the file each command
+    /// always writes.
+    fn of_listed(files: &[(String, u64)]) -> Option<Kind> {
+        let has = |f: &str| files.iter().any(|(p, _)| p == f);
+        [
+            (Kind::World, "world.toml"),
+            (Kind::Stats, "stats.json"),
+            (Kind::Score, "score.json"),
+        ]
+        .into_iter()
+        .find(|(_, f)| has(f))
+        .map(|(k, _)| k)
+    }
+}
 
 /// A folder's manifest, as read back.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub enum Manifest {
-    /// A finished folder: every file the tool wrote, with its size, in path order.
-    Complete(Vec<(String, u64)>),
+    /// A finished folder: what it is (told by its files for a manifest written before kinds;
+    /// `None` when they do not tell) and every file the tool wrote, with its size, in path
+    /// order.
+    Complete(Option<Kind>, Vec<(String, u64)>),
     /// A folder being written by a process.
     Partial(Owner),
 }
@@ -82,9 +142,25 @@ pub fn partial_text(owner: &Owner) -> String {
     )
 }
 
-/// Text of a complete manifest listing `files` (relative paths with `/` separators, sizes).
-pub fn complete_text(files: &[(String, u64)]) -> String {
-    let mut text = String::from(COMPLETE_HEADER);
+/// Text of a complete manifest of a `kind` folder listing `files` (relative paths with `/`
+/// separators, sizes).
+pub fn complete_text(kind: Kind, files: &[(String, u64)]) -> String {
+    let mut text = match kind {
+        Kind::World => "# subtgraph world folder: the files subtgraph wrote here (bytes, path).\n\
+             # `--force` and dataset resume delete only these; anything else in this folder is yours and\n\
+             # is never touched.\n"
+            .to_owned(),
+        _ => format!(
+            "# subtgraph {}: the files subtgraph wrote here (bytes, path).\n\
+             # `{} --force` deletes only these; anything else in this folder is yours and\n\
+             # is never touched.\n",
+            kind.what(),
+            kind.command()
+        ),
+    };
+    text.push_str("complete ");
+    text.push_str(kind.token());
+    text.push('\n');
     for (path, size) in files {
         writeln!(text, "{size} {path}").expect("writing to a String");
     }
@@ -100,7 +176,16 @@ pub fn read(dir: &Path) -> Option<Manifest> {
 fn parse(text: &str) -> Option<Manifest> {
     let mut lines = text.lines().filter(|l| !l.starts_with('#'));
     let head = lines.next()?;
-    if head == "complete" {
+    let kind = match head.strip_prefix("complete") {
+        Some("") => Some(None),
+        Some(token) => Some(Some(
+            Kind::ALL
+                .into_iter()
+                .find(|k| Some(k.token()) == token.strip_prefix(' '))?,
+        )),
+        None => None,
+    };
+    if let Some(kind) = kind {
         let mut files = Vec::new();
         for line in lines {
             let (size, path) = line.split_once(' ')?;
@@ -113,7 +198,8 @@ fn parse(text: &str) -> Option<Manifest> {
             }
             files.push((path.to_owned(), size.parse().ok()?));
         }
-        return Some(Manifest::Complete(files));
+        let kind = kind.or_else(|| Kind::of_listed(&files));
+        return Some(Manifest::Complete(kind, files));
     }
     let rest = head.strip_prefix("partial ")?;
     let mut owner = Owner {
@@ -263,9 +349,24 @@ mod tests {
             ("maps/level-0.png".to_owned(), 12),
             ("world.toml".into(), 3),
         ];
+        for kind in Kind::ALL {
+            assert_eq!(
+                parse(&complete_text(kind, &files)),
+                Some(Manifest::Complete(Some(kind), files.clone()))
+            );
+        }
+        // Written before kinds: told by the files.
+        let legacy = "# old\ncomplete\n3 world.toml\n";
         assert_eq!(
-            parse(&complete_text(&files)),
-            Some(Manifest::Complete(files))
+            parse(legacy),
+            Some(Manifest::Complete(
+                Some(Kind::World),
+                vec![("world.toml".into(), 3)]
+            ))
+        );
+        assert_eq!(
+            parse("complete\n3 notes\n").map(|m| matches!(m, Manifest::Complete(None, _))),
+            Some(true)
         );
         let me = Owner::this_process();
         assert_eq!(
@@ -275,6 +376,7 @@ mod tests {
         assert!(!me.is_dead(), "this process is alive");
         for bad in [
             "",
+            "complete planets\n",
             "complete\nx y\n",
             "complete\n3 ../escape\n",
             "partial pid=x\n",

@@ -15,15 +15,21 @@
 //!   next run ([`partial`]).
 
 pub mod manifest;
+pub mod out;
 pub mod partial;
+mod rename;
 
 use std::fs;
 use std::path::{Path, PathBuf};
-use std::time::{SystemTime, UNIX_EPOCH};
 
 use subtgraph_core::export::WorldWriter;
 
+pub use manifest::Kind;
+pub use out::{Out, sweep_stale_beside};
 pub use partial::{install_signal_handlers, sweep_stale};
+
+use out::Before;
+use rename::{exchange, is_exists, keep_elsewhere, rename_noreplace, temporary_name};
 
 /// Writes files under a folder, creating subfolders as needed.
 #[derive(Debug)]
@@ -119,6 +125,39 @@ pub enum FolderError {
         /// What is in the way (relative paths).
         foreign: Vec<String>,
     },
+    /// `--force` was given but the destination is a folder another command wrote (a world
+    /// for `stats`, a stats report for `score`, ...).
+    #[error(
+        "{} is a {} (written by `{}`), not a {}; --force replaces only a {} `{}` wrote: choose another --out",
+        .path.display(),
+        .found.what(),
+        .found.command(),
+        .wanted.what(),
+        .wanted.what(),
+        .wanted.command()
+    )]
+    OtherKind {
+        /// The destination.
+        path: PathBuf,
+        /// What it is.
+        found: Kind,
+        /// What the command writes.
+        wanted: Kind,
+    },
+    /// The destination is, holds or lies inside something the command reads.
+    #[error(
+        "--out {} {how} {}, which this command reads; write the result elsewhere: choose another --out",
+        .out.display(),
+        .input.display()
+    )]
+    BeingRead {
+        /// The destination, as given.
+        out: PathBuf,
+        /// `is`, `holds` or `is inside`.
+        how: &'static str,
+        /// What it clashes with, as given.
+        input: PathBuf,
+    },
     /// `--force` was given but the destination is not a folder written by this tool.
     #[error(
         "{0} exists and is not a folder written by subtgraph ({1}); refusing to replace it even with --force: remove it yourself if nothing in it is yours, or choose another --out"
@@ -163,7 +202,10 @@ fn describe(e: &std::io::Error) -> String {
     format!("{e}{}", subtgraph_core::export::io_hint(e))
 }
 
-fn io<'a>(what: &'static str, path: &'a Path) -> impl FnOnce(std::io::Error) -> FolderError + 'a {
+pub(super) fn io<'a>(
+    what: &'static str,
+    path: &'a Path,
+) -> impl FnOnce(std::io::Error) -> FolderError + 'a {
     move |source| FolderError::Io {
         what,
         path: path.to_owned(),
@@ -171,148 +213,11 @@ fn io<'a>(what: &'static str, path: &'a Path) -> impl FnOnce(std::io::Error) -> 
     }
 }
 
-/// What stands at the destination before a run.
-enum Before {
-    /// Nothing.
-    Absent,
-    /// A folder `--force` may replace: the files its manifest lists (none for an empty folder).
-    Ours,
-}
-
-/// Where the folder goes: its parent (created if needed) and its own name. `w/.` and `w/..`
-/// name real folders, so they are resolved first.
-fn destination(out: &Path) -> Result<(PathBuf, std::ffi::OsString), FolderError> {
-    let ends_oddly = matches!(
-        out.components().next_back(),
-        Some(std::path::Component::ParentDir | std::path::Component::CurDir)
-    ) || out.file_name().is_none();
-    let resolved;
-    let out = if ends_oddly {
-        resolved = out.canonicalize().map_err(|_| FolderError::Io {
-            what: "naming",
-            path: out.to_owned(),
-            source: std::io::Error::new(
-                std::io::ErrorKind::InvalidInput,
-                "--out must name a folder, like worlds/cave-7",
-            ),
-        })?;
-        resolved.as_path()
-    } else {
-        out
-    };
-    let name = out.file_name().ok_or_else(|| FolderError::Io {
-        what: "naming",
-        path: out.to_owned(),
-        source: std::io::Error::new(
-            std::io::ErrorKind::InvalidInput,
-            "--out must name a folder, like worlds/cave-7, not the root",
-        ),
-    })?;
-    let parent = match out.parent() {
-        Some(p) if !p.as_os_str().is_empty() => p.to_owned(),
-        _ => PathBuf::from("."),
-    };
-    Ok((parent, name.to_owned()))
-}
-
-/// Removes what killed runs left in the folder `out` goes into (the same parent
-/// [`write_atomically`] writes its temporary folder in, `w/.` resolved); returns that folder
-/// and how many were removed, when any were.
-pub fn sweep_stale_beside(out: &Path) -> Option<(PathBuf, usize)> {
-    let (parent, _) = destination(out).ok()?;
-    match sweep_stale(&parent) {
-        Ok(n) if n > 0 => Some((parent, n)),
-        _ => None,
-    }
-}
-
-/// Checks what is at `dest` before anything is made.
-fn before(dest: &Path, force: bool) -> Result<Before, FolderError> {
-    let meta = match fs::symlink_metadata(dest) {
-        Ok(m) => m,
-        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(Before::Absent),
-        Err(e) => return Err(io("reading", dest)(e)),
-    };
-    if !force {
-        return Err(FolderError::Exists(dest.to_owned()));
-    }
-    if !meta.is_dir() {
-        return Err(FolderError::NotAWorld(
-            dest.to_owned(),
-            "it is not a folder",
-        ));
-    }
-    ours(dest).map(|_| Before::Ours)
-}
-
-/// The files subtgraph wrote in `dir` if everything in it is the tool's (an empty folder
-/// counts), or why not.
-fn ours(dir: &Path) -> Result<Vec<(String, u64)>, FolderError> {
-    let empty = fs::read_dir(dir)
-        .map_err(io("reading", dir))?
-        .next()
-        .is_none();
-    if empty {
-        return Ok(Vec::new());
-    }
-    let listed = match manifest::read(dir) {
-        Some(manifest::Manifest::Complete(files)) => files,
-        Some(manifest::Manifest::Partial(_)) => {
-            return Err(FolderError::NotAWorld(
-                dir.to_owned(),
-                "another run is still writing it",
-            ));
-        }
-        None if dir.join("world.toml").is_file() => {
-            return Err(FolderError::NotAWorld(
-                dir.to_owned(),
-                "it has a world.toml but no .subtgraph-files list of what subtgraph wrote: made by an older version, or not by subtgraph",
-            ));
-        }
-        None => {
-            return Err(FolderError::NotAWorld(
-                dir.to_owned(),
-                "no world.toml in it",
-            ));
-        }
-    };
-    let is_world = listed.iter().any(|(p, _)| p == "world.toml");
-    let toml = dir.join("world.toml");
-    if is_world && toml.exists() && !generated_by_us(&toml) {
-        return Err(FolderError::NotAWorld(
-            dir.to_owned(),
-            "its world.toml has no [generated] table written by subtgraph",
-        ));
-    }
-    let foreign = manifest::foreign_entries(dir, &listed).map_err(io("reading", dir))?;
-    if !foreign.is_empty() {
-        return Err(FolderError::NotOurs {
-            path: dir.to_owned(),
-            foreign,
-        });
-    }
-    Ok(listed)
-}
-
-fn generated_by_us(world_toml: &Path) -> bool {
-    let Ok(text) = fs::read_to_string(world_toml) else {
-        return false;
-    };
-    let Ok(table) = toml::from_str::<toml::Table>(&text) else {
-        return false;
-    };
-    table
-        .get("generated")
-        .and_then(|g| g.get("tool"))
-        .and_then(|t| t.as_str())
-        == Some("subtgraph")
-}
-
 /// Removes from `dir` the files its own manifest lists, then the manifest and every folder
 /// left empty, then `dir` itself if it is empty. Anything else stays where it is.
 pub(crate) fn remove_listed(dir: &Path) -> std::io::Result<bool> {
     let listed = match manifest::read(dir) {
-        Some(manifest::Manifest::Complete(files)) => files,
+        Some(manifest::Manifest::Complete(_, files)) => files,
         _ => Vec::new(),
     };
     let mut dirs = std::collections::BTreeSet::new();
@@ -337,113 +242,20 @@ pub(crate) fn remove_listed(dir: &Path) -> std::io::Result<bool> {
     Ok(fs::remove_dir(dir).is_ok())
 }
 
-/// Moves `from` to `to` only if nothing is at `to`: atomic where the system allows, and
-/// otherwise a check followed by a rename that cannot replace a non-empty folder.
-fn rename_noreplace(from: &Path, to: &Path) -> std::io::Result<()> {
-    #[cfg(any(target_os = "linux", target_os = "android", target_vendor = "apple"))]
-    {
-        use rustix::fs::{CWD, RenameFlags, renameat_with};
-        match renameat_with(CWD, from, CWD, to, RenameFlags::NOREPLACE) {
-            Ok(()) => return Ok(()),
-            Err(e) if e == rustix::io::Errno::INVAL || e == rustix::io::Errno::NOSYS => {}
-            Err(e) => return Err(e.into()),
-        }
-    }
-    if fs::symlink_metadata(to).is_ok() {
-        return Err(std::io::ErrorKind::AlreadyExists.into());
-    }
-    fs::rename(from, to)
-}
-
-/// Swaps `a` and `b` atomically, where the system allows (`Unsupported` elsewhere).
-fn exchange(a: &Path, b: &Path) -> std::io::Result<()> {
-    #[cfg(any(target_os = "linux", target_os = "android", target_vendor = "apple"))]
-    {
-        use rustix::fs::{CWD, RenameFlags, renameat_with};
-        match renameat_with(CWD, a, CWD, b, RenameFlags::EXCHANGE) {
-            Ok(()) => Ok(()),
-            Err(e) if e == rustix::io::Errno::INVAL || e == rustix::io::Errno::NOSYS => {
-                Err(std::io::ErrorKind::Unsupported.into())
-            }
-            Err(e) => Err(e.into()),
-        }
-    }
-    #[cfg(not(any(target_os = "linux", target_os = "android", target_vendor = "apple")))]
-    {
-        let _ = (a, b);
-        Err(std::io::ErrorKind::Unsupported.into())
-    }
-}
-
-fn is_exists(e: &std::io::Error) -> bool {
-    e.kind() == std::io::ErrorKind::AlreadyExists
-        || e.kind() == std::io::ErrorKind::DirectoryNotEmpty
-}
-
-/// A name no other run uses: the first 100 bytes of `name` (file names may be 255 bytes, and
-/// the suffix must fit), the process id and the time.
-fn temporary_name(name: &str, what: &str) -> String {
-    let mut cut = name.len().min(100);
-    while !name.is_char_boundary(cut) {
-        cut -= 1;
-    }
-    let stamp = SystemTime::now()
-        .duration_since(UNIX_EPOCH)
-        .map_or(0, |d| d.as_nanos());
-    format!(".{}.{what}-{}-{stamp}", &name[..cut], std::process::id())
-}
-
-/// Keeps a finished world whose destination was taken, under `NAME-new`, `NAME-new-2`, ...
-fn keep_elsewhere(tmp: &Path, dest: &Path, name: &str) -> Result<PathBuf, FolderError> {
-    for n in 1..1000 {
-        // Beside `dest`, named as the user wrote it (`race-new`, not `./race-new`).
-        let candidate = if n == 1 {
-            dest.with_file_name(format!("{name}-new"))
-        } else {
-            dest.with_file_name(format!("{name}-new-{n}"))
-        };
-        match rename_noreplace(tmp, &candidate) {
-            Ok(()) => return Ok(candidate),
-            Err(e) if is_exists(&e) => continue,
-            Err(e) => return Err(io("keeping the new world at", &candidate)(e)),
-        }
-    }
-    Err(FolderError::Io {
-        what: "keeping the new world beside",
-        path: dest.to_owned(),
-        source: std::io::ErrorKind::AlreadyExists.into(),
-    })
-}
-
-/// Writes a world folder at `out` through `fill`, atomically. With `force`, an existing
-/// folder is replaced if subtgraph wrote everything in it (or it is empty); see the module
-/// documentation for what is guaranteed.
+/// Writes a folder at `out.path` through `fill`, atomically, after checking `--out` once more
+/// ([`Out::check`]: what the command reads, and what stands there). With `force`, an existing
+/// folder is replaced if it is the same kind and subtgraph wrote everything in it (or it is
+/// empty); see the module documentation for what is guaranteed.
 pub fn write_atomically<E: std::error::Error + Send + Sync + 'static>(
-    out: &Path,
-    force: bool,
+    out: &Out<'_>,
     fill: impl FnOnce(&mut FolderWriter) -> Result<(), E>,
 ) -> Result<(), FolderError> {
-    let (parent, name) = destination(out)?;
-    // Named as the user wrote it (`race`, not `./race`) in messages.
-    let dest = if out.parent().is_some_and(|p| p.as_os_str().is_empty()) {
-        PathBuf::from(&name)
-    } else {
-        parent.join(&name)
-    };
-    let name = name.to_string_lossy().into_owned();
-    if let Some(file) = parent
-        .ancestors()
-        .find(|a| a.exists())
-        .filter(|a| !a.is_dir())
-    {
-        return Err(FolderError::NotAFolder(file.to_owned()));
-    }
-    let was = before(&dest, force)?;
+    let (parent, name, dest, was) = out.checked()?;
     fs::create_dir_all(&parent).map_err(io("creating", &parent))?;
     let tmp = parent.join(temporary_name(&name, "partial"));
     fs::create_dir(&tmp).map_err(io("creating", &tmp))?;
     let registered = partial::Registered::partial(&tmp);
-    let result = fill_and_seal(&tmp, fill);
+    let result = fill_and_seal(&tmp, out.kind, fill);
     if let Err(e) = result {
         let _ = fs::remove_dir_all(&tmp);
         return Err(e);
@@ -461,6 +273,7 @@ pub fn write_atomically<E: std::error::Error + Send + Sync + 'static>(
 /// Writes the partial marker, the content, and last the manifest of what was written.
 fn fill_and_seal<E: std::error::Error + Send + Sync + 'static>(
     tmp: &Path,
+    kind: Kind,
     fill: impl FnOnce(&mut FolderWriter) -> Result<(), E>,
 ) -> Result<(), FolderError> {
     let marker = tmp.join(manifest::FILE);
@@ -474,7 +287,7 @@ fn fill_and_seal<E: std::error::Error + Send + Sync + 'static>(
     };
     fill(&mut writer).map_err(|e| FolderError::Content(Box::new(e)))?;
     let files = manifest::list_files(tmp).map_err(io("listing", tmp))?;
-    fs::write(&marker, manifest::complete_text(&files)).map_err(io("writing", &marker))?;
+    fs::write(&marker, manifest::complete_text(kind, &files)).map_err(io("writing", &marker))?;
     Ok(())
 }
 
@@ -554,6 +367,83 @@ mod tests {
 
     const WORLD: &[u8] = b"[generated]\ntool = \"subtgraph\"\n";
 
+    /// Writes a world folder at `out`.
+    fn write(
+        out: &Path,
+        force: bool,
+        fill: impl FnOnce(&mut FolderWriter) -> std::io::Result<()>,
+    ) -> Result<(), FolderError> {
+        write_kind(out, Kind::World, force, &[], fill)
+    }
+
+    fn write_kind(
+        out: &Path,
+        kind: Kind,
+        force: bool,
+        reading: &[&Path],
+        fill: impl FnOnce(&mut FolderWriter) -> std::io::Result<()>,
+    ) -> Result<(), FolderError> {
+        let out = Out {
+            path: out,
+            kind,
+            force,
+            reading,
+        };
+        write_atomically(&out, fill)
+    }
+
+    #[test]
+    fn force_replaces_only_a_folder_of_the_same_kind_and_never_one_being_read() {
+        let dir = tempfile::tempdir().unwrap();
+        let report = dir.path().join("report");
+        write_kind(&report, Kind::Stats, false, &[], |w| {
+            w.write("stats.json", b"{}")
+        })
+        .unwrap();
+        // A world may not replace a stats report, nor a score report a world.
+        let e = write(&report, true, |w| w.write("world.toml", WORLD)).unwrap_err();
+        assert!(
+            matches!(
+                e,
+                FolderError::OtherKind {
+                    found: Kind::Stats,
+                    wanted: Kind::World,
+                    ..
+                }
+            ),
+            "{e}"
+        );
+        assert!(e.to_string().contains("stats report"), "{e}");
+        let world = dir.path().join("w");
+        write(&world, false, |w| w.write("world.toml", WORLD)).unwrap();
+        let e = write_kind(&world, Kind::Score, true, &[], |w| {
+            w.write("score.json", b"{}")
+        })
+        .unwrap_err();
+        assert!(matches!(e, FolderError::OtherKind { .. }), "{e}");
+        assert!(world.join("world.toml").is_file());
+        // The same kind is replaced.
+        write_kind(&report, Kind::Stats, true, &[], |w| {
+            w.write("stats.json", b"[]")
+        })
+        .unwrap();
+        assert_eq!(fs::read(report.join("stats.json")).unwrap(), b"[]");
+        // Never the folder being read, one holding it, or one inside it.
+        for (out, input) in [
+            (world.clone(), world.clone()),
+            (dir.path().to_owned(), world.clone()),
+            (world.join("scores"), world.clone()),
+        ] {
+            let e = write_kind(&out, Kind::Score, true, &[&input], |w| {
+                w.write("score.json", b"{}")
+            })
+            .unwrap_err();
+            assert!(matches!(e, FolderError::BeingRead { .. }), "{e}");
+        }
+        assert!(world.join("world.toml").is_file());
+        assert!(!world.join("scores").exists());
+    }
+
     fn names(dir: &Path) -> Vec<String> {
         let mut v: Vec<String> = fs::read_dir(dir)
             .unwrap()
@@ -567,7 +457,7 @@ mod tests {
     fn a_failure_leaves_nothing_and_success_replaces_only_worlds() {
         let dir = tempfile::tempdir().unwrap();
         let out = dir.path().join("w");
-        let e = write_atomically(&out, false, |w| {
+        let e = write(&out, false, |w| {
             w.write("world.toml", b"x")?;
             Err(std::io::Error::other("disk full"))
         })
@@ -575,10 +465,10 @@ mod tests {
         assert!(e.to_string().contains("disk full"));
         assert_eq!(fs::read_dir(dir.path()).unwrap().count(), 0, "no leftovers");
 
-        write_atomically(&out, false, |w| w.write("world.toml", WORLD)).unwrap();
-        let e = write_atomically(&out, false, |_| Ok::<(), std::io::Error>(())).unwrap_err();
+        write(&out, false, |w| w.write("world.toml", WORLD)).unwrap();
+        let e = write(&out, false, |_| Ok::<(), std::io::Error>(())).unwrap_err();
         assert!(matches!(e, FolderError::Exists(_)));
-        write_atomically(&out, true, |w| {
+        write(&out, true, |w| {
             w.write("world.toml", WORLD)?;
             w.write("maps/level-0.png", b"2")
         })
@@ -590,7 +480,7 @@ mod tests {
         let precious = dir.path().join("home");
         fs::create_dir(&precious).unwrap();
         fs::write(precious.join("thesis.tex"), b"...").unwrap();
-        let e = write_atomically(&precious, true, |_| Ok::<(), std::io::Error>(())).unwrap_err();
+        let e = write(&precious, true, |_| Ok::<(), std::io::Error>(())).unwrap_err();
         assert!(matches!(e, FolderError::NotAWorld(..)), "{e}");
         assert!(precious.join("thesis.tex").exists());
     }
@@ -603,17 +493,17 @@ mod tests {
         fs::create_dir(&fake).unwrap();
         fs::write(fake.join("world.toml"), b"mine").unwrap();
         fs::write(fake.join("data.bin"), b"v").unwrap();
-        let e = write_atomically(&fake, true, |w| w.write("world.toml", WORLD)).unwrap_err();
+        let e = write(&fake, true, |w| w.write("world.toml", WORLD)).unwrap_err();
         assert!(matches!(e, FolderError::NotAWorld(..)), "{e}");
         assert_eq!(fs::read(fake.join("data.bin")).unwrap(), b"v");
         assert_eq!(fs::read(fake.join("world.toml")).unwrap(), b"mine");
 
         // A real world folder with a user's file added to it.
         let real = dir.path().join("r");
-        write_atomically(&real, false, |w| w.write("world.toml", WORLD)).unwrap();
+        write(&real, false, |w| w.write("world.toml", WORLD)).unwrap();
         fs::write(real.join("data.bin"), b"v").unwrap();
         fs::create_dir(real.join("runs")).unwrap();
-        let e = write_atomically(&real, true, |w| w.write("world.toml", WORLD)).unwrap_err();
+        let e = write(&real, true, |w| w.write("world.toml", WORLD)).unwrap_err();
         let text = e.to_string();
         assert!(matches!(e, FolderError::NotOurs { .. }), "{text}");
         assert!(text.contains("data.bin") && text.contains("runs"), "{text}");
@@ -625,7 +515,7 @@ mod tests {
     fn a_folder_that_appears_meanwhile_is_never_replaced() {
         let dir = tempfile::tempdir().unwrap();
         let out = dir.path().join("race");
-        let e = write_atomically(&out, false, |w| {
+        let e = write(&out, false, |w| {
             w.write("world.toml", WORLD)?;
             // Someone makes the folder while the world is being written.
             fs::create_dir(&out)?;
@@ -642,7 +532,7 @@ mod tests {
 
         // Even an empty folder that appears is left alone.
         let out2 = dir.path().join("race2");
-        let e = write_atomically(&out2, false, |w| {
+        let e = write(&out2, false, |w| {
             fs::create_dir(&out2)?;
             w.write("world.toml", WORLD)
         })
@@ -660,7 +550,7 @@ mod tests {
                 .map(|i| {
                     let (out, barrier) = (&out, &barrier);
                     s.spawn(move || {
-                        write_atomically(out, false, |w| {
+                        write(out, false, |w| {
                             w.write("world.toml", WORLD)?;
                             w.write("which", &[i])?;
                             barrier.wait();
@@ -686,13 +576,13 @@ mod tests {
     fn odd_destinations_work() {
         let dir = tempfile::tempdir().unwrap();
         let w = dir.path().join("w");
-        write_atomically(&w, false, |x| x.write("world.toml", WORLD)).unwrap();
+        write(&w, false, |x| x.write("world.toml", WORLD)).unwrap();
         // `w/.` is `w`.
-        write_atomically(&w.join("."), true, |x| x.write("world.toml", WORLD)).unwrap();
+        write(&w.join("."), true, |x| x.write("world.toml", WORLD)).unwrap();
         assert_eq!(names(dir.path()), ["w"]);
         // A long name still leaves room for the temporary folder's suffix.
         let long = dir.path().join("n".repeat(240));
-        write_atomically(&long, false, |x| x.write("world.toml", WORLD)).unwrap();
+        write(&long, false, |x| x.write("world.toml", WORLD)).unwrap();
         assert!(long.join("world.toml").is_file());
     }
 

@@ -144,6 +144,7 @@ impl PreviewRequest {
                     .into(),
             ));
         }
+        check_out(&self.out, &self.world)?;
         // The node first: a wrong --at is refused before the mesh is read.
         let place = match self.view {
             View::Whole => None,
@@ -163,7 +164,7 @@ impl PreviewRequest {
         );
         let png = draw::encode(&image, width, height)
             .map_err(|e| Error::Input(format!("encoding the picture: {e}")))?;
-        write_picture(&self.out, &png)?;
+        write_picture(&self.out, &self.world, &png)?;
         Ok(Drawn {
             triangles: frame.drawn,
         })
@@ -261,9 +262,31 @@ impl PreviewRequest {
 /// The PNG `Software` text our pictures carry: how `preview` knows a file is one it drew.
 const SOFTWARE: &str = "subtgraph preview";
 
-/// Writes the picture through a temporary file and a rename, replacing only a picture
-/// `preview` drew before: any other file at `out` is the user's and is refused.
-fn write_picture(out: &Path, bytes: &[u8]) -> Result<(), Error> {
+/// Refuses an `--out` that is not a file name, lies inside the world folder being read, or
+/// holds a file `preview` did not draw: before anything is read, and again before writing.
+fn check_out(out: &Path, world: &Path) -> Result<(), Error> {
+    if out.file_name().is_none() {
+        return Err(Error::Usage("--out must name a file, like cave.png".into()));
+    }
+    if let (Ok(world), Some(Ok(parent))) = (
+        world.canonicalize(),
+        out.parent()
+            .map(|p| {
+                if p.as_os_str().is_empty() {
+                    Path::new(".")
+                } else {
+                    p
+                }
+            })
+            .map(Path::canonicalize),
+    ) && parent.starts_with(&world)
+    {
+        return Err(Error::Usage(format!(
+            "--out {} is inside the world folder {} this command reads (a file there is not one the world's list names); choose another --out",
+            out.display(),
+            world.display()
+        )));
+    }
     if out.exists() {
         let ours = std::fs::File::open(out)
             .ok()
@@ -285,6 +308,13 @@ fn write_picture(out: &Path, bytes: &[u8]) -> Result<(), Error> {
             )));
         }
     }
+    Ok(())
+}
+
+/// Writes the picture through a temporary file and a rename, replacing only a picture
+/// `preview` drew before: any other file at `out` is the user's and is refused.
+fn write_picture(out: &Path, world: &Path, bytes: &[u8]) -> Result<(), Error> {
+    check_out(out, world)?;
     let name = out
         .file_name()
         .ok_or_else(|| Error::Usage("--out must name a file, like cave.png".into()))?

@@ -16,11 +16,13 @@ pub(super) struct Scene {
 
 pub(super) fn read_scene(world: &Path) -> Result<Scene, Error> {
     let obj_path = world.join("mesh/world.obj");
-    let text = std::fs::read_to_string(&obj_path).map_err(Error::io(format!(
-        "reading {}: is {} a world generated with a [tileset] (not `generate --no-mesh`), with its mesh as OBJ (the default, or `obj` among `generate --format`)?",
-        obj_path.display(),
-        world.display()
-    )))?;
+    if !obj_path.exists() {
+        return Err(Error::Input(format!(
+            "{} has no mesh/world.obj: is it a world generated with a [tileset] (not `generate --no-mesh`), with its mesh as OBJ (the default, or `obj` among `generate --format`)?",
+            world.display()
+        )));
+    }
+    let text = crate::input::read_text(&obj_path)?;
     let mtl = std::fs::read_to_string(world.join("mesh/world.mtl")).unwrap_or_default();
     let mut palette = std::collections::HashMap::new();
     let mut current = String::new();

@@ -14,12 +14,12 @@
 //! Bad input is an error naming the file and the row or point: an unknown class, a NaN, an
 //! empty file, or positions far outside the world (another frame or unit).
 
-mod cloud;
-mod coverage;
+pub mod cloud;
+pub mod coverage;
 mod picture;
 mod report;
-mod reports;
-mod world;
+pub mod reports;
+pub mod world;
 
 use std::fmt;
 use std::path::{Path, PathBuf};
@@ -27,6 +27,7 @@ use std::path::{Path, PathBuf};
 use serde::Serialize;
 
 use crate::Error;
+use crate::folder::{Kind, Out};
 
 pub use reports::MATCH_RADIUS;
 
@@ -164,7 +165,17 @@ fn check_reports(list: &[reports::Report], cells: &world::Cells, file: &Path) ->
 }
 
 impl ScoreRequest {
-    /// Scores the run and writes the score folder.
+    /// Where the score folder goes: never over the world, the reports or the map.
+    fn destination<'a>(&'a self, reading: &'a [&'a Path]) -> Out<'a> {
+        Out {
+            path: &self.out,
+            kind: Kind::Score,
+            force: self.force,
+            reading,
+        }
+    }
+
+    /// Scores the run and writes the score folder (`--out` checked before anything is read).
     pub fn run(&self) -> Result<Scored, Error> {
         for (what, v) in [("--radius", self.radius), ("--tolerance", self.tolerance)] {
             if !(v.is_finite() && v >= 0.0) {
@@ -173,8 +184,20 @@ impl ScoreRequest {
                 )));
             }
         }
+        let mut reading: Vec<&Path> = vec![&self.world, &self.reports];
+        reading.extend(self.map.as_deref());
+        self.destination(&reading).check()?;
         let cells = world::cells(&self.world)?;
         let truth = world::artifacts(&self.world)?;
+        if let Some(t) = truth.iter().find(|t| t.level >= cells.levels) {
+            return Err(Error::Input(format!(
+                "{}: ground_truth/artifacts.json puts artifact {} on level {}, but topology.json has {} level(s); were they edited? make the world again with `subtgraph generate`",
+                self.world.display(),
+                t.id,
+                t.level,
+                cells.levels
+            )));
+        }
         let list = reports::read(&self.reports)?;
         check_reports(&list, &cells, &self.reports)?;
         let (verdicts, found) = reports::score(&list, &truth);
@@ -228,7 +251,7 @@ impl ScoreRequest {
                 map: map.as_ref().map(|(p, g, c)| (p.as_path(), g, c)),
             },
         );
-        crate::folder::write_atomically(&self.out, self.force, |w| {
+        crate::folder::write_atomically(&self.destination(&reading), |w| {
             for (name, bytes) in &files {
                 std::fs::write(w.root().join(name), bytes)
                     .map_err(Error::io(format!("writing {name}")))?;

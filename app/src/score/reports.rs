@@ -174,8 +174,15 @@ fn number(text: &str, file: &Path, at: &str, what: &str) -> Result<f64> {
 /// object holding such a list under `reports`) or CSV with a header naming those columns
 /// (any order, any case, other columns ignored).
 pub fn read(path: &Path) -> Result<Vec<Report>> {
-    let bytes = std::fs::read(path).map_err(Error::io(format!("reading {}", path.display())))?;
-    let text = String::from_utf8(bytes).map_err(|_| {
+    parse(&crate::input::read(path)?, path)
+}
+
+/// Reads reports from a file's bytes (see [`read`]); `path` names the file in messages and
+/// its extension (`.json`) tells JSON from CSV, as does a first `[` or `{`. A UTF-8 byte-order
+/// mark, which spreadsheet programs write first, is skipped.
+pub fn parse(bytes: &[u8], path: &Path) -> Result<Vec<Report>> {
+    let bytes = bytes.strip_prefix("\u{feff}".as_bytes()).unwrap_or(bytes);
+    let text = std::str::from_utf8(bytes).map_err(|_| {
         Error::Input(format!(
             "{}: not UTF-8 text; reports are CSV or JSON",
             path.display()
@@ -192,9 +199,9 @@ pub fn read(path: &Path) -> Result<Vec<Report>> {
         .is_some_and(|e| e.eq_ignore_ascii_case("json"))
         || text.trim_start().starts_with(['[', '{']);
     if json {
-        read_json(path, &text)
+        read_json(path, text)
     } else {
-        read_csv(path, &text)
+        read_csv(path, text)
     }
 }
 

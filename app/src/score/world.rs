@@ -135,25 +135,56 @@ impl Cells {
     }
 }
 
-/// Reads and checks a file of a world folder; `hint` says what to do when it is missing.
+/// Reads a file of a world folder; `hint` says what to do when it is missing.
+fn read_file(world: &Path, file: &str, hint: &str) -> Result<Vec<u8>, Error> {
+    let path = world.join(file);
+    if !path.exists() {
+        return Err(Error::Input(format!(
+            "{} has no {file}: {hint}",
+            world.display()
+        )));
+    }
+    crate::input::read(&path)
+}
+
+/// Reads and checks a document of a world folder; `hint` says what to do when it is missing.
 fn read_doc<D: Document>(world: &Path, hint: &str) -> Result<D, Error> {
-    let bytes = std::fs::read(world.join(D::PATH)).map_err(Error::io(format!(
-        "{} has no {}: {hint}",
-        world.display(),
-        D::PATH
-    )))?;
-    subtgraph_schema::read(&bytes).map_err(|source| Error::WorldFile {
+    parse_doc(&read_file(world, D::PATH, hint)?, world)
+}
+
+/// Parses and checks a document of the world folder `world`.
+pub fn parse_doc<D: Document>(bytes: &[u8], world: &Path) -> Result<D, Error> {
+    subtgraph_schema::read(bytes).map_err(|source| Error::WorldFile {
         world: world.to_owned(),
         source,
     })
 }
 
-/// Reads `topology.json`.
+/// Reads `topology.json`, checked against the grid `occupancy.npy` has.
 pub fn cells(world: &Path) -> Result<Cells, Error> {
-    let t: Topology = read_doc(
-        world,
-        "is it a world folder written by `subtgraph generate`?",
-    )?;
+    let hint = "is it a world folder written by `subtgraph generate`?";
+    let t: Topology = read_doc(world, hint)?;
+    let occupancy = read_file(world, "occupancy.npy", hint)?;
+    let shape = subtgraph_core::npy::shape(&occupancy).map_err(|source| Error::Npy {
+        file: world.join("occupancy.npy").display().to_string(),
+        source,
+    })?;
+    cells_of(t, &shape, world)
+}
+
+/// The cells of a world from its `topology.json`, whose grid must be the `[levels, rows,
+/// cols]` of its `occupancy.npy` (so the grid allocated here is one the world folder holds, not
+/// a number written into a text file).
+pub fn cells_of(t: Topology, occupancy: &[usize], world: &Path) -> Result<Cells, Error> {
+    if occupancy != [t.levels, t.rows, t.cols] {
+        return Err(Error::WorldFile {
+            world: world.to_owned(),
+            source: subtgraph_schema::SchemaError::invalid::<Topology>(format!(
+                "its grid is {} level(s) of {} x {} cells, but occupancy.npy has shape {occupancy:?}",
+                t.levels, t.rows, t.cols
+            )),
+        });
+    }
     let mut offsets = vec![[0i64, 0i64]; t.levels];
     for (level, offset) in offsets.iter_mut().enumerate() {
         if let Some(n) = t.nodes.iter().find(|n| n.cell.level == level) {
@@ -219,8 +250,12 @@ pub fn artifacts(world: &Path) -> Result<Vec<Truth>, Error> {
         world,
         "the world was made without [artifacts]; add an [artifacts] section to its pipeline and generate it again",
     )?;
-    Ok(doc
-        .artifacts
+    Ok(truth_of(doc))
+}
+
+/// The ground-truth artifacts of an `artifacts.json`.
+pub fn truth_of(doc: Artifacts) -> Vec<Truth> {
+    doc.artifacts
         .into_iter()
         .map(|a| Truth {
             id: a.id,
@@ -229,32 +264,41 @@ pub fn artifacts(world: &Path) -> Result<Vec<Truth>, Error> {
             position: a.position,
             level: a.cell.level,
         })
-        .collect())
+        .collect()
 }
 
 /// Reads `ground_truth/free_space.npy` and its `.json`: the grid and its free voxels.
 pub fn free_space(world: &Path) -> Result<(Grid, Bits), Error> {
     let hint = "scoring a map needs the world's free space: make it again with `subtgraph generate PIPELINE --format free-space` (or ground-truth), PIPELINE being its world.toml";
     let doc: FreeSpace = read_doc(world, hint)?;
-    let path = world.join("ground_truth/free_space.npy");
-    let bytes = std::fs::read(&path).map_err(Error::io(format!(
-        "{} has no ground_truth/free_space.npy: {hint}",
-        world.display()
-    )))?;
-    let [nz, ny, nx] = doc.shape;
-    let packed = nz * ny * nx.div_ceil(8);
-    if bytes.len() < packed {
+    let file = "ground_truth/free_space.npy";
+    let bytes = read_file(world, file, hint)?;
+    free_space_of(&doc, &bytes, &world.join(file))
+}
+
+/// The grid `free_space.json` describes and the free voxels of its `free_space.npy` (`bytes`):
+/// an array of `uint8` of its `packed_shape`, read from just after the header.
+pub fn free_space_of(doc: &FreeSpace, bytes: &[u8], path: &Path) -> Result<(Grid, Bits), Error> {
+    let info = subtgraph_core::npy::info(bytes).map_err(|source| Error::Npy {
+        file: path.display().to_string(),
+        source,
+    })?;
+    if info.shape != doc.packed_shape || info.size != 1 || !matches!(info.kind, b'u' | b'b') {
         return Err(Error::Input(format!(
-            "{}: shorter than its shape {:?} needs",
+            "{}: an array of shape {:?} and {}-byte values, but free_space.json says uint8 of shape {:?}; was it edited? make the world again with `subtgraph generate`",
             path.display(),
-            doc.shape
+            info.shape,
+            info.size,
+            doc.packed_shape
         )));
     }
+    let [nz, ny, nx] = doc.shape;
     let grid = Grid {
         origin: doc.origin,
         voxel: doc.voxel_m,
         n: [nx, ny, nz],
     };
-    let free = Bits::from_packed(grid.n, &bytes[bytes.len() - packed..]);
+    let data = &bytes[info.data_start..info.data_start + info.count];
+    let free = Bits::from_packed(grid.n, data);
     Ok((grid, free))
 }

@@ -343,7 +343,10 @@ fn load_world_folder(dir: &Path, group: &str) -> Result<Sample> {
 }
 
 fn load_npy(path: &Path, group: &str, pipeline: Option<&Pipeline>) -> Result<Sample> {
-    let bytes = std::fs::read(path).map_err(Error::io("cannot read it"))?;
+    let bytes = crate::input::read(path).map_err(|e| match e {
+        Error::Io { source, .. } => Error::io("cannot read it")(source),
+        e => e,
+    })?;
     // The warning that skips the file names it already.
     let array = npy::decode(&bytes).map_err(|e| Error::Input(e.to_string()))?;
     let default = Pipeline::default();

@@ -19,6 +19,7 @@ mod tables;
 use std::path::PathBuf;
 
 use crate::Error;
+use crate::folder::{Kind, Out};
 
 pub use load::{Group, Sample, load, sample_of};
 
@@ -82,6 +83,16 @@ impl StatsRequest {
     /// Loads the inputs, computes the statistics and writes the report folder.
     pub fn run(&self) -> Result<Report, Error> {
         let (inputs, out) = (&self.inputs, &self.out);
+        let reading: Vec<&std::path::Path> = inputs.iter().map(PathBuf::as_path).collect();
+        // A report replaces only an earlier report (stats needs no --force for that), never a
+        // world, another command's folder or anything it reads.
+        let destination = Out {
+            path: out,
+            kind: Kind::Stats,
+            force: true,
+            reading: &reading,
+        };
+        destination.check()?;
         let groups = load(inputs)?;
         let total: usize = groups.iter().map(|g| g.samples.len()).sum();
         if total == 0 {
@@ -109,7 +120,7 @@ impl StatsRequest {
         let stats = report::compute(&groups, self.crop);
         // Written atomically like a world folder: an earlier report is replaced, a folder
         // holding anything else is refused, and nothing is half-written.
-        crate::folder::write_atomically(out, true, |w| {
+        crate::folder::write_atomically(&destination, |w| {
             tables::write(&stats, &groups, w.root())?;
             charts::write_all(&stats, &groups, w.root())
         })?;
