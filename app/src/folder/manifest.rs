@@ -173,7 +173,8 @@ pub fn read(dir: &Path) -> Option<Manifest> {
     parse(&text)
 }
 
-fn parse(text: &str) -> Option<Manifest> {
+/// Parses a manifest's text (`None` when it is not one of ours).
+pub fn parse(text: &str) -> Option<Manifest> {
     let mut lines = text.lines().filter(|l| !l.starts_with('#'));
     let head = lines.next()?;
     let kind = match head.strip_prefix("complete") {

@@ -133,6 +133,7 @@ pub(super) fn read(bytes: &[u8], name: &str) -> Result<Points, Error> {
         offset: idx.map(|k| offsets[k]),
         scalar: idx.map(|k| fields[k].scalar),
         column: idx.map(|k| columns[k]),
+        columns: column,
     };
     let body = &bytes[end..];
     match data {

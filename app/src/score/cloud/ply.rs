@@ -131,6 +131,7 @@ pub(super) fn read(bytes: &[u8], name: &str) -> Result<Points, Error> {
         offset: idx.map(offset),
         scalar: idx.map(|k| scalars[k]),
         column: idx,
+        columns: scalars.len(),
     };
     let data = &bytes[end..];
     match h.format {

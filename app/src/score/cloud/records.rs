@@ -91,12 +91,13 @@ impl Scalar {
 }
 
 /// Where x, y and z are in a record: byte offsets and types (binary) or column indices
-/// (ASCII).
+/// (ASCII), and the values an ASCII record has.
 #[derive(Clone, Copy, Debug)]
 pub(super) struct Xyz {
     pub offset: [usize; 3],
     pub scalar: [Scalar; 3],
     pub column: [usize; 3],
+    pub columns: usize,
 }
 
 /// Reads `count` fixed-layout records of `stride` bytes from the start of `data`, whose
@@ -154,6 +155,17 @@ pub(super) fn ascii(
             break;
         }
         let cells: Vec<&str> = line.split_ascii_whitespace().collect();
+        if cells.len() < xyz.columns {
+            return Err(bad(
+                name,
+                format!(
+                    "point {k} (line {}): {} values, but the header gives each point {}",
+                    first_line + k,
+                    cells.len(),
+                    xyz.columns
+                ),
+            ));
+        }
         let mut p = [0f32; 3];
         for (axis, &c) in xyz.column.iter().enumerate() {
             let cell = cells.get(c).ok_or_else(|| {
