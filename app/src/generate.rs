@@ -89,7 +89,7 @@ impl GenerateRequest {
         &self,
         extend: &mut dyn FnMut(&mut Registry) -> Result<(), Error>,
     ) -> Result<Prepared, Error> {
-        let budget = memory::budget(self.max_memory.as_deref())?;
+        let budget = self.check_arguments()?;
         let (pipeline, description) = self.pipeline()?;
         let mut registry = crate::registry_with(&pipeline, &self.plugins)?;
         extend(&mut registry)?;
@@ -164,9 +164,20 @@ impl GenerateRequest {
         r
     }
 
+    /// Checks the arguments' values (the memory size, the seed), which need nothing read.
+    pub fn check_arguments(&self) -> Result<Budget, Error> {
+        let budget = memory::budget(self.max_memory.as_deref())?;
+        if let Some(seed) = self.seed {
+            pipeline::check_seed(seed, self.frontend)?;
+        }
+        Ok(budget)
+    }
+
     /// Makes the world and writes its folder at `out` (replacing a world folder there only
-    /// with `force`), atomically. `--out` is checked before anything is read or made.
+    /// with `force`), atomically. The arguments, then `--out`, are checked before anything is
+    /// read or made.
     pub fn write(&self, out: &Path, force: bool) -> Result<Written, Error> {
+        self.check_arguments()?;
         let reading = self.reading();
         let out = Out {
             path: out,

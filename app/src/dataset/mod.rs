@@ -5,7 +5,7 @@
 //! [`subtgraph_core::rng::derive_seed`]), so a world depends only on its source, the base seed
 //! and its index: not on `--jobs`, not on `--shard`, not on which worlds were made before. Each
 //! world is a normal world folder (`cave-0000/`, ...) written atomically by
-//! [`crate::make::write`]; its `world.toml` records its seed and resolved configuration and
+//! [`crate::pipeline::write_folder`]; its `world.toml` records its seed and resolved configuration and
 //! regenerates it on its own.
 //!
 //! Timings differ between runs, so they are kept out of the world folders (which are

@@ -165,7 +165,7 @@ pub(super) fn destination(out: &Path) -> Result<(PathBuf, std::ffi::OsString), F
 }
 
 /// Removes what killed runs left in the folder `out` goes into (the same parent
-/// [`write_atomically`] writes its temporary folder in, `w/.` resolved); returns that folder
+/// [`super::write_atomically`] writes its temporary folder in, `w/.` resolved); returns that folder
 /// and how many were removed, when any were.
 pub fn sweep_stale_beside(out: &Path) -> Option<(PathBuf, usize)> {
     let (parent, _) = destination(out).ok()?;

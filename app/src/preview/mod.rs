@@ -18,9 +18,9 @@
 //! same PNG bytes.
 //!
 //! [`PreviewRequest::run`] takes these steps: the node a close-up or inside view is taken at
-//! ([`place`]), the mesh ([`scene`]), the view framed (cropped around the node, or the eye put
-//! on its floor), the camera and lamp placed ([`camera`]), the triangles rasterised and the
-//! pixels shaded ([`draw`]), and the picture written.
+//! (`place.rs`), the mesh (`scene.rs`), the view framed (cropped around the node, or the eye
+//! put on its floor), the camera and lamp placed (`camera.rs`), the triangles rasterised and
+//! the pixels shaded (`draw.rs`), and the picture written.
 
 mod camera;
 mod draw;

@@ -5,7 +5,7 @@
 //! Writes into the report folder: `stats.json` (everything), `groups.csv` (the headline
 //! numbers, one row per group and `all`), `worlds.csv` (one row per world),
 //! `pairwise-iou.csv` and `pairwise-iou-eq19-as-printed.csv` (matrices over all worlds, in
-//! group order), and each plot as SVG and PNG (`charts.rs`, drawn by [`plot`]).
+//! group order), and each plot as SVG and PNG (`charts.rs`, drawn by [`subtgraph_plot`]).
 //!
 //! Pairwise IoU compares level 0 of two worlds (as the original's numbers do); mirror
 //! asymmetry is per level, averaged over every level of every world of the group.
