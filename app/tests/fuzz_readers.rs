@@ -84,7 +84,7 @@ fn note(size: usize) {
         let mut buf = [0u8; 160];
         let mut w = &mut buf[..];
         let case = CASE.load(Ordering::Relaxed);
-        let _ = write!(w, "fuzz: an allocation of {size} bytes in case {case}\n");
+        let _ = writeln!(w, "fuzz: an allocation of {size} bytes in case {case}");
         let used = 160 - w.len();
         let _ = std::io::stderr().write_all(&buf[..used]);
     }
@@ -675,7 +675,7 @@ fn every_reader_answers_mutated_files_with_a_clean_error_in_bounded_memory() {
         .filter(|m| m.len >= 4096)
         .map(|m| m.allocated as f64 / m.len as f64)
         .fold(0.0, f64::max);
-    all.sort_by(|a, b| b.took.cmp(&a.took));
+    all.sort_by_key(|m| std::cmp::Reverse(m.took));
     eprintln!(
         "fuzz: {} cases of {} readers in {:.2} s (seed {seed}); most allocated per byte of a file over 4 kB {worst_ratio:.1} (allowed {ALLOWED_PER_BYTE}); slowest:",
         all.len(),

@@ -289,7 +289,8 @@ fn an_edited_topology_is_refused_not_a_panic() {
     let r = reports(dir.path(), &w);
     let map = surface_map(dir.path(), &w);
     let original = std::fs::read(w.join("topology.json")).unwrap();
-    let edits: [(&str, fn(&mut Value)); 4] = [
+    type Edit = (&'static str, fn(&mut Value));
+    let edits: [Edit; 4] = [
         ("edge 0 joins nodes", |t| {
             t["edges"][0]["to"] = 100_000.into()
         }),

@@ -7,6 +7,7 @@ use super::View;
 use super::scene::{Scene, used_bounds};
 
 /// `a` scaled to length 1 (a zero vector stays zero: degenerate triangles shade black).
+#[inline]
 pub(super) fn norm(a: V3) -> V3 {
     let l = dot(a, a).sqrt().max(1e-12);
     [a[0] / l, a[1] / l, a[2] / l]
@@ -33,12 +34,14 @@ impl Camera {
         (forward, right, cross(right, forward))
     }
 
+    #[inline]
     pub fn to_camera(&self, p: V3) -> V3 {
         let d = sub(p, self.eye);
         [dot(d, self.right), dot(d, self.up), dot(d, self.forward)]
     }
 
     /// Pixel coordinates and depth of a camera-frame point in front of the camera.
+    #[inline]
     pub fn to_screen(&self, c: V3) -> V3 {
         [
             self.half[0] + self.focal * (c[0] / c[2] - self.centre[0]),
@@ -48,6 +51,7 @@ impl Camera {
     }
 
     /// The world point at depth `z` seen through pixel (`px`, `py`).
+    #[inline]
     pub fn at_pixel(&self, px: f64, py: f64, z: f64) -> V3 {
         let u = (px - self.half[0]) / self.focal + self.centre[0];
         let v = -((py - self.half[1]) / self.focal + self.centre[1]);
@@ -57,6 +61,7 @@ impl Camera {
 
 /// The part of a camera-frame triangle in front of the plane `z = near` (none, a triangle or
 /// a quadrilateral), in order.
+#[inline]
 pub(super) fn clip_near(c: [V3; 3], near: f64) -> Vec<V3> {
     let mut out = Vec::with_capacity(4);
     for k in 0..3 {

@@ -168,12 +168,14 @@ pub(super) fn encode(
 }
 
 /// A material colour under `shade` (0 to 1 of full light), with a square-root gamma.
+#[inline]
 fn colour(c: [f32; 3], shade: f64) -> [u8; 3] {
     c.map(|c| ((f64::from(c) * shade).max(0.0).sqrt().min(1.0) * 255.0) as u8)
 }
 
 /// Draws one screen triangle (pixel x, pixel y, camera depth) into the depth buffer, keeping
 /// triangle `id` where it is nearest. Depth is interpolated as 1/z, which is linear on screen.
+#[inline]
 fn fill(
     [a, b, c]: [V3; 3],
     id: u32,

@@ -100,22 +100,78 @@ impl Bits {
     /// and a set grown by its axis's length covers that axis wherever it has a voxel, so `r`
     /// is cut to it. A radius of 1e300 metres costs what one of the world's size does.
     pub fn dilate(&self, r: usize) -> Bits {
-        let mut out = self.clone();
-        for s in steps(r.min(self.n[0])) {
-            out = out.grown_along_x(s);
-        }
-        let [_, ny, nz] = self.n;
-        for s in steps(r.min(ny)) {
-            out = out.grown_along_rows(s, 1, ny);
-        }
-        for s in steps(r.min(nz)) {
-            out = out.grown_along_rows(s, ny, nz);
+        let [nx, ny, nz] = self.n;
+        let mut out = self.grown_along_x(r.min(nx));
+        for (stride, len) in [(1, ny), (ny, nz)] {
+            let r = r.min(len);
+            out = if r <= WINDOW {
+                out.grown_within_rows(r, stride, len)
+            } else {
+                steps(r)
+                    .into_iter()
+                    .fold(out, |b, s| b.grown_along_rows(s, stride, len))
+            };
         }
         out
     }
 
-    /// Each voxel ORed with those `s` away along x.
-    fn grown_along_x(&self, s: usize) -> Bits {
+    /// Grown by `r` along x: directly for a few voxels, by doubling passes beyond.
+    fn grown_along_x(&self, r: usize) -> Bits {
+        if r <= WINDOW {
+            return self.grown_within_x(r);
+        }
+        steps(r)
+            .into_iter()
+            .fold(self.clone(), |b, s| b.grown_by_pass_x(s))
+    }
+
+    /// Grown by `r` (at most [`WINDOW`]) along x: `r` steps of one voxel over each row, in
+    /// place, carrying across words.
+    fn grown_within_x(&self, r: usize) -> Bits {
+        let words = self.words;
+        let mut out = self.clone();
+        for row in out.data.chunks_exact_mut(words) {
+            for _ in 0..r {
+                // Bit 63 of the word before, as it was before this step.
+                let mut carry = 0u64;
+                for k in 0..words {
+                    let v = row[k];
+                    let next_low = if k + 1 < words { row[k + 1] & 1 } else { 0 };
+                    row[k] = v | (v << 1) | carry | (v >> 1) | (next_low << 63);
+                    carry = v >> 63;
+                }
+            }
+        }
+        out.mask();
+        out
+    }
+
+    /// Each row grown by `r` (at most [`WINDOW`]) along the axis whose index steps by `stride`
+    /// rows and runs to `len`: the OR of the rows within `r`, in one pass.
+    fn grown_within_rows(&self, r: usize, stride: usize, len: usize) -> Bits {
+        if r == 0 {
+            return self.clone();
+        }
+        let w = self.words;
+        let mut out = Bits::empty(self.n);
+        let rows = self.n[1] * self.n[2];
+        for block in (0..rows).step_by(stride * len) {
+            for idx in 0..len {
+                for off in 0..stride {
+                    let r0 = block + idx * stride + off;
+                    let dst = &mut out.data[r0 * w..(r0 + 1) * w];
+                    for t in idx.saturating_sub(r)..=(idx + r).min(len - 1) {
+                        let src = block + t * stride + off;
+                        or_into(dst, &self.data[src * w..(src + 1) * w]);
+                    }
+                }
+            }
+        }
+        out
+    }
+
+    /// Each voxel ORed with those `s` away along x (one doubling pass).
+    fn grown_by_pass_x(&self, s: usize) -> Bits {
         let words = self.words;
         let (q, b) = (s / 64, (s % 64) as u32);
         let mut out = self.clone();
@@ -124,6 +180,16 @@ impl Bits {
             .chunks_exact_mut(words)
             .zip(self.data.chunks_exact(words))
         {
+            if q == 0 {
+                // Within a word and into its neighbours: the common case, a few voxels.
+                let mut lower = 0u64;
+                for (k, (d, &w)) in dst.iter_mut().zip(src).enumerate() {
+                    let higher = src.get(k + 1).copied().unwrap_or(0);
+                    *d |= (w << b) | (lower >> (64 - b)) | (w >> b) | (higher << (64 - b));
+                    lower = w;
+                }
+                continue;
+            }
             let at = |k: usize| src.get(k).copied().unwrap_or(0);
             for (k, w) in dst.iter_mut().enumerate() {
                 // From `s` below (k - q words, b bits) and from `s` above.
@@ -131,10 +197,8 @@ impl Bits {
                     let lower = j.checked_sub(1).map_or(0, at);
                     (at(j) << b) | if b == 0 { 0 } else { lower >> (64 - b) }
                 });
-                let above = {
-                    let j = k + q;
-                    (at(j) >> b) | if b == 0 { 0 } else { at(j + 1) << (64 - b) }
-                };
+                let j = k + q;
+                let above = (at(j) >> b) | if b == 0 { 0 } else { at(j + 1) << (64 - b) };
                 *w |= below | above;
             }
         }
@@ -146,25 +210,38 @@ impl Bits {
     /// steps by `stride` rows and runs to `len`: y (`stride` 1, `len` ny) or z (`stride` ny,
     /// `len` nz).
     fn grown_along_rows(&self, s: usize, stride: usize, len: usize) -> Bits {
-        let words = self.words;
+        let w = self.words;
         let mut out = self.clone();
         let rows = self.n[1] * self.n[2];
-        for r0 in 0..rows {
-            let idx = (r0 / stride) % len;
-            let dst = r0 * words;
-            for other in [idx.checked_sub(s), Some(idx + s).filter(|&i| i < len)]
-                .into_iter()
-                .flatten()
-            {
-                let src = (r0 + other * stride - idx * stride) * words;
-                for w in 0..words {
-                    out.data[dst + w] |= self.data[src + w];
+        let row = |r: usize| &self.data[r * w..(r + 1) * w];
+        for block in (0..rows).step_by(stride * len) {
+            for idx in 0..len {
+                for off in 0..stride {
+                    let r0 = block + idx * stride + off;
+                    let dst = &mut out.data[r0 * w..(r0 + 1) * w];
+                    if idx >= s {
+                        or_into(dst, row(r0 - s * stride));
+                    }
+                    if idx + s < len {
+                        or_into(dst, row(r0 + s * stride));
+                    }
                 }
             }
         }
         out
     }
 }
+
+/// `dst |= src`, word by word.
+fn or_into(dst: &mut [u64], src: &[u64]) {
+    for (d, s) in dst.iter_mut().zip(src) {
+        *d |= *s;
+    }
+}
+
+/// Up to this radius a set grows along an axis in one pass over the rows within it (at most
+/// `2 WINDOW + 1` of them); beyond, by doubling passes.
+const WINDOW: usize = 8;
 
 /// The passes that grow a set by `r`: 1, 2, 4, ... and what remains, each at most one more
 /// than twice the growth so far, so no voxel in between is skipped.
