@@ -144,7 +144,7 @@ impl FloorHazard {
 }
 
 /// Where a tile set put a rubble field or a drop, in world metres, for the ground truth.
-#[derive(Clone, Debug, PartialEq, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct HazardRegion {
     /// Rubble or drop.
     pub kind: FloorHazard,
@@ -160,10 +160,10 @@ pub struct HazardRegion {
     pub z: [f64; 2],
     /// A passable rubble field's lane free of rocks, `[x0, y0, x1, y1]` (it runs along the
     /// whole field).
-    #[serde(skip_serializing_if = "Option::is_none")]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub gap: Option<[f64; 4]>,
     /// Rubble: each rock as `[x, y, z, radius]` (a sphere, roughened by the wall relief).
-    #[serde(skip_serializing_if = "Vec::is_empty")]
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub rocks: Vec<[f64; 4]>,
 }
 

@@ -483,8 +483,8 @@ impl subtgraph_core::export::Exporter for Gate {
 }
 
 /// An exporter that fails, so the world folder is not written, once `failures` has one.
-pub fn gate(failures: &Arc<Failures>) -> subtgraph::make::NamedExporter {
-    subtgraph::make::NamedExporter {
+pub fn gate(failures: &Arc<Failures>) -> subtgraph_app::pipeline::NamedExporter {
+    subtgraph_app::pipeline::NamedExporter {
         name: "python callbacks".into(),
         exporter: Box::new(Gate(failures.clone())),
     }

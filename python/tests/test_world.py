@@ -167,6 +167,20 @@ def test_export_never_touches_a_users_files(tmp_path):
     assert "seed = 8" in (tmp_path / "ours" / "world.toml").read_text()
 
 
+def test_stats_never_replaces_a_world_or_what_it_reads(tmp_path):
+    # Issue 21 item 1: stats([w], w2) replaced the world w2 with a report.
+    for name, seed in (("a", 1), ("b", 2)):
+        subtgraph.generate(preset="cave", seed=seed, mesh=False).export(tmp_path / name)
+    before = tree(tmp_path / "b")
+    with pytest.raises(subtgraph.FolderError, match="world folder"):
+        subtgraph.stats([tmp_path / "a"], tmp_path / "b")
+    with pytest.raises(subtgraph.FolderError, match="reads"):
+        subtgraph.stats([tmp_path / "a"], tmp_path / "a")
+    assert tree(tmp_path / "b") == before
+    assert "worlds" in subtgraph.stats([tmp_path / "a", tmp_path / "b"], tmp_path / "report")
+    subtgraph.stats([tmp_path / "a"], tmp_path / "report")
+
+
 def test_export_formats_are_recorded_in_world_toml(cli, tmp_path):
     world = subtgraph.generate(preset="cave", seed=7)
     world.export(tmp_path / "w", formats=["urdf", "graph"])

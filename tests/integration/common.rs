@@ -5,13 +5,62 @@
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
+/// The binary the tests run: this build's, or the one `SUBTGRAPH_BIN` names, to show that a
+/// test fails on a build from before its fix
+/// (`SUBTGRAPH_BIN=old/subtgraph cargo test --test integration reliability::`).
+pub fn binary() -> PathBuf {
+    std::env::var_os("SUBTGRAPH_BIN").map_or_else(
+        || PathBuf::from(env!("CARGO_BIN_EXE_subtgraph")),
+        PathBuf::from,
+    )
+}
+
 /// Runs `subtgraph` with arguments, from the repository root.
 pub fn subtgraph(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_subtgraph"))
+    Command::new(binary())
         .args(args)
         .current_dir(env!("CARGO_MANIFEST_DIR"))
         .output()
         .expect("the binary runs")
+}
+
+/// Runs `subtgraph` as [`subtgraph`] does, failing the test if it has not ended after `limit`
+/// (it is killed): a guard against a hang, far above what the run needs, not a timing.
+pub fn subtgraph_within(args: &[&str], limit: std::time::Duration) -> Output {
+    let mut child = Command::new(binary())
+        .args(args)
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .expect("the binary runs");
+    // Read as it comes, so a full pipe never stops the child.
+    let drain = |mut r: Box<dyn std::io::Read + Send>| {
+        std::thread::spawn(move || {
+            let mut v = Vec::new();
+            let _ = r.read_to_end(&mut v);
+            v
+        })
+    };
+    let out = drain(Box::new(child.stdout.take().expect("piped")));
+    let err = drain(Box::new(child.stderr.take().expect("piped")));
+    let started = std::time::Instant::now();
+    let status = loop {
+        if let Some(status) = child.try_wait().expect("waiting works") {
+            break status;
+        }
+        if started.elapsed() > limit {
+            let _ = child.kill();
+            let _ = child.wait();
+            panic!("subtgraph {args:?} did not end within {limit:?}: it hangs");
+        }
+        std::thread::sleep(std::time::Duration::from_millis(50));
+    };
+    Output {
+        status,
+        stdout: out.join().expect("read"),
+        stderr: err.join().expect("read"),
+    }
 }
 
 /// Runs `subtgraph`, asserting success; returns standard output.

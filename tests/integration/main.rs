@@ -28,6 +28,7 @@ mod passages;
 mod plugins;
 mod preview;
 mod ramps;
+mod reliability;
 mod room_and_pillar;
 mod rubble;
 mod score;
