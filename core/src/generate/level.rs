@@ -3,7 +3,7 @@
 
 use crate::rng::WorldRng;
 use crate::route::{RouteDescriptor, Segment};
-use crate::shape::{ConstraintShape, Heading, rotate_offset};
+use crate::shape::{ConstraintShape, Heading, Offset, rotate_offset};
 use crate::topology::{self, Counts, GridView};
 
 use super::search::Search;
@@ -132,18 +132,26 @@ impl Level {
 
 /// The junction tiles and cycles a structure brings by itself: a footprint cell with three
 /// neighbours-or-arms is a T-junction, with four an intersection.
+///
+/// Neighbours and arms are looked up in sorted copies (binary search), so the cost is
+/// `n log n` in the footprint's cells: a room-and-pillar block of 1000 x 1000 pillars has
+/// three million, where a linear search per neighbour took hours.
 pub fn structure_counts(shape: &dyn ConstraintShape) -> Counts {
-    let cells = shape.footprint();
-    let arms = shape.arms();
+    let mut cells = shape.footprint();
+    cells.sort_unstable();
+    let mut arm_cells: Vec<Offset> = shape.arms().iter().map(|a| a.from).collect();
+    arm_cells.sort_unstable();
     let mut c = Counts::default();
     let mut edges = 0;
     for &(r, k) in &cells {
         let inner = [(0, 1), (-1, 0), (0, -1), (1, 0)]
             .iter()
-            .filter(|(dr, dc)| cells.contains(&(r + dr, k + dc)))
+            .filter(|(dr, dc)| cells.binary_search(&(r + dr, k + dc)).is_ok())
             .count();
         edges += inner;
-        match inner + arms.iter().filter(|a| a.from == (r, k)).count() {
+        let arms = arm_cells.partition_point(|&a| a <= (r, k))
+            - arm_cells.partition_point(|&a| a < (r, k));
+        match inner + arms {
             3 => c.t_junctions += 1,
             4 => c.intersections += 1,
             _ => {}
@@ -421,9 +429,16 @@ fn place<'a>(
     let footprint = shape.footprint();
     let clearance = shape.clearance().max(1);
     let (rmax, cmax) = ((lvl.rows as i64 - 4).max(3), (lvl.cols as i64 - 4).max(3));
+    // The footprint's extent, so a centre that puts it across the border is rejected without
+    // listing its cells: a large block (a room-and-pillar panel of millions of cells) fits
+    // only a few of the drawn centres.
+    let extent = Extent::of(&footprint);
     for _ in 0..200 {
         let rotation = rng.below(u64::from(shape.rotations().clamp(1, 4))) as u8;
         let centre = (rng.int_in(3, rmax) as i32, rng.int_in(3, cmax) as i32);
+        if !extent.inside(centre, rotation, lvl.rows, lvl.cols) {
+            continue;
+        }
         let cells: Vec<(i32, i32)> = footprint
             .iter()
             .map(|&o| {
@@ -431,12 +446,6 @@ fn place<'a>(
                 (centre.0 + dr, centre.1 + dc)
             })
             .collect();
-        let inside = cells.iter().all(|&(r, c)| {
-            r >= 1 && c >= 1 && (r as usize) < lvl.rows - 1 && (c as usize) < lvl.cols - 1
-        });
-        if !inside {
-            continue;
-        }
         let free = cells.iter().all(|&(r, c)| {
             (-clearance..=clearance).all(|dr| {
                 (-clearance..=clearance).all(|dc| {
@@ -486,6 +495,38 @@ fn place<'a>(
         });
     }
     None
+}
+
+/// The bounding box of a footprint, `None` for an empty one.
+struct Extent(Option<(Offset, Offset)>);
+
+impl Extent {
+    fn of(cells: &[Offset]) -> Self {
+        Self(cells.iter().fold(None, |b, &(r, c)| {
+            Some(b.map_or(((r, c), (r, c)), |((r0, c0), (r1, c1))| {
+                ((r0.min(r), c0.min(c)), (r1.max(r), c1.max(c)))
+            }))
+        }))
+    }
+
+    /// Whether every cell of the footprint, turned by `rotation` and centred on `centre`,
+    /// lies inside the level away from its border row and column (what [`place`] asks of
+    /// each cell).
+    fn inside(&self, centre: (i32, i32), rotation: u8, rows: usize, cols: usize) -> bool {
+        let Some(((r0, c0), (r1, c1))) = self.0 else {
+            return true;
+        };
+        [(r0, c0), (r0, c1), (r1, c0), (r1, c1)]
+            .into_iter()
+            .all(|corner| {
+                let (dr, dc) = rotate_offset(corner, rotation);
+                let (r, c) = (
+                    i64::from(centre.0) + i64::from(dr),
+                    i64::from(centre.1) + i64::from(dc),
+                );
+                r >= 1 && c >= 1 && r < rows as i64 - 1 && c < cols as i64 - 1
+            })
+    }
 }
 
 fn segment(lvl: &Level, a: (i32, i32), b: (i32, i32), rng: &mut WorldRng) -> Segment {

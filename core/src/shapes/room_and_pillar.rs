@@ -260,6 +260,21 @@ mod tests {
         }
     }
 
+    /// Issue 21 item 8: counting a block's crossings and loops cost the square of its cells
+    /// (a linear search per neighbour), hours for the largest block a 2048-cell level holds.
+    #[test]
+    fn the_largest_block_is_counted_in_near_linear_time() {
+        let b = PillarBlock {
+            rows: 1000,
+            cols: 999,
+        };
+        let c = structure_counts(&b);
+        assert_eq!(
+            (c.intersections, c.t_junctions, c.loops),
+            (1001 * 1000, 0, 1000 * 999)
+        );
+    }
+
     #[test]
     fn too_many_pillars_are_refused_naming_the_key() {
         let params = Params::from_table(
