@@ -351,12 +351,13 @@ impl Pipeline {
             });
         }
         let mut p: Pipeline = toml::from_str(source).map_err(|e| {
-            let offset = e.span().map_or(0, |s| s.start);
+            let (offset, message) =
+                crate::nesting::explain(source, e.span().map(|s| s.start), e.message());
             let location = Location::of_offset(&file, source, offset);
             ConfigError {
                 key: key_at(source, offset),
                 location,
-                message: e.message().trim().to_owned(),
+                message,
             }
         })?;
         p.route.params.locate(&file, source, "route".into());

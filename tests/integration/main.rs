@@ -21,6 +21,7 @@ mod ground_truth;
 mod guarantees;
 mod hazards;
 mod hidden_artifacts;
+mod hostile_configs;
 mod limits;
 mod mesh_files;
 mod messages;
