@@ -6,7 +6,7 @@ use serde::Deserialize;
 use subtgraph_core::Layout;
 use subtgraph_core::budget::TileTriangles;
 use subtgraph_core::config::Connections;
-use subtgraph_core::error::ConfigError;
+use subtgraph_core::error::{ConfigError, number};
 use subtgraph_core::grid::Shaft;
 use subtgraph_core::mesh::Material;
 use subtgraph_core::params::Params;
@@ -209,9 +209,8 @@ impl Procedural {
     /// ceiling leaves below the next level's block (on one level, the same margin below the top
     /// of its own block, so the ceiling stays a closed surface inside the tile).
     fn lift_room(&self, world: &Layout, p: &Passage) -> f64 {
-        let levels = self.levels(world);
         let top = p.height * (1.0 + p.height_variation) + p.roughness + p.floor_roughness;
-        world.resolved.level_height - 2.0 * levels.below_floor - top
+        self.levels(world).head() - top
     }
 
     /// The floors' waves: as long as a few tiles (at least one pitch, at most three), shorter
@@ -272,22 +271,87 @@ impl Procedural {
     }
 
     fn levels(&self, world: &Layout) -> Levels {
+        self.levels_apart(world, world.resolved.level_height)
+    }
+
+    /// The levels' vertical layout were they `height` metres apart.
+    fn levels_apart(&self, world: &Layout, height: f64) -> Levels {
         let h = world.resolved.tile_pitch / f64::from(self.resolution().0);
-        let mut below_floor = (0.12 * world.resolved.level_height).max(2.0 * h);
+        let rock = (0.12 * height).max(2.0 * h);
+        let mut below_floor = rock;
         if crate::rubble::has_drops(world) {
-            // A drop's pit, and two lattice cells of rock under it. The pit's depth comes from
-            // the nominal height alone: `passage()` needs the levels (through the slopes' room
-            // and the chambers' fit), so calling it here would recurse.
-            let height = self
-                .settings
-                .height
-                .unwrap_or(self.style.height * world.resolved.tile_pitch);
-            below_floor = below_floor.max(crate::rubble::pit_depth(height) + 2.0 * h);
+            below_floor = below_floor.max(self.pit_depth(world) + 2.0 * h);
         }
         Levels {
-            height: world.resolved.level_height,
+            height,
             below_floor,
+            above_ceiling: rock,
             coarse: world.resolved.tile_pitch / f64::from(self.resolution().1),
+        }
+    }
+
+    /// How deep a drop's pit is. It comes from the nominal height alone: `passage()` needs
+    /// the levels (through the slopes' room and the chambers' fit), so calling it here would
+    /// recurse.
+    fn pit_depth(&self, world: &Layout) -> f64 {
+        let height = self
+            .settings
+            .height
+            .unwrap_or(self.style.height * world.resolved.tile_pitch);
+        crate::rubble::pit_depth(height)
+    }
+
+    /// Why passages up to `top` metres high do not fit between the levels: what the rock
+    /// under the next level's floor (a drop's pit and the rock under it, in a world with
+    /// drops) and above this level's ceiling leave, and the level spacing that would fit.
+    fn levels_too_close(&self, world: &Layout, levels: &Levels, top: f64) -> TileSetError {
+        let name = self.style.name;
+        let apart = number(levels.height);
+        // The spacing that fits, rounded up to the decimetre shown. The rock grows with the
+        // spacing (an eighth of it), so the spacing is found as the fixed point of
+        // `top + rock(spacing)`, which a few rounds reach (each step is at most a quarter of
+        // the last).
+        let mut need = levels.height;
+        for _ in 0..64 {
+            let l = self.levels_apart(world, need);
+            need = top + l.below_floor + l.above_ceiling;
+        }
+        let need = (need * 10.0).ceil() / 10.0;
+        let rock = levels.above_ceiling;
+        let pit = self.pit_depth(world);
+        if crate::rubble::has_drops(world) && levels.below_floor > rock {
+            let under = levels.below_floor - pit;
+            if top <= levels.height - 2.0 * rock {
+                return TileSetError::Unsuited {
+                    what: format!(
+                        "{name}: hazards.drops: a drop's pit is {pit:.1} m deep with {under:.1} m \
+                         of rock under it, so with passages up to {top:.1} m high and {rock:.1} m \
+                         of rock above them levels must be at least {need:.1} m apart; they are \
+                         {apart} m apart (without drops they would fit)"
+                    ),
+                    fix: format!(
+                        "raise world.level_height to {need:.1} or more, lower [tileset] height \
+                         (a pit is 0.3 of it deep), use a finer [tileset] resolution (the rock \
+                         under a pit is two lattice cells), or leave out hazards.drops"
+                    ),
+                };
+            }
+        }
+        let below = levels.below_floor;
+        let pits = if levels.below_floor > rock {
+            " (a drop's pit and the rock under it: hazards.drops)"
+        } else {
+            ""
+        };
+        TileSetError::Unsuited {
+            what: format!(
+                "{name}: passages up to {top:.1} m high, with {rock:.1} m of rock above their \
+                 ceiling and {below:.1} m under the next level's floor{pits}, need levels at \
+                 least {need:.1} m apart; they are {apart} m apart"
+            ),
+            fix: format!(
+                "raise world.level_height to {need:.1} or more, or lower [tileset] height"
+            ),
         }
     }
 
@@ -313,7 +377,8 @@ impl Procedural {
             Unfit::Narrow { width, room } => TileSetError::Unsuited {
                 what: format!(
                     "{name}: a ramp of passages {width:.1} m wide leaves no rock pillar in tiles \
-                     {pitch} m apart (the spiral must stay within {room:.1} m of its centre)"
+                     {} m apart (the spiral must stay within {room:.1} m of its centre)",
+                    number(pitch)
                 ),
                 fix: "use a smaller [tileset] width, a larger world.tile_pitch, a finer [tileset] \
                       resolution or collision_resolution (the pillar must hold collision lattice \
@@ -322,11 +387,12 @@ impl Procedural {
             },
             Unfit::Steep { grade } => TileSetError::Unsuited {
                 what: format!(
-                    "{name}: the gentlest ramp between levels {} m apart in tiles {pitch} m apart \
+                    "{name}: the gentlest ramp between levels {} m apart in tiles {} m apart \
                      climbs at {grade:.1} degrees, steeper than world.ramp_grade = {} (each turn \
                      must hold the {:.1} m high spiral passage and rock above it)",
-                    world.resolved.level_height,
-                    world.resolved.ramp_grade,
+                    number(world.resolved.level_height),
+                    number(pitch),
+                    number(world.resolved.ramp_grade),
                     sizing.height
                 ),
                 fix: "raise world.ramp_grade, use a larger world.tile_pitch or a lower [tileset] \
@@ -517,9 +583,10 @@ impl TileSet for Procedural {
             return Err(TileSetError::Unsuited {
                 what: format!(
                     "{name}: passages up to {:.1} m wide (width {:.1} m with its variation and relief) \
-                     do not fit tiles {pitch} m apart",
+                     do not fit tiles {} m apart",
                     2.0 * half_width,
-                    p.width
+                    p.width,
+                    number(pitch)
                 ),
                 fix: "use a smaller [tileset] width or roughness, or a larger world.tile_pitch"
                     .into(),
@@ -535,7 +602,6 @@ impl TileSet for Procedural {
             self.ramp_plan(world, s)?;
         }
         let top = p.height * (1.0 + p.height_variation) + p.roughness + p.floor_roughness;
-        let head = world.resolved.level_height - 2.0 * levels.below_floor;
         let [low, high] = self.grade(world, &p);
         let room = self.lift_room(world, &p);
         if high > 0.0 {
@@ -543,27 +609,24 @@ impl TileSet for Procedural {
             if most > room {
                 return Err(TileSetError::Unsuited {
                     what: format!(
-                        "{name}: [tileset] grade = [{low}, {high}] makes floors rise {most:.1} m \
+                        "{name}: [tileset] grade = [{}, {}] makes floors rise {most:.1} m \
                          within one tile pitch, but passages up to {top:.1} m high leave only \
                          {:.1} m below the next level (levels {} m apart)",
+                        number(low),
+                        number(high),
                         room.max(0.0),
-                        world.resolved.level_height
+                        number(world.resolved.level_height)
                     ),
                     fix: format!(
-                        "lower the high end of [tileset] grade (now {high} degrees), lower \
-                         [tileset] height, or raise world.level_height"
+                        "lower the high end of [tileset] grade (now {} degrees), lower \
+                         [tileset] height, or raise world.level_height",
+                        number(high)
                     ),
                 });
             }
         }
-        if world.resolved.levels > 1 && top > head {
-            return Err(TileSetError::Unsuited {
-                what: format!(
-                    "{name}: passages up to {top:.1} m high do not fit between levels {} m apart",
-                    world.resolved.level_height
-                ),
-                fix: "raise world.level_height or lower [tileset] height".into(),
-            });
+        if world.resolved.levels > 1 && top > levels.head() {
+            return Err(self.levels_too_close(world, &levels, top));
         }
         Ok(())
     }
