@@ -247,22 +247,101 @@ impl Procedural {
             rooms.squeeze_factor = q.factor.unwrap_or(rooms.squeeze_factor);
         }
         rooms.min_clearance = s.min_clearance.unwrap_or(rooms.min_clearance);
+        rooms.least_factor = self.least_factors(world, width, rooms.min_clearance);
+        rooms
+    }
+
+    /// The least squeeze factors that keep a `clearance` box clear in passages `width` wide
+    /// (more than 1 when even the unsqueezed passage cannot hold it).
+    fn least_factors(&self, world: &Layout, width: f64, clearance: [f64; 2]) -> [f64; 2] {
+        self.least_factors_within(world, width, clearance, true)
+    }
+
+    /// [`Self::least_factors`], with or without the `lattice` slack: half a collision lattice
+    /// cell, which the coarser collision surface may take from the passage.
+    fn least_factors_within(
+        &self,
+        world: &Layout,
+        width: f64,
+        clearance: [f64; 2],
+        lattice: bool,
+    ) -> [f64; 2] {
+        let pitch = world.resolved.tile_pitch;
+        let s = &self.settings;
+        let base = &self.style.shape;
         let height = s.height.unwrap_or(self.style.height * pitch);
         let relief = s.roughness.unwrap_or(base.roughness * width);
         // Half a collision lattice cell, and what a sloping floor (`tilesets/src/slope.rs`)
         // rises across the box: slopes run any way, so the floor tilts across passages too.
         let steepest = s.grade.map_or(base.grade[1], |g| g[1]).max(0.0);
-        let slack = 0.5 * pitch / f64::from(self.resolution().1)
-            + steepest.to_radians().tan() * rooms.min_clearance[0];
-        rooms.least_factor = least_factors(
+        let cell = if lattice {
+            0.5 * pitch / f64::from(self.resolution().1)
+        } else {
+            0.0
+        };
+        let slack = cell + steepest.to_radians().tan() * clearance[0];
+        least_factors(
             self.style.profile.as_ref(),
             width * (1.0 - base.width_variation),
             height * (1.0 - base.height_variation),
-            rooms.min_clearance,
+            clearance,
             relief,
             slack,
-        );
-        rooms
+        )
+    }
+
+    /// Why the robot's box `min_clearance` does not fit even the unsqueezed passage, with the
+    /// largest box of the same proportions that does. The same for a written value and the
+    /// default (a small ground robot): the same value gives the same answer.
+    fn clearance_unfit(&self, world: &Layout, p: &Passage) -> TileSetError {
+        let name = self.style.name;
+        let [cw, ch] = p.rooms.min_clearance;
+        let holds = |k: f64| {
+            self.least_factors_within(world, p.width, [k * cw, k * ch], false)
+                .iter()
+                .all(|&f| f <= 1.0)
+        };
+        let (mut lo, mut hi) = (0.0, 1.0);
+        for _ in 0..40 {
+            let mid = 0.5 * (lo + hi);
+            if holds(mid) {
+                lo = mid;
+            } else {
+                hi = mid;
+            }
+        }
+        // Rounded down to 5 cm, so the value suggested fits as written.
+        let down = |x: f64| number((x * 20.0).floor() / 20.0);
+        let default = match self.settings.min_clearance {
+            Some(_) => "",
+            None => " (its default: a small ground robot)",
+        };
+        let smaller = if (lo * cw * 20.0).floor() > 0.0 && (lo * ch * 20.0).floor() > 0.0 {
+            format!(
+                "set [tileset] min_clearance = [{}, {}] or less (the largest robot of these \
+                 proportions the passage holds), or widen the passage ([tileset] width, \
+                 height)",
+                down(lo * cw),
+                down(lo * ch)
+            )
+        } else {
+            "widen the passage ([tileset] width, height), or give a smaller [tileset] \
+             min_clearance"
+                .to_owned()
+        };
+        TileSetError::Unsuited {
+            what: format!(
+                "{name}: [tileset] min_clearance = [{}, {}]{default} does not fit even the \
+                 unsqueezed passage ({:.1} m \
+                 wide, {:.1} m high at its narrowest, less {:.2} m of wall relief)",
+                number(cw),
+                number(ch),
+                p.width * (1.0 - p.width_variation),
+                p.height * (1.0 - p.height_variation),
+                p.roughness
+            ),
+            fix: smaller,
+        }
     }
 
     fn resolution(&self) -> (u32, u32) {
@@ -559,23 +638,18 @@ impl TileSet for Procedural {
 
         let levels = self.levels(world);
         let name = self.style.name;
-        if let Some([cw, ch]) = self.settings.min_clearance {
-            let least = p.rooms.least_factor;
-            if least[0] > 1.0 || least[1] > 1.0 {
-                return Err(TileSetError::Unsuited {
-                    what: format!(
-                        "{name}: [tileset] min_clearance = [{cw}, {ch}] does not fit even the \
-                         unsqueezed passage ({:.1} m wide, {:.1} m high at its narrowest, less \
-                         {:.2} m of wall relief and half a collision lattice cell)",
-                        p.width * (1.0 - p.width_variation),
-                        p.height * (1.0 - p.height_variation),
-                        p.roughness
-                    ),
-                    fix: "lower [tileset] min_clearance (a robot's width and height, metres), \
-                          or widen the passage ([tileset] width, height)"
-                        .into(),
-                });
-            }
+        // The robot's box must fit the unsqueezed passage, whether `min_clearance` was
+        // written or left to its default (the same value gives the same answer). The
+        // collision lattice's slack is left out here: it bounds how far a squeeze may close
+        // (with it, no squeeze is made where the box would not stay clear), but a passage
+        // that holds the box only without it is what any coarse lattice makes, default robot
+        // or not, and is made.
+        if self
+            .least_factors_within(world, p.width, p.rooms.min_clearance, false)
+            .iter()
+            .any(|&f| f > 1.0)
+        {
+            return Err(self.clearance_unfit(world, &p));
         }
         let half_width = 0.5 * p.width * (1.0 + p.width_variation) + p.roughness;
         let room = 0.5 * pitch - 2.0 * pitch / f64::from(self.resolution().0);
