@@ -25,6 +25,7 @@ mod hostile_configs;
 mod limits;
 mod mesh_files;
 mod messages;
+mod one_surface;
 mod passages;
 mod plugins;
 mod preview;

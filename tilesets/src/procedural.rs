@@ -18,6 +18,7 @@ use subtgraph_core::tileset::{
 use crate::chambers::{ChamberSettings, SqueezeSettings, least_factors};
 use crate::field::{Column, Levels, LocalField, Passage, Profile, material};
 use crate::marching::{Block, polygonise_columns};
+use crate::owner::Owners;
 use crate::ramp::{self, Helix, Sizing, Unfit};
 use crate::slope::Slope;
 
@@ -596,10 +597,37 @@ impl TileSet for Procedural {
         };
         let column = |x: f64, y: f64| field.column(x, y);
         let block = |n| Self::block(world, ctx.cell, n, levels);
+        // Points beyond the block, for a small piece across a face (`crate::islands`).
+        let blocks_of = |n: u32| move |cell| Self::block(world, cell, n, levels);
+        let (visual_blocks, collision_blocks) = (blocks_of(visual_n), blocks_of(collision_n));
+        let profile = self.style.profile.as_ref();
+        let visual_owners = Owners::new(
+            world,
+            &passage,
+            profile,
+            levels,
+            fine,
+            &visual_blocks,
+            &field,
+        );
+        let collision_owners = Owners::new(
+            world,
+            &passage,
+            profile,
+            levels,
+            fine,
+            &collision_blocks,
+            &field,
+        );
+        let h = |n: u32| world.resolved.tile_pitch / f64::from(n);
         let (visual, visual_seam) =
-            polygonise_columns(block(visual_n), material::ROCK, column, paint);
+            polygonise_columns(block(visual_n), material::ROCK, column, paint, |p| {
+                visual_owners.value(p, h(visual_n))
+            });
         let (mut collision, collision_seam) =
-            polygonise_columns(block(collision_n), material::ROCK, column, paint);
+            polygonise_columns(block(collision_n), material::ROCK, column, paint, |p| {
+                collision_owners.value(p, h(collision_n))
+            });
         collision.materials.clear();
         let (chamber, squeeze) =
             crate::chambers::of_cell(world, ctx.cell, ctx.tile.kind, &passage, levels, fine);
