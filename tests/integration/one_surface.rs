@@ -61,9 +61,9 @@ fn pieces(mesh: &Mesh) -> Vec<Piece> {
         piece.triangles += 1;
         for &v in t {
             let p = mesh.positions[v as usize];
-            for k in 0..3 {
-                piece.lo[k] = piece.lo[k].min(p[k]);
-                piece.hi[k] = piece.hi[k].max(p[k]);
+            for (k, x) in p.into_iter().enumerate() {
+                piece.lo[k] = piece.lo[k].min(x);
+                piece.hi[k] = piece.hi[k].max(x);
             }
         }
     }
