@@ -569,8 +569,9 @@ fn link_structures(
     }
     let manhattan = |a: (i32, i32), b: (i32, i32)| (a.0 - b.0).abs() + (a.1 - b.1).abs();
     while linked.iter().any(|l| !l) {
-        // Candidate links: (distance, from-cell, from-arm or landing, to-arm).
-        let mut pairs: Vec<(i32, Option<usize>, usize)> = Vec::new();
+        // Candidate links: (distance, from-cell, from-arm or landing, to-arm), the 16
+        // nearest.
+        let mut pairs: Nearest<(i32, Option<usize>, usize)> = Nearest::new(16);
         for (j, b) in arms.iter().enumerate() {
             if b.used || linked[b.structure as usize] {
                 continue;
@@ -584,9 +585,8 @@ fn link_structures(
                 }
             }
         }
-        pairs.sort_unstable();
         let mut done = false;
-        for &(_, a, b) in pairs.iter().take(16) {
+        for &(_, a, b) in &pairs.sorted() {
             let (s, owner_a) = match a {
                 Some(i) => (
                     lvl.index(arms[i].from.0, arms[i].from.1).expect("inside"),
@@ -724,12 +724,9 @@ fn join_candidate(lvl: &Level, target: (i32, i32), s: usize) -> Option<usize> {
         .find(|&i| lvl.occ[i] && lvl.owner[i] == CORRIDOR && lvl.degree(i) <= 2 && i != s)
 }
 
-/// Links every piece of the level to the piece holding the landing (or the first structure),
-/// nearest piece first, always between free ends so no junction is made. Without `exact`, a
-/// piece with no free end may also be joined onto a corridor.
-/// Pairs of cells `(distance, inside, outside)` that may be linked: free ends (the landing,
-/// or an arm's dead end) inside the linked piece `root` and outside it, nearest first. With
-/// `joins`, plain corridor cells count too.
+/// The 24 nearest pairs of cells `(distance, inside, outside)` that may be linked, nearest
+/// first: free ends (the landing, or an arm's dead end) inside the linked piece `root` and
+/// outside it. With `joins`, plain corridor cells count too.
 fn candidate_links(lvl: &Level, label: &[u32], root: u32, joins: bool) -> Vec<(i32, usize, usize)> {
     let usable = |i: usize| {
         lvl.occ[i]
@@ -745,7 +742,7 @@ fn candidate_links(lvl: &Level, label: &[u32], root: u32, joins: bool) -> Vec<(i
             .collect()
     };
     let (a_ends, b_ends) = (ends(true), ends(false));
-    let mut pairs = Vec::with_capacity(a_ends.len() * b_ends.len());
+    let mut pairs = Nearest::new(24);
     for &a in &a_ends {
         let (ar, ac) = lvl.rc(a);
         for &b in &b_ends {
@@ -753,10 +750,47 @@ fn candidate_links(lvl: &Level, label: &[u32], root: u32, joins: bool) -> Vec<(i
             pairs.push(((ar - br).abs() + (ac - bc).abs(), a, b));
         }
     }
-    pairs.sort_unstable();
-    pairs
+    pairs.sorted()
 }
 
+/// The `k` smallest of the values pushed, kept as they come: the candidate links are every
+/// pair of free ends (or arms), which on a large level with many pieces runs to billions, of
+/// which only the nearest few are tried. Memory stays at `k`, and the result is what sorting
+/// them all and taking the first `k` gives (the pairs are distinct, so the order is total).
+struct Nearest<T> {
+    k: usize,
+    heap: std::collections::BinaryHeap<T>,
+}
+
+impl<T: Ord> Nearest<T> {
+    fn new(k: usize) -> Self {
+        Self {
+            k,
+            heap: std::collections::BinaryHeap::with_capacity(k + 1),
+        }
+    }
+
+    fn push(&mut self, value: T) {
+        if self.heap.len() == self.k {
+            match self.heap.peek() {
+                Some(top) if value < *top => {
+                    self.heap.pop();
+                }
+                _ => return,
+            }
+        }
+        self.heap.push(value);
+    }
+
+    /// The values kept, smallest first.
+    fn sorted(self) -> Vec<T> {
+        self.heap.into_sorted_vec()
+    }
+}
+
+/// Links every piece of the level to the piece holding the landing (or the first structure),
+/// nearest piece first, always between free ends so no junction is made. Without `exact`, a
+/// piece with no free end may also be joined onto a corridor.
 fn link_components(
     lvl: &mut Level,
     search: &mut Search,
@@ -778,7 +812,7 @@ fn link_components(
                 break;
             }
             let pairs = candidate_links(lvl, &label, root, pass == 1);
-            for &(_, a, b) in pairs.iter().take(24) {
+            for &(_, a, b) in &pairs {
                 let seg = segment(lvl, lvl.rc(a), lvl.rc(b), rng);
                 let guide = descriptor.guide(&seg);
                 if let Some(path) = search.route(
