@@ -222,7 +222,10 @@ impl HazardsSection {
                 ));
             }
         }
-        if self.rubble + self.drops > 1.0 {
+        // Shares written to add up to 1 may sum to a hair above it in binary (mud = 0.34,
+        // ice = 0.56, sand = 0.1 sum to 1.0000000000000002): the whole floor is allowed.
+        const WHOLE: f64 = 1.0 + 1e-9;
+        if self.rubble + self.drops > WHOLE {
             return Some((
                 "hazards.drops",
                 "rubble and drops together are more than every corridor tile (1); lower them"
@@ -248,7 +251,7 @@ impl HazardsSection {
                 "each share is a number from 0 to 1, e.g. friction = { mud = 0.05 }".into(),
             ));
         }
-        if self.friction.values().sum::<f64>() > 1.0 {
+        if self.friction.values().sum::<f64>() > WHOLE {
             return Some((
                 "hazards.friction",
                 "the shares add up to more than the whole floor (1); lower them".into(),

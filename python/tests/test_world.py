@@ -48,6 +48,46 @@ def test_pipelines_from_a_file_a_string_and_a_dict_make_the_same_world(tmp_path)
     assert np.array_equal(again.occupancy, from_file.occupancy)
 
 
+DEEP = r"""
+import subtgraph, sys
+def nest(n, make):
+    v = 1
+    for _ in range(n):
+        v = make(v)
+    return v
+loop = {}
+loop["again"] = loop
+for case in [
+    {"world": {"seed": 1}, "extra": nest(20_000, lambda v: {"a": v})},
+    {"world": {"seed": 1}, "route": {"type": "sine", "x": nest(20_000, lambda v: [v])}},
+    {"world": {"seed": 1}, "extra": loop},
+    {"world": {"seed": 1}, "extra": nest(5_000, lambda v: {"a": v})},
+]:
+    try:
+        subtgraph.generate(pipeline=case, mesh=False)
+    except subtgraph.ConfigError as e:
+        print(e.key[:40], "|", "nest more than 64 deep" in str(e), "|", str(e)[-120:].replace("\n", " "))
+    else:
+        sys.exit("accepted")
+"""
+
+
+def test_a_deeply_nested_dict_is_refused_not_a_crash():
+    """Issue 21 item 6: a pipeline dict nested 20,000 deep overflowed the stack (exit 139,
+    the interpreter gone); one that contains itself too. The depth is refused before the
+    walk goes down, naming the key."""
+    import subprocess
+    import sys
+
+    run = subprocess.run([sys.executable, "-c", DEEP], capture_output=True, text=True)
+    assert run.returncode == 0, (run.returncode, run.stderr[-2000:])
+    lines = run.stdout.strip().splitlines()
+    assert len(lines) == 4, run.stdout
+    for line, key in zip(lines, ["extra.a.a.a", "route.x[0][0]", "extra.again.again", "extra.a.a"]):
+        assert line.startswith(key), line
+        assert "| True |" in line, line
+
+
 def test_arrays_are_read_only_views_that_keep_the_world_alive():
     world = subtgraph.generate(preset="mine", seed=3)
     occ = world.occupancy
