@@ -7,13 +7,16 @@ import subprocess
 import pytest
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
+# The debug build's folder (the binary, the example plugins): `scripts/test` says where, as the
+# build may live outside the checkout (CARGO_TARGET_DIR).
+BUILD = pathlib.Path(os.environ.get("SUBTGRAPH_BUILD_DIR") or ROOT / "target" / "debug")
 
 
 @pytest.fixture(scope="session")
 def cli():
-    """Runs the `subtgraph` binary that `scripts/test` builds (`target/debug/subtgraph`, or
+    """Runs the `subtgraph` binary that `scripts/test` builds (`BUILD/subtgraph`, or
     $SUBTGRAPH_BIN), returning the finished process."""
-    binary = os.environ.get("SUBTGRAPH_BIN") or str(ROOT / "target" / "debug" / "subtgraph")
+    binary = os.environ.get("SUBTGRAPH_BIN") or str(BUILD / "subtgraph")
     if not os.path.exists(binary):
         pytest.skip(f"{binary} is missing: build it with `cargo build` (scripts/test does)")
 

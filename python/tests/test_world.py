@@ -10,7 +10,7 @@ import pytest
 
 import subtgraph
 
-from conftest import ROOT
+from conftest import BUILD, ROOT
 
 
 def tree(folder):
@@ -205,7 +205,7 @@ def test_presets_and_components():
 
 
 def test_plugins_load_from_python():
-    lib = ROOT / "target" / "debug" / "libsubtgraph_plugin_meander.so"
+    lib = BUILD / "libsubtgraph_plugin_meander.so"
     if not lib.exists():
         pytest.skip(f"{lib} is missing: build it with `cargo build --workspace` (scripts/test does)")
     added = subtgraph.load_plugin(lib)
