@@ -1,4 +1,4 @@
-"""Shared helpers: the repository's root and the command line built by `cargo build`."""
+"""Shared helpers: the repository's root and the command line built by `scripts/build`."""
 
 import os
 import pathlib
@@ -18,7 +18,7 @@ def cli():
     $SUBTGRAPH_BIN), returning the finished process."""
     binary = os.environ.get("SUBTGRAPH_BIN") or str(BUILD / "subtgraph")
     if not os.path.exists(binary):
-        pytest.skip(f"{binary} is missing: build it with `cargo build` (scripts/test does)")
+        pytest.skip(f"{binary} is missing: build it with `scripts/build` (scripts/test does)")
 
     def run(*args, check=True):
         return subprocess.run(
