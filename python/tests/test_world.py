@@ -10,7 +10,7 @@ import pytest
 
 import subtgraph
 
-from conftest import ROOT
+from conftest import BUILD, ROOT
 
 
 def tree(folder):
@@ -259,9 +259,9 @@ def test_presets_and_components():
 
 
 def test_plugins_load_from_python():
-    lib = ROOT / "target" / "debug" / "libsubtgraph_plugin_meander.so"
+    lib = BUILD / "libsubtgraph_plugin_meander.so"
     if not lib.exists():
-        pytest.skip(f"{lib} is missing: build it with `cargo build --workspace` (scripts/test does)")
+        pytest.skip(f"{lib} is missing: build it with `scripts/build` (scripts/test does)")
     added = subtgraph.load_plugin(lib)
     assert "meander" in added
     world = subtgraph.generate(pipeline={"world": {"seed": 4}, "route": {"type": "meander", "wavelength": 6}},

@@ -247,23 +247,41 @@ pub fn assert_same_on_one_and_three_threads(
 /// list of written files (`.subtgraph-files`, which holds every file's size) is compared only
 /// when no file is excepted.
 pub fn assert_same_files(a: &Path, b: &Path, except: &[&str]) {
-    let keep = |v: Vec<(String, Vec<u8>)>| -> Vec<(String, Vec<u8>)> {
-        v.into_iter()
-            .filter(|(n, _)| {
+    let names = |dir: &Path| -> Vec<String> {
+        folder_files(dir)
+            .into_iter()
+            .filter(|n| {
                 !except.contains(&n.as_str()) && (except.is_empty() || n != ".subtgraph-files")
             })
             .collect()
     };
-    let (fa, fb) = (keep(folder_bytes(a)), keep(folder_bytes(b)));
-    let names = |v: &[(String, Vec<u8>)]| v.iter().map(|(n, _)| n.clone()).collect::<Vec<_>>();
-    assert_eq!(names(&fa), names(&fb), "the same files");
-    let differ: Vec<&str> = fa
+    let (na, nb) = (names(a), names(b));
+    assert_eq!(na, nb, "the same files");
+    // A file at a time: a meshed world's folder is hundreds of megabytes.
+    let differ: Vec<&str> = na
         .iter()
-        .zip(&fb)
-        .filter(|(x, y)| x.1 != y.1)
-        .map(|(x, _)| x.0.as_str())
+        .filter(|n| std::fs::read(a.join(n)).unwrap() != std::fs::read(b.join(n)).unwrap())
+        .map(String::as_str)
         .collect();
     assert!(differ.is_empty(), "these files differ: {differ:?}");
+}
+
+/// The files under `dir`, as paths relative to it, sorted.
+pub fn folder_files(dir: &Path) -> Vec<String> {
+    let mut out = Vec::new();
+    let mut stack = vec![dir.to_owned()];
+    while let Some(d) = stack.pop() {
+        for e in std::fs::read_dir(&d).unwrap() {
+            let p = e.unwrap().path();
+            if p.is_dir() {
+                stack.push(p);
+            } else {
+                out.push(p.strip_prefix(dir).unwrap().to_string_lossy().into_owned());
+            }
+        }
+    }
+    out.sort();
+    out
 }
 
 /// A small pipeline with a coarse cave tile set: quick to mesh and to load in a simulator.

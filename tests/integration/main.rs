@@ -12,6 +12,7 @@ mod artifacts;
 mod chambers;
 mod cli;
 mod dataset;
+mod doc_commands;
 mod drive;
 mod elevation;
 mod export_physics;
