@@ -211,7 +211,7 @@ fn alike_counts(void: &[u8], dims: [usize; 3]) -> Vec<u8> {
 /// `outside` gives the field at a global lattice point outside the block. Returns how many
 /// points were flipped.
 ///
-/// Cost: the neighbours alike of every point are counted over slices ([`alike_counts`]); a
+/// Cost: the neighbours alike of every point are counted over slices (`alike_counts`); a
 /// point with eight or more is in no small component (it would have at least nine points),
 /// nor is one next to a point found in a large component. From the few others a search of
 /// at most nine points runs, reading points beyond a face only then.
