@@ -666,19 +666,6 @@ impl TileSet for Procedural {
 
         let levels = self.levels(world);
         let name = self.style.name;
-        // The robot's box must fit the unsqueezed passage, whether `min_clearance` was
-        // written or left to its default (the same value gives the same answer). The
-        // collision lattice's slack is left out here: it bounds how far a squeeze may close
-        // (with it, no squeeze is made where the box would not stay clear), but a passage
-        // that holds the box only without it is what any coarse lattice makes, default robot
-        // or not, and is made.
-        if self
-            .least_factors_within(world, p.width, p.rooms.min_clearance, false)
-            .iter()
-            .any(|&f| f > 1.0)
-        {
-            return Err(self.clearance_unfit(world, &p));
-        }
         let half_width = 0.5 * p.width * (1.0 + p.width_variation) + p.roughness;
         let room = 0.5 * pitch - 2.0 * pitch / f64::from(self.resolution().0);
         if half_width > room {
@@ -699,6 +686,20 @@ impl TileSet for Procedural {
                 what: format!("{name}: the shaft does not fit the tile"),
                 fix: "use a smaller [tileset] width".into(),
             });
+        }
+        // After the passage fits its tile (a passage too wide for the tile is told so, not
+        // blamed on the robot): the robot's box must fit the unsqueezed passage, whether `min_clearance` was
+        // written or left to its default (the same value gives the same answer). The
+        // collision lattice's slack is left out here: it bounds how far a squeeze may close
+        // (with it, no squeeze is made where the box would not stay clear), but a passage
+        // that holds the box only without it is what any coarse lattice makes, default robot
+        // or not, and is made.
+        if self
+            .least_factors_within(world, p.width, p.rooms.min_clearance, false)
+            .iter()
+            .any(|&f| f > 1.0)
+        {
+            return Err(self.clearance_unfit(world, &p));
         }
         for s in &world.shafts {
             self.ramp_plan(world, s)?;
