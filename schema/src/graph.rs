@@ -7,7 +7,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::{Document, SchemaError, finite};
+use crate::{Document, SchemaError, ends_exist, finite, id_in_order};
 
 /// `ground_truth/graph.json`.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -81,22 +81,13 @@ impl Document for Graph {
     fn check(&self) -> Result<(), SchemaError> {
         let bad = |what: String| Err(SchemaError::invalid::<Self>(what));
         for (i, n) in self.nodes.iter().enumerate() {
-            if n.id != i {
-                return bad(format!("node {i} has id {}: ids must count from 0", n.id));
-            }
+            id_in_order::<Self>("node", i, n.id)?;
             finite::<Self>(|| format!("node {i}'s position"), &n.position)?;
         }
         let nodes = self.nodes.len();
         for (i, e) in self.edges.iter().enumerate() {
-            if e.id != i {
-                return bad(format!("edge {i} has id {}: ids must count from 0", e.id));
-            }
-            if e.from >= nodes || e.to >= nodes {
-                return bad(format!(
-                    "edge {i} joins nodes {} and {}, but there are {nodes} nodes",
-                    e.from, e.to
-                ));
-            }
+            id_in_order::<Self>("edge", i, e.id)?;
+            ends_exist::<Self>(i, [e.from, e.to], nodes)?;
             for p in &e.polyline {
                 finite::<Self>(|| format!("a point of edge {i}'s polyline"), p)?;
             }

@@ -128,6 +128,33 @@ pub fn read<D: Document>(bytes: &[u8]) -> Result<D, SchemaError> {
 }
 
 /// Refuses a value that is not finite, naming it.
+/// The `i`th node or edge (`what`) of a graph file carries the id `i`: ids count from 0 in
+/// file order, which is how `graph.json` and `topology.json` both index their edges' ends.
+pub(crate) fn id_in_order<D: Document>(what: &str, i: usize, id: usize) -> Result<(), SchemaError> {
+    if id == i {
+        Ok(())
+    } else {
+        Err(SchemaError::invalid::<D>(format!(
+            "{what} {i} has id {id}: ids must count from 0"
+        )))
+    }
+}
+
+/// Edge `i` joins nodes `from` and `to`, both among the file's `nodes` nodes.
+pub(crate) fn ends_exist<D: Document>(
+    i: usize,
+    [from, to]: [usize; 2],
+    nodes: usize,
+) -> Result<(), SchemaError> {
+    if from < nodes && to < nodes {
+        Ok(())
+    } else {
+        Err(SchemaError::invalid::<D>(format!(
+            "edge {i} joins nodes {from} and {to}, but there are {nodes} nodes"
+        )))
+    }
+}
+
 pub(crate) fn finite<D: Document>(
     what: impl FnOnce() -> String,
     v: &[f64],

@@ -12,7 +12,7 @@ use subtgraph_core::graph::{Edge, Node};
 use subtgraph_core::grid::Cell;
 use subtgraph_core::layout::{LevelReport, Shaft};
 
-use crate::{Document, SchemaError, finite};
+use crate::{Document, SchemaError, ends_exist, finite, id_in_order};
 
 /// `topology.json`.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -126,23 +126,14 @@ impl Document for Topology<'_> {
             ));
         }
         for (i, n) in self.nodes.iter().enumerate() {
-            if n.id != i {
-                return bad(format!("node {i} has id {}: ids must count from 0", n.id));
-            }
+            id_in_order::<Self>("node", i, n.id)?;
             self.check_cell(n.cell, || format!("node {i}"))?;
             finite::<Self>(|| format!("node {i}'s position"), &n.position)?;
         }
         let nodes = self.nodes.len();
         for (i, e) in self.edges.iter().enumerate() {
-            if e.id != i {
-                return bad(format!("edge {i} has id {}: ids must count from 0", e.id));
-            }
-            if e.from >= nodes || e.to >= nodes {
-                return bad(format!(
-                    "edge {i} joins nodes {} and {}, but there are {nodes} nodes",
-                    e.from, e.to
-                ));
-            }
+            id_in_order::<Self>("edge", i, e.id)?;
+            ends_exist::<Self>(i, [e.from, e.to], nodes)?;
             if e.cells.is_empty() {
                 return bad(format!("edge {i} has no cells"));
             }
