@@ -37,6 +37,7 @@ pub mod mesh;
 pub mod npy;
 pub mod params;
 pub mod range;
+pub mod raycast;
 pub mod registry;
 pub mod rng;
 pub mod route;
