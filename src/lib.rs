@@ -24,6 +24,7 @@ pub mod memory;
 pub mod presets;
 pub mod preview;
 pub mod score;
+pub mod sense;
 pub mod stats;
 
 use subtgraph_core::Registry;

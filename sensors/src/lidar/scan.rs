@@ -1,0 +1,180 @@
+//! Casting a scan: every ray of a model from the pose the sensor has when it fires, with range
+//! noise, dropouts and intensity.
+//!
+//! A point is reported as a real sensor reports it: in the sensor's frame at the instant its
+//! ray left (its range along its beam), with that instant's offset from the scan's start. A
+//! moving sensor's scan is therefore distorted; a reader that moves each point by the pose at
+//! its own time (the ground truth's, interpolated) puts it back on the rock, within the range
+//! noise.
+//!
+//! Rays are cast in parallel over firing groups; everything a ray draws at random comes from
+//! a hash of the seed, the scan and the ray's index, so a scan is the same on any number of
+//! threads.
+
+use rayon::prelude::*;
+use subtgraph_core::vec3::V3;
+
+use super::{Beam, LidarModel};
+use crate::frames::{Pose, mul};
+use crate::noise;
+use crate::scene::Scene;
+use crate::trajectory::Trajectory;
+
+/// One ray's return (or its absence), as the sensor reports it.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Point {
+    /// In the sensor frame at the ray's instant, metres (zero without a return).
+    pub xyz: [f32; 3],
+    /// Measured range, metres (0 without a return).
+    pub range: f32,
+    /// The surface's reflectivity times the cosine of the incidence angle, `0..=1`.
+    pub reflectance: f32,
+    /// Seconds from the scan's start to the ray's instant.
+    pub time: f32,
+    /// The driver's ring (beam, line).
+    pub ring: u16,
+    /// Whether the ray returned.
+    pub valid: bool,
+}
+
+/// A scan: its rays' points in the model's order (group by group) and what the labels need.
+#[derive(Clone, Debug, Default)]
+pub struct Scan {
+    /// Its index in the sequence.
+    pub index: u64,
+    /// When it starts, seconds.
+    pub start: f64,
+    /// One per ray.
+    pub points: Vec<Point>,
+    /// Returns (valid points).
+    pub returns: usize,
+    /// The point-to-plane registration Hessian of the noise-free returns, upper triangle
+    /// row by row, world frame, rotations about the sensor and scaled by 1/metre (see
+    /// [`crate::labels`]).
+    pub hessian: [f64; 21],
+    /// Sum of squared true ranges (for the rotation block's scale).
+    pub range2: f64,
+}
+
+/// What scans a sequence: a model on a platform moving through a scene.
+pub struct Scanner<'a> {
+    /// The sensor.
+    pub model: &'a LidarModel,
+    /// The world.
+    pub scene: &'a Scene,
+    /// The platform's `base_link` over time.
+    pub trajectory: &'a Trajectory,
+    /// The LiDAR in `base_link`.
+    pub mount: Pose,
+    /// The noise's seed.
+    pub seed: u64,
+}
+
+/// Firing groups cast by one task.
+const GROUPS_PER_TASK: usize = 32;
+
+impl Scanner<'_> {
+    /// The sensor's pose at time `t`.
+    pub fn pose(&self, t: f64) -> Pose {
+        self.trajectory.pose(t).then(&self.mount)
+    }
+
+    /// Casts scan `index` (starting at `start` seconds) into `out`, reusing its buffers.
+    pub fn scan(&self, index: u64, start: f64, out: &mut Scan) {
+        let (groups, per_group) = self.model.groups();
+        out.index = index;
+        out.start = start;
+        out.points.clear();
+        out.points.resize(groups * per_group, Point::default());
+        let cos_grazing = self.model.grazing_deg.to_radians().cos();
+        let [near, far] = self.model.range_m;
+        let sigma = self.model.range_noise_m;
+        let partials: Vec<([f64; 21], f64, usize)> = out
+            .points
+            .par_chunks_mut(GROUPS_PER_TASK * per_group)
+            .enumerate()
+            .map(|(task, points)| {
+                let mut h = [0.0; 21];
+                let mut r2 = 0.0;
+                let mut returns = 0;
+                let mut beams: Vec<Beam> = Vec::with_capacity(per_group);
+                for (k, points) in points.chunks_mut(per_group).enumerate() {
+                    let g = task * GROUPS_PER_TASK + k;
+                    let dt = self.model.group_time(g);
+                    let pose = self.pose(start + dt);
+                    self.model.beams(index, g, &mut beams);
+                    for (j, (p, beam)) in points.iter_mut().zip(&beams).enumerate() {
+                        let d = mul(&pose.rotation, beam.dir);
+                        p.ring = beam.ring;
+                        p.time = dt as f32;
+                        let Some(hit) = self.scene.caster.cast(pose.translation, d, far) else {
+                            continue;
+                        };
+                        let n = hit.normal.map(f64::from);
+                        let cos = (n[0] * d[0] + n[1] * d[1] + n[2] * d[2]).abs();
+                        if hit.t < near || cos < cos_grazing {
+                            continue;
+                        }
+                        let ray = ((g * per_group + j) as u64) | (index << 32);
+                        let range = (hit.t + sigma * noise::normal(self.seed, ray)).max(0.0);
+                        let rho = self
+                            .scene
+                            .reflectivity
+                            .get(hit.triangle as usize)
+                            .copied()
+                            .unwrap_or(0.3);
+                        p.xyz = [
+                            (range * beam.dir[0]) as f32,
+                            (range * beam.dir[1]) as f32,
+                            (range * beam.dir[2]) as f32,
+                        ];
+                        p.range = range as f32;
+                        p.reflectance = (f64::from(rho) * cos) as f32;
+                        p.valid = true;
+                        returns += 1;
+                        // The true return, for the registration Hessian.
+                        let q = [hit.t * d[0], hit.t * d[1], hit.t * d[2]];
+                        accumulate(&mut h, q, n);
+                        r2 += hit.t * hit.t;
+                    }
+                }
+                (h, r2, returns)
+            })
+            .collect();
+        out.hessian = [0.0; 21];
+        out.range2 = 0.0;
+        out.returns = 0;
+        for (h, r2, n) in partials {
+            for (a, b) in out.hessian.iter_mut().zip(h) {
+                *a += b;
+            }
+            out.range2 += r2;
+            out.returns += n;
+        }
+    }
+
+    /// A point of scan `scan` moved into the world by the sensor's pose at its time (what a
+    /// reader of the sequence does with the ground truth).
+    pub fn to_world(&self, scan: &Scan, p: &Point) -> V3 {
+        let pose = self.pose(scan.start + f64::from(p.time));
+        pose.apply(p.xyz.map(f64::from))
+    }
+}
+
+/// Adds one return's point-to-plane row `J = [q x n, n]` (the point `q` relative to the
+/// sensor, the normal `n`) to the upper triangle of `J^T J`.
+fn accumulate(h: &mut [f64; 21], q: V3, n: V3) {
+    let r = [
+        q[1] * n[2] - q[2] * n[1],
+        q[2] * n[0] - q[0] * n[2],
+        q[0] * n[1] - q[1] * n[0],
+    ];
+    let j = [r[0], r[1], r[2], n[0], n[1], n[2]];
+    let mut k = 0;
+    for a in 0..6 {
+        for b in a..6 {
+            h[k] += j[a] * j[b];
+            k += 1;
+        }
+    }
+}
