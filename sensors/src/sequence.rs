@@ -319,7 +319,7 @@ impl<'a> Sequence<'a> {
                     }
                 }
                 if let Some(b) = &mut bag {
-                    b.scan(scan, publish).map_err(io("writing", dir))?;
+                    b.scan(scan).map_err(io("writing", dir))?;
                 }
                 let pose = scanner.pose(scan.start);
                 if let Some(kt) = &mut kitti {

@@ -10,8 +10,9 @@
 //!
 //! Frames follow REP 103 and REP 105: `map` is the world folder's frame (x east, y north,
 //! z up), `base_link` the platform's. A point cloud is stamped with its scan's start (the
-//! time of its first column, as ouster-ros and the Velodyne driver stamp theirs) and logged
-//! when the scan is complete, one period later, as a recorder receives it.
+//! time of its first column, as ouster-ros and the Velodyne driver stamp theirs) and logged at
+//! that stamp too: readers that take a bag's log times for the scans' (KISS-ICP does) then
+//! agree with the ground truth, which is at the scans' starts.
 
 use std::fs::File;
 use std::io::{self, BufWriter};
@@ -119,8 +120,9 @@ impl Bag {
             .message(c, 0, 0, |b| cdr::tf_message(b, 0, transforms))
     }
 
-    /// A scan's point cloud, logged at `log` seconds.
-    pub fn scan(&mut self, scan: &Scan, log: f64) -> io::Result<()> {
+    /// A scan's point cloud, logged at its stamp.
+    pub fn scan(&mut self, scan: &Scan) -> io::Result<()> {
+        let log = scan.start;
         let c = self.channel("/points");
         let stamp = ns(scan.start);
         let m = &self.model;
