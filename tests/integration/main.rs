@@ -31,5 +31,6 @@ mod ramps;
 mod room_and_pillar;
 mod rubble;
 mod score;
+mod sense;
 mod stats;
 mod tilesets;

@@ -177,8 +177,19 @@ if (seq / "kitti").exists():
     assert np.abs(poses[:, :, 3] - tum[:, 1:4]).max() < 1e-6
     assert len(list((seq / "kitti" / "velodyne").glob("*.bin"))) == scans
 
+# The platform kept its clearance: the free radius about its clearance point, along the whole
+# route (every odometry message), is at least what sequence.json says it needs.
+platform = meta["platform"]
+points = []
+for i in range(0, len(odom_t), 5):
+    r = quat_to_matrix(odom_q[i])
+    points.append(odom_p[i] + r @ np.array([0.0, 0.0, platform["clearance_height"]]))
+_, free, _ = mesh.nearest.on_surface(np.array(points))
+assert free.min() >= platform["clearance"] - 0.01, (free.min(), platform["clearance"])
+
 result = {
     "scans": scans,
+    "least_clearance_m": float(free.min()),
     "returns_checked": returns_checked,
     "max_distance_m": float(distances.max()),
     "rms_distance_m": float(np.sqrt(np.mean(distances ** 2))),

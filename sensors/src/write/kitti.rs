@@ -53,8 +53,8 @@ impl Kitti {
             "P0: {identity}\nP1: {identity}\nP2: {identity}\nP3: {identity}\nTr: {identity}\n"
         );
         std::fs::write(dir.join("calib.txt"), &calib)?;
-        let mut imu = create(&dir.join("velodyne/imu.csv"))?;
-        imu.write_all(b"timestamp,ax,ay,az,gx,gy,gz\n")?;
+        // No header line: GenZ-LIO reads the file with numpy's loadtxt.
+        let imu = create(&dir.join("velodyne/imu.csv"))?;
         Ok(Kitti {
             dir: dir.to_owned(),
             poses: create(&dir.join("poses.txt"))?,
