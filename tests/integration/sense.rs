@@ -251,3 +251,143 @@ fn no_ray_escapes_a_closed_world() {
         );
     }
 }
+
+/// A straight tube along x, `length` metres long and `radius` across, closed at both ends, its
+/// triangles wound to face the inside: a passage with nothing along it to register against.
+fn tube(radius: f64, length: f64) -> subtgraph::core::mesh::Mesh {
+    let segments = 48usize;
+    let rings = (length / 0.5).round() as usize;
+    let mut m = subtgraph::core::mesh::Mesh::default();
+    for k in 0..=rings {
+        let x = length * k as f64 / rings as f64;
+        for j in 0..segments {
+            let a = std::f64::consts::TAU * j as f64 / segments as f64;
+            m.positions.push([
+                x as f32,
+                (radius * a.cos()) as f32,
+                (radius * a.sin()) as f32,
+            ]);
+        }
+    }
+    let at = |k: usize, j: usize| (k * segments + j % segments) as u32;
+    for k in 0..rings {
+        for j in 0..segments {
+            // Counter-clockwise seen from the axis.
+            m.triangles.push([at(k, j), at(k + 1, j), at(k + 1, j + 1)]);
+            m.triangles.push([at(k, j), at(k + 1, j + 1), at(k, j + 1)]);
+        }
+    }
+    for (k, x) in [(0, 0.0), (rings, length)] {
+        let centre = m.positions.len() as u32;
+        m.positions.push([x as f32, 0.0, 0.0]);
+        for j in 0..segments {
+            let t = [centre, at(k, j), at(k, j + 1)];
+            m.triangles
+                .push(if k == 0 { t } else { [t[0], t[2], t[1]] });
+        }
+    }
+    m
+}
+
+/// Writes a sequence of the tube with the sensors' library, as a dataset worker would.
+fn tube_sequence(out: &Path, seconds: f64) {
+    use subtgraph_sensors::graph::RouteGraph;
+    use subtgraph_sensors::{Options, Scene, Sequence};
+    // Long enough that neither end is in range (120 m) of where the sequence drives: an end
+    // wall would pin the motion along the tube.
+    let (radius, length) = (2.5, 400.0);
+    let mesh = tube(radius, length);
+    assert!(mesh.edge_report().is_closed());
+    // Facing the inside: a ray from the axis meets a triangle whose normal points back.
+    let caster = subtgraph::core::raycast::RayCaster::new(&mesh);
+    let hit = caster
+        .cast([150.0, 0.0, 0.0], [0.0, 1.0, 0.0], 10.0)
+        .unwrap();
+    assert!(hit.normal[1] < -0.9, "{hit:?}");
+    let floor = -radius;
+    let polyline: Vec<String> = (0..=120)
+        .map(|i| format!("[{}, 0, {floor}]", 140.0 + i as f64))
+        .collect();
+    let graph = format!(
+        r#"{{"format": "subtgraph-graph/1", "start": 0,
+            "nodes": [{{"id": 0, "kind": "dead-end", "level": 0, "position": [140, 0, {floor}]}},
+                      {{"id": 1, "kind": "dead-end", "level": 0, "position": [260, 0, {floor}]}}],
+            "edges": [{{"id": 0, "kind": "corridor", "from": 0, "to": 1, "length_m": 120,
+                        "polyline": [{}]}}]}}"#,
+        polyline.join(", ")
+    );
+    let graph = RouteGraph::from_json(&graph, "tube").unwrap();
+    let scene = Scene::new(&mesh, &[0.3], Vec::new(), 20.0);
+    let request = subtgraph_sensors::SenseRequest {
+        duration: Some(seconds),
+        lidar: "os1-64".into(),
+        ..Default::default()
+    };
+    let options: Options = subtgraph_sensors::request::options(&request, 1).unwrap();
+    let sequence = Sequence::plan(&scene, &graph, options).unwrap();
+    std::fs::create_dir_all(out).unwrap();
+    sequence
+        .write(
+            out,
+            serde_json::json!({"folder": "a uniform tube"}),
+            &mut |_| {},
+        )
+        .unwrap();
+}
+
+#[test]
+fn odometry_tracks_the_control_route_and_loses_itself_in_a_uniform_tube() {
+    // KISS-ICP and GenZ-LIO, on the bag and on the KITTI folder, with their own tools; evo
+    // scores them: translation drift over 20 m of path, as a share of it.
+    let Some(_) = common::python_with(&["kiss_icp", "genz_lio", "evo", "rosbags"]) else {
+        return;
+    };
+    // The control: the cave preset's start, rocky and winding, seen by an OS1-64.
+    let dir = tempfile::tempdir().unwrap();
+    let world = dir.path().join("cave-7");
+    ok(&[
+        "generate",
+        "--preset",
+        "cave",
+        "--seed",
+        "7",
+        "--format",
+        "ground-truth",
+        "--out",
+        arg(&world),
+    ]);
+    let control = dir.path().join("control");
+    sense(&world, &control, &["--duration", "30", "--lidar", "os1-64"]);
+    let tube = dir.path().join("tube");
+    tube_sequence(&tube, 30.0);
+    let score = |seq: &Path, work: &str| -> serde_json::Value {
+        let out = read_with_python(
+            &["kiss_icp", "genz_lio", "evo", "rosbags", "yaml"],
+            "odometry_check.py",
+            &[arg(seq), arg(&dir.path().join(work)), "--delta", "20"],
+        )
+        .unwrap();
+        eprintln!("{work}: {out}");
+        serde_json::from_str(out.trim()).unwrap()
+    };
+    let runs = ["kiss-bag", "kiss-kitti", "genz-bag", "genz-kitti"];
+    let good = score(&control, "odometry-control");
+    for run in runs {
+        let drift = good[run]["drift_percent"].as_f64();
+        assert!(
+            drift.is_some_and(|d| d < 1.0),
+            "{run} on the control route: {}",
+            good[run]
+        );
+    }
+    let bad = score(&tube, "odometry-tube");
+    for run in runs {
+        // Lost: the drift is many times the control's, or the method gave up.
+        let drift = bad[run]["drift_percent"].as_f64();
+        assert!(
+            drift.is_none_or(|d| d > 10.0),
+            "{run} in the tube: {}",
+            bad[run]
+        );
+    }
+}

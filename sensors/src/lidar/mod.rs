@@ -308,9 +308,10 @@ impl LidarModel {
                 azimuth_offsets_deg,
                 columns,
             } => {
-                // Counter-clockwise seen from above, from +x, as the drivers number columns
-                // after their own zero.
-                let az = std::f64::consts::TAU * g as f64 / *columns as f64;
+                // Clockwise seen from above, from straight behind, as Ouster and Velodyne heads
+                // turn and split their scans (readers that rebuild point times from azimuth,
+                // as FAST-LIO's and GenZ-LIO's do without a time field, assume it).
+                let az = std::f64::consts::PI - std::f64::consts::TAU * g as f64 / *columns as f64;
                 for (ring, (el, off)) in elevations_deg.iter().zip(azimuth_offsets_deg).enumerate()
                 {
                     let (el, a) = (el.to_radians(), az + off.to_radians());

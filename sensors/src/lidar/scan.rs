@@ -178,3 +178,34 @@ fn accumulate(h: &mut [f64; 21], q: V3, n: V3) {
         }
     }
 }
+
+/// One scan of `model` from a sensor standing still at `pose` (world frame): its returns in
+/// the sensor's frame, with range noise drawn from `seed` when `noise` is set. For learning
+/// pipelines that render their own views (the Python `World.lidar_scan`).
+pub fn still_scan(
+    scene: &Scene,
+    model: &LidarModel,
+    pose: Pose,
+    noise: bool,
+    seed: u64,
+) -> Vec<[f64; 3]> {
+    let mut model = model.clone();
+    if !noise {
+        model.range_noise_m = 0.0;
+    }
+    let trajectory = Trajectory::new(1.0, vec![[0.0; 6]; 6]);
+    let scanner = Scanner {
+        model: &model,
+        scene,
+        trajectory: &trajectory,
+        mount: pose,
+        seed,
+    };
+    let mut scan = Scan::default();
+    scanner.scan(0, 0.0, &mut scan);
+    scan.points
+        .iter()
+        .filter(|p| p.valid)
+        .map(|p| p.xyz.map(f64::from))
+        .collect()
+}
