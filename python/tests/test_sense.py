@@ -13,14 +13,18 @@ def cave():
 
 
 def inside(world):
-    """A point in a passage: the start cell's floor, a metre up."""
-    x, y, z = world.cell_position(*world.start)
+    """A point in a passage: the ground truth's start node (on the passage's floor, where
+    its axis runs), a metre up."""
+    import json
+
+    graph = json.loads(world.files(["graph"])["ground_truth/graph.json"])
+    x, y, z = graph["nodes"][graph["start"]]["position"]
     return np.array([x, y, z + 1.0])
 
 
 def trimesh_of(world):
     trimesh = pytest.importorskip("trimesh")
-    v, f = world.mesh("collision")
+    v, f = world.mesh.collision
     return trimesh.Trimesh(vertices=np.asarray(v, float), faces=np.asarray(f), process=False)
 
 
