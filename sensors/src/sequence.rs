@@ -181,13 +181,13 @@ impl<'a> Sequence<'a> {
     }
 
     fn scanner(&self) -> Scanner<'_> {
-        Scanner {
-            model: &self.options.lidar,
-            scene: self.scene,
-            trajectory: &self.route.trajectory,
-            mount: self.options.platform.lidar,
-            seed: crate::noise::hash(self.options.seed, 0x11da5),
-        }
+        Scanner::new(
+            &self.options.lidar,
+            self.scene,
+            &self.route.trajectory,
+            self.options.platform.lidar,
+            crate::noise::hash(self.options.seed, 0x11da5),
+        )
     }
 
     /// Writes the sequence into `dir` (an empty folder): `world` describes the world in

@@ -58,22 +58,49 @@ pub struct Scan {
 
 /// What scans a sequence: a model on a platform moving through a scene.
 pub struct Scanner<'a> {
-    /// The sensor.
-    pub model: &'a LidarModel,
-    /// The world.
-    pub scene: &'a Scene,
-    /// The platform's `base_link` over time.
-    pub trajectory: &'a Trajectory,
-    /// The LiDAR in `base_link`.
-    pub mount: Pose,
-    /// The noise's seed.
-    pub seed: u64,
+    model: &'a LidarModel,
+    scene: &'a Scene,
+    trajectory: &'a Trajectory,
+    mount: Pose,
+    seed: u64,
+    /// A spinning model's beams, the same every scan, group by group (computed once: a
+    /// scan's sines and cosines cost as much as a tenth of its rays).
+    table: Option<Vec<Beam>>,
 }
 
 /// Firing groups cast by one task.
 const GROUPS_PER_TASK: usize = 32;
 
-impl Scanner<'_> {
+impl<'a> Scanner<'a> {
+    /// A scanner of `model` mounted at `mount` on a platform moving along `trajectory`
+    /// through `scene`, its noise drawn from `seed`.
+    pub fn new(
+        model: &'a LidarModel,
+        scene: &'a Scene,
+        trajectory: &'a Trajectory,
+        mount: Pose,
+        seed: u64,
+    ) -> Scanner<'a> {
+        let table = matches!(model.pattern, super::Pattern::Spinning { .. }).then(|| {
+            let (groups, _) = model.groups();
+            let mut all = Vec::with_capacity(model.rays_per_scan());
+            let mut beams = Vec::new();
+            for g in 0..groups {
+                model.beams(0, g, &mut beams);
+                all.extend_from_slice(&beams);
+            }
+            all
+        });
+        Scanner {
+            model,
+            scene,
+            trajectory,
+            mount,
+            seed,
+            table,
+        }
+    }
+
     /// The sensor's pose at time `t`.
     pub fn pose(&self, t: f64) -> Pose {
         self.trajectory.pose(t).then(&self.mount)
@@ -84,62 +111,13 @@ impl Scanner<'_> {
         let (groups, per_group) = self.model.groups();
         out.index = index;
         out.start = start;
-        out.points.clear();
+        // Every point is written by its ray (a miss included), so the buffer is only resized.
         out.points.resize(groups * per_group, Point::default());
-        let cos_grazing = self.model.grazing_deg.to_radians().cos();
-        let [near, far] = self.model.range_m;
-        let sigma = self.model.range_noise_m;
         let partials: Vec<([f64; 21], f64, usize)> = out
             .points
             .par_chunks_mut(GROUPS_PER_TASK * per_group)
             .enumerate()
-            .map(|(task, points)| {
-                let mut h = [0.0; 21];
-                let mut r2 = 0.0;
-                let mut returns = 0;
-                let mut beams: Vec<Beam> = Vec::with_capacity(per_group);
-                for (k, points) in points.chunks_mut(per_group).enumerate() {
-                    let g = task * GROUPS_PER_TASK + k;
-                    let dt = self.model.group_time(g);
-                    let pose = self.pose(start + dt);
-                    self.model.beams(index, g, &mut beams);
-                    for (j, (p, beam)) in points.iter_mut().zip(&beams).enumerate() {
-                        let d = mul(&pose.rotation, beam.dir);
-                        p.ring = beam.ring;
-                        p.time = dt as f32;
-                        let Some(hit) = self.scene.caster.cast(pose.translation, d, far) else {
-                            continue;
-                        };
-                        let n = hit.normal.map(f64::from);
-                        let cos = (n[0] * d[0] + n[1] * d[1] + n[2] * d[2]).abs();
-                        if hit.t < near || cos < cos_grazing {
-                            continue;
-                        }
-                        let ray = ((g * per_group + j) as u64) | (index << 32);
-                        let range = (hit.t + sigma * noise::normal(self.seed, ray)).max(0.0);
-                        let rho = self
-                            .scene
-                            .reflectivity
-                            .get(hit.triangle as usize)
-                            .copied()
-                            .unwrap_or(0.3);
-                        p.xyz = [
-                            (range * beam.dir[0]) as f32,
-                            (range * beam.dir[1]) as f32,
-                            (range * beam.dir[2]) as f32,
-                        ];
-                        p.range = range as f32;
-                        p.reflectance = (f64::from(rho) * cos) as f32;
-                        p.valid = true;
-                        returns += 1;
-                        // The true return, for the registration Hessian.
-                        let q = [hit.t * d[0], hit.t * d[1], hit.t * d[2]];
-                        accumulate(&mut h, q, n);
-                        r2 += hit.t * hit.t;
-                    }
-                }
-                (h, r2, returns)
-            })
+            .map(|(task, points)| self.task(index, start, task, points))
             .collect();
         out.hessian = [0.0; 21];
         out.range2 = 0.0;
@@ -151,6 +129,89 @@ impl Scanner<'_> {
             out.range2 += r2;
             out.returns += n;
         }
+    }
+
+    /// One task's groups of a scan: their poses first, then the rays beam by beam across the
+    /// groups (neighbouring columns' rays run nearly parallel and visit the same boxes, so
+    /// the hierarchy stays in cache).
+    fn task(
+        &self,
+        index: u64,
+        start: f64,
+        task: usize,
+        points: &mut [Point],
+    ) -> ([f64; 21], f64, usize) {
+        let (_, per_group) = self.model.groups();
+        let cos_grazing = self.model.grazing_deg.to_radians().cos();
+        let [near, far] = self.model.range_m;
+        let sigma = self.model.range_noise_m;
+        let count = points.len() / per_group;
+        let first = task * GROUPS_PER_TASK;
+        let mut poses = Vec::with_capacity(count);
+        let mut beams: Vec<Beam> = Vec::with_capacity(count * per_group);
+        let mut scratch = Vec::with_capacity(per_group);
+        for k in 0..count {
+            let g = first + k;
+            let dt = self.model.group_time(g);
+            poses.push((dt, self.pose(start + dt)));
+            match &self.table {
+                Some(t) => beams.extend_from_slice(&t[g * per_group..(g + 1) * per_group]),
+                None => {
+                    self.model.beams(index, g, &mut scratch);
+                    beams.extend_from_slice(&scratch);
+                }
+            }
+        }
+        let mut h = [0.0; 21];
+        let mut r2 = 0.0;
+        let mut returns = 0;
+        let mut tracer = self.scene.caster.tracer();
+        for j in 0..per_group {
+            for (k, (dt, pose)) in poses.iter().enumerate() {
+                let i = k * per_group + j;
+                let (beam, p) = (&beams[i], &mut points[i]);
+                let d = mul(&pose.rotation, beam.dir);
+                *p = Point {
+                    ring: beam.ring,
+                    time: *dt as f32,
+                    ..Point::default()
+                };
+                let Some(hit) = tracer.cast(pose.translation, d, far) else {
+                    continue;
+                };
+                let n = hit.normal.map(f64::from);
+                let cos = (n[0] * d[0] + n[1] * d[1] + n[2] * d[2]).abs();
+                if hit.t < near || cos < cos_grazing {
+                    continue;
+                }
+                let ray = ((first * per_group + i) as u64) | (index << 32);
+                let range = if sigma > 0.0 {
+                    (hit.t + sigma * noise::normal(self.seed, ray)).max(0.0)
+                } else {
+                    hit.t
+                };
+                let rho = self
+                    .scene
+                    .reflectivity
+                    .get(hit.triangle as usize)
+                    .copied()
+                    .unwrap_or(0.3);
+                p.xyz = [
+                    (range * beam.dir[0]) as f32,
+                    (range * beam.dir[1]) as f32,
+                    (range * beam.dir[2]) as f32,
+                ];
+                p.range = range as f32;
+                p.reflectance = (f64::from(rho) * cos) as f32;
+                p.valid = true;
+                returns += 1;
+                // The true return, for the registration Hessian.
+                let q = [hit.t * d[0], hit.t * d[1], hit.t * d[2]];
+                accumulate(&mut h, q, n);
+                r2 += hit.t * hit.t;
+            }
+        }
+        (h, r2, returns)
     }
 
     /// A point of scan `scan` moved into the world by the sensor's pose at its time (what a
@@ -194,13 +255,7 @@ pub fn still_scan(
         model.range_noise_m = 0.0;
     }
     let trajectory = Trajectory::new(1.0, vec![[0.0; 6]; 6]);
-    let scanner = Scanner {
-        model: &model,
-        scene,
-        trajectory: &trajectory,
-        mount: pose,
-        seed,
-    };
+    let scanner = Scanner::new(&model, scene, &trajectory, pose, seed);
     let mut scan = Scan::default();
     scanner.scan(0, 0.0, &mut scan);
     scan.points

@@ -54,6 +54,8 @@ pub struct Mcap<W: Write> {
     channels: Vec<Vec<u8>>,
     counts: BTreeMap<u16, Count>,
     chunk: Vec<u8>,
+    /// The last chunk compressed (kept: a new buffer each chunk costs page faults).
+    compressed: Vec<u8>,
     chunk_times: (u64, u64),
     chunk_index: BTreeMap<u16, Vec<(u64, u64)>>,
     chunk_indexes: Vec<Vec<u8>>,
@@ -80,6 +82,7 @@ impl<W: Write> Mcap<W> {
             channels: Vec::new(),
             counts: BTreeMap::new(),
             chunk: Vec::with_capacity(CHUNK + (2 << 20)),
+            compressed: Vec::with_capacity(CHUNK + (1 << 20)),
             chunk_times: (u64::MAX, 0),
             chunk_index: BTreeMap::new(),
             chunk_indexes: Vec::new(),
@@ -175,22 +178,26 @@ impl<W: Write> Mcap<W> {
             return Ok(());
         }
         let crc = crc32fast::hash(&self.chunk);
-        let mut compressed = Vec::with_capacity(self.chunk.len() / 2);
+        self.compressed.clear();
         {
-            let mut enc = lz4_flex::frame::FrameEncoder::new(&mut compressed);
+            let mut enc = lz4_flex::frame::FrameEncoder::new(&mut self.compressed);
             enc.write_all(&self.chunk)?;
             enc.finish().map_err(io::Error::other)?;
         }
-        let mut b = Vec::with_capacity(compressed.len() + 64);
-        b.extend_from_slice(&self.chunk_times.0.to_le_bytes());
-        b.extend_from_slice(&self.chunk_times.1.to_le_bytes());
-        b.extend_from_slice(&(self.chunk.len() as u64).to_le_bytes());
-        b.extend_from_slice(&crc.to_le_bytes());
-        string(&mut b, "lz4");
-        b.extend_from_slice(&(compressed.len() as u64).to_le_bytes());
-        b.extend_from_slice(&compressed);
+        // The chunk record's fields, then its compressed records straight from their buffer.
+        let mut head = Vec::with_capacity(64);
+        head.extend_from_slice(&self.chunk_times.0.to_le_bytes());
+        head.extend_from_slice(&self.chunk_times.1.to_le_bytes());
+        head.extend_from_slice(&(self.chunk.len() as u64).to_le_bytes());
+        head.extend_from_slice(&crc.to_le_bytes());
+        string(&mut head, "lz4");
+        head.extend_from_slice(&(self.compressed.len() as u64).to_le_bytes());
         let start = self.out.written;
-        self.out.record(0x06, &b)?;
+        self.out.write(&[0x06])?;
+        self.out
+            .write(&((head.len() + self.compressed.len()) as u64).to_le_bytes())?;
+        self.out.write(&head)?;
+        self.out.write(&self.compressed)?;
         let chunk_length = self.out.written - start;
         let index_start = self.out.written;
         let mut offsets = Vec::new();
@@ -217,7 +224,7 @@ impl<W: Write> Mcap<W> {
         }
         ci.extend_from_slice(&(self.out.written - index_start).to_le_bytes());
         string(&mut ci, "lz4");
-        ci.extend_from_slice(&(compressed.len() as u64).to_le_bytes());
+        ci.extend_from_slice(&(self.compressed.len() as u64).to_le_bytes());
         ci.extend_from_slice(&(self.chunk.len() as u64).to_le_bytes());
         self.chunk_indexes.push(ci);
         self.chunk.clear();
