@@ -593,9 +593,14 @@ fn run(cli: Cli) -> Result<()> {
         }
         Command::Sense(a) => {
             let max_disk = match a.max_disk.as_deref() {
-                Some(s) => {
-                    Some(subtgraph::memory::parse_size(s).map_err(|e| anyhow!("--max-disk: {e}"))?)
-                }
+                // The sizes --max-memory takes, said of the disk.
+                Some(s) => Some(subtgraph::memory::parse_size(s).map_err(|e| {
+                    anyhow!(
+                        "{}",
+                        e.replace("--max-memory", "--max-disk")
+                            .replace("any world", "any sequence")
+                    )
+                })?),
                 None => None,
             };
             let request = subtgraph_sensors::SenseRequest {
