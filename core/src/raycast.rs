@@ -168,7 +168,7 @@ impl RayCaster {
         max: f64,
         stack: &mut [Entry; STACK],
     ) -> Option<Hit> {
-        if self.nodes.is_empty() || !(max > 0.0) {
+        if self.nodes.is_empty() || max.is_nan() || max <= 0.0 {
             return None;
         }
         let ray = Prepared::new(origin, dir)?;

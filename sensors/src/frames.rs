@@ -194,6 +194,7 @@ mod tests {
     use super::*;
 
     #[test]
+    #[allow(clippy::needless_range_loop)]
     fn euler_angles_quaternions_and_inverses_agree() {
         let p = Pose::from_euler([1.0, -2.0, 3.0], [0.7, -0.3, 0.2]);
         let q = p.quaternion();

@@ -76,7 +76,7 @@ impl ImuModel {
                 bounds: "10 to 4000 Hz".into(),
             });
         }
-        if !(self.time_offset_s.abs() <= 1.0) {
+        if self.time_offset_s.is_nan() || self.time_offset_s.abs() > 1.0 {
             return Err(SenseError::OutOfBounds {
                 what: "--imu-time-offset".into(),
                 value: format!("{} s", self.time_offset_s),
@@ -159,9 +159,9 @@ impl<'a> ImuStream<'a> {
         ];
         let mut out = [gyro, accel];
         for (s, reading) in out.iter_mut().enumerate() {
-            for axis in 0..3 {
+            for (axis, r) in reading.iter_mut().enumerate() {
                 let key = k * 12 + (s * 6 + axis) as u64;
-                reading[axis] += self.bias[s][axis] + white[s] * noise::normal(self.seed, key);
+                *r += self.bias[s][axis] + white[s] * noise::normal(self.seed, key);
                 self.bias[s][axis] += walk[s] * noise::normal(self.seed, key + 3);
             }
         }

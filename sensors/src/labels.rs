@@ -81,6 +81,8 @@ pub fn label(scan: &Scan, route: &Route, wall_distance_m: f64) -> Label {
 }
 
 /// The degeneracy of a scan's Hessian.
+// Indices, as the matrix algebra is written.
+#[allow(clippy::needless_range_loop)]
 pub fn degeneracy(scan: &Scan) -> Degeneracy {
     let n = scan.returns.max(1) as f64;
     let length = (scan.range2 / n).sqrt().max(1e-6);
@@ -132,6 +134,8 @@ fn canonical<const N: usize>(v: [f64; N]) -> [f64; N] {
 
 /// Eigenvalues (ascending) and unit eigenvectors of a symmetric matrix, by cyclic Jacobi
 /// rotations.
+// Indices, as the matrix algebra is written.
+#[allow(clippy::needless_range_loop)]
 pub fn jacobi<const N: usize>(mut a: [[f64; N]; N]) -> ([f64; N], [[f64; N]; N]) {
     let mut v = [[0.0; N]; N];
     for (i, row) in v.iter_mut().enumerate() {
@@ -207,7 +211,7 @@ mod tests {
         // Returns from the wall of a tube along x: normals in the y-z plane.
         let mut tube = Scan::default();
         let mut room = Scan::default();
-        let mut add = |scan: &mut Scan, q: [f64; 3], n: [f64; 3]| {
+        let add = |scan: &mut Scan, q: [f64; 3], n: [f64; 3]| {
             let r = [
                 q[1] * n[2] - q[2] * n[1],
                 q[2] * n[0] - q[0] * n[2],

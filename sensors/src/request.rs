@@ -186,6 +186,7 @@ impl SenseRequest {
         };
         let mut summary = None;
         host.write_folder(&self.out, self.force, &mut |dir| {
+            let started = std::time::Instant::now();
             let world = host.world(&self.world).map_err(SenseError::Host)?;
             check_graph(&world, &graph, &self.world)?;
             let options = options(self, world.resolved.seed)?;
@@ -200,7 +201,10 @@ impl SenseRequest {
                 "collision_triangles": scene.caster.triangle_count(),
             });
             let scans = sequence.scans;
-            summary = Some(sequence.write(dir, about, &mut |k| host.progress(k, scans))?);
+            let prepare_s = started.elapsed().as_secs_f64();
+            let mut written = sequence.write(dir, about, &mut |k| host.progress(k, scans))?;
+            written.prepare_s = prepare_s;
+            summary = Some(written);
             Ok(())
         })?;
         Ok(summary.expect("written"))

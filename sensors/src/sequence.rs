@@ -97,6 +97,10 @@ pub struct Summary {
     pub bytes: u64,
     /// Scans labelled degenerate.
     pub degenerate_scans: u64,
+    /// Seconds spent before the first scan (rebuilding the world, building the ray caster,
+    /// planning the route): for the benchmark, not written (it differs from run to run).
+    #[serde(skip)]
+    pub prepare_s: f64,
 }
 
 impl<'a> Sequence<'a> {
@@ -253,6 +257,7 @@ impl<'a> Sequence<'a> {
             route_length_m: 0.0,
             bytes: 0,
             degenerate_scans: 0,
+            prepare_s: 0.0,
         };
         let mut buffers = [Scan::default(), Scan::default()];
         scanner.scan(0, 0.0, &mut buffers[0]);
@@ -378,7 +383,7 @@ impl<'a> Sequence<'a> {
         let tail = serde_json::to_string_pretty(&serde_json::json!({ "summary": &summary }))
             .expect("plain data");
         let tail = tail.trim_start().trim_start_matches('{');
-        write!(json, "  ],{tail}\n").map_err(io("writing", &json_path))?;
+        writeln!(json, "  ],{tail}").map_err(io("writing", &json_path))?;
         json.flush().map_err(io("writing", &json_path))?;
         Ok(summary)
     }

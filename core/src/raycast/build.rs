@@ -39,9 +39,9 @@ impl Aabb {
     };
 
     pub(super) fn grow(&mut self, p: [f32; 3]) {
-        for k in 0..3 {
-            self.lo[k] = self.lo[k].min(p[k]);
-            self.hi[k] = self.hi[k].max(p[k]);
+        for (k, &v) in p.iter().enumerate() {
+            self.lo[k] = self.lo[k].min(v);
+            self.hi[k] = self.hi[k].max(v);
         }
     }
 
@@ -250,7 +250,8 @@ fn best_split(items: &[Item], centres: &Aabb, area: f32, count: usize) -> Option
     let mut best: Option<(f32, usize, usize)> = None;
     for axis in 0..3 {
         let extent = centres.hi[axis] - centres.lo[axis];
-        if !(extent > 0.0) {
+        // Zero or NaN: nothing to split along this axis.
+        if extent.is_nan() || extent <= 0.0 {
             continue;
         }
         let scale = BINS as f32 / extent;

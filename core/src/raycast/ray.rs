@@ -171,10 +171,10 @@ fn min2(a: f32, b: f32) -> f32 {
 /// empty slot).
 pub(super) fn box_distance2(n: &Node4, p: [f64; 3]) -> [f64; 4] {
     let mut d2 = [0.0; 4];
-    for k in 0..3 {
+    for (k, &pk) in p.iter().enumerate() {
         for (i, d2) in d2.iter_mut().enumerate() {
-            let d = (f64::from(n.lo[k][i]) - p[k])
-                .max(p[k] - f64::from(n.hi[k][i]))
+            let d = (f64::from(n.lo[k][i]) - pk)
+                .max(pk - f64::from(n.hi[k][i]))
                 .max(0.0);
             *d2 += d * d;
         }

@@ -189,7 +189,7 @@ impl LidarModel {
                         "1 to 512 beams",
                     );
                 }
-                if elevations_deg.iter().any(|e| !(e.abs() <= 90.0)) {
+                if elevations_deg.iter().any(|e| e.is_nan() || e.abs() > 90.0) {
                     return oob(
                         "elevations_deg",
                         format!("{elevations_deg:?}"),
@@ -197,7 +197,7 @@ impl LidarModel {
                     );
                 }
                 if azimuth_offsets_deg.len() != elevations_deg.len()
-                    || azimuth_offsets_deg.iter().any(|a| !(a.abs() <= 180.0))
+                    || azimuth_offsets_deg.iter().any(|a| a.is_nan() || a.abs() > 180.0)
                 {
                     return oob(
                         "azimuth_offsets_deg",
@@ -224,9 +224,8 @@ impl LidarModel {
                 elevation_deg,
                 sweeps_per_second,
             } => {
-                if !(1..=16).contains(lines)
-                    || !(*points_per_second > 0.0 && *points_per_second <= 6e6)
-                {
+                let rate_ok = *points_per_second > 0.0 && *points_per_second <= 6e6;
+                if !(1..=16).contains(lines) || !rate_ok {
                     return oob(
                         "lines or points_per_second",
                         format!("{lines}, {points_per_second}"),
@@ -243,7 +242,7 @@ impl LidarModel {
                         "[lowest, highest] within -90 to 90 degrees",
                     );
                 }
-                if !(*sweeps_per_second > 0.0) {
+                if sweeps_per_second.is_nan() || *sweeps_per_second <= 0.0 {
                     return oob(
                         "sweeps_per_second",
                         sweeps_per_second.to_string(),

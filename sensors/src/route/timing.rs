@@ -282,13 +282,11 @@ fn attitude(control: &mut [Control], platform: &Platform) {
         }
     }
     // A short moving average: second differences of control points are rough.
-    for i in 0..n {
+    for (i, c) in control.iter_mut().enumerate().take(n) {
         let lo = i.saturating_sub(2);
         let hi = (i + 3).min(n);
         let m = (hi - lo) as f64;
-        let pitch: f64 = tilt[lo..hi].iter().map(|t| t[0]).sum::<f64>() / m;
-        let roll: f64 = tilt[lo..hi].iter().map(|t| t[1]).sum::<f64>() / m;
-        control[i][4] = pitch;
-        control[i][5] = roll;
+        c[4] = tilt[lo..hi].iter().map(|t| t[0]).sum::<f64>() / m;
+        c[5] = tilt[lo..hi].iter().map(|t| t[1]).sum::<f64>() / m;
     }
 }
