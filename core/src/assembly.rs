@@ -79,14 +79,12 @@ pub fn assemble(layout: &Layout, tileset: &dyn TileSet) -> Result<WorldMesh, Til
     assemble_within(layout, tileset, &Budget::unlimited())
 }
 
-/// Makes every tile of a layout and joins them, refusing first a world whose meshes would need
-/// more memory than `budget`: by the tile set's estimate before any tile is made, and for tile
-/// sets without one, by the first chunk of tiles extrapolated to the world.
-pub fn assemble_within(
-    layout: &Layout,
-    tileset: &dyn TileSet,
-    budget: &Budget,
-) -> Result<WorldMesh, TileSetError> {
+/// Everything about a layout a tile set refuses before any tile is meshed: the tile set's own
+/// [`TileSet::check`], hazards it cannot make (`hazards.rubble`, `hazards.drops`) and ramps
+/// it cannot make (`world.connections = "ramp"`). [`assemble_within`] starts with it, and
+/// `validate` runs it without meshing, so the two refuse the same pipelines. Returns each
+/// shaft's ramp line for a world joined by ramps (empty otherwise).
+pub fn check(layout: &Layout, tileset: &dyn TileSet) -> Result<Vec<Vec<[f64; 3]>>, TileSetError> {
     tileset.check(layout)?;
     if let Some(h) = layout
         .pipeline
@@ -122,6 +120,18 @@ pub fn assemble_within(
             })?);
         }
     }
+    Ok(ramps)
+}
+
+/// Makes every tile of a layout and joins them, refusing first a world whose meshes would need
+/// more memory than `budget`: by the tile set's estimate before any tile is made, and for tile
+/// sets without one, by the first chunk of tiles extrapolated to the world.
+pub fn assemble_within(
+    layout: &Layout,
+    tileset: &dyn TileSet,
+    budget: &Budget,
+) -> Result<WorldMesh, TileSetError> {
+    let ramps = check(layout, tileset)?;
     let advice = match tileset.detail_advice() {
         Some(a) => format!(
             "{a}, make a smaller world (world.min_length, or world.rows and world.cols, and \

@@ -210,6 +210,24 @@ fn bad_input_is_refused_and_nothing_is_written() {
     sense(&world, &seq, &["--duration", "1"]);
     sense(&world, &seq, &["--duration", "2", "--force"]);
     assert_eq!(json(&seq.join("sequence.json"))["scan_count"], 20);
+    // Its manifest says `sense` wrote it: `generate --force` does not replace a sequence, and
+    // `sense --force` does not replace a world.
+    let manifest = std::fs::read_to_string(seq.join(".subtgraph-files")).unwrap();
+    assert!(manifest.contains("complete sense"), "{manifest}");
+    let e = fails(&["generate", arg(&pipeline), "--out", arg(&seq), "--force"]);
+    assert!(e.contains("sensor sequence"), "{e}");
+    assert_eq!(json(&seq.join("sequence.json"))["scan_count"], 20);
+    let e = fails(&[
+        "sense",
+        w,
+        "--out",
+        arg(&bare),
+        "--duration",
+        "1",
+        "--force",
+    ]);
+    assert!(e.contains("world folder"), "{e}");
+    assert!(bare.join("world.toml").is_file());
 }
 
 #[test]

@@ -197,7 +197,9 @@ impl LidarModel {
                     );
                 }
                 if azimuth_offsets_deg.len() != elevations_deg.len()
-                    || azimuth_offsets_deg.iter().any(|a| a.is_nan() || a.abs() > 180.0)
+                    || azimuth_offsets_deg
+                        .iter()
+                        .any(|a| a.is_nan() || a.abs() > 180.0)
                 {
                     return oob(
                         "azimuth_offsets_deg",
