@@ -444,10 +444,7 @@ impl PyWorld {
         });
         let n = points.len();
         let flat: Vec<f64> = points.into_iter().flatten().collect();
-        Ok(numpy::PyArrayMethods::reshape(
-            &numpy::PyArray1::from_vec(py, flat),
-            [n, 3],
-        )?)
+        numpy::PyArrayMethods::reshape(&numpy::PyArray1::from_vec(py, flat), [n, 3])
     }
 
     /// The tile set's material names.

@@ -10,7 +10,7 @@
 //! graph ([`route`]) and timed into a smooth trajectory ([`trajectory`]); a LiDAR model
 //! ([`lidar`]) casts its rays into the surface with the core's ray caster
 //! ([`subtgraph_core::raycast`]) from the pose the sensor has at each ray's instant; an IMU
-//! ([`imu`]) reads the trajectory's exact derivatives; and the writers ([`write`]) stream it all
+//! ([`imu`]) reads the trajectory's exact derivatives; and the writers ([`write`](mod@write)) stream it all
 //! to disk. [`request::SenseRequest`] is the `subtgraph sense` command; a dataset worker that
 //! already holds a world calls [`scene::Scene::of_world`], [`sequence::Sequence::plan`] and
 //! [`sequence::Sequence::write`] directly.

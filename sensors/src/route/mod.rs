@@ -1,5 +1,5 @@
 //! Routes over the ground-truth graph: which edges, in what order ([`plan`]), the path along
-//! them ([`path`]), and when the platform is where ([`timing`]), as a [`Trajectory`] with a
+//! them (`path`), and when the platform is where (`timing`), as a [`Trajectory`] with a
 //! label for every moment.
 //!
 //! The routes, as `--route` names them:

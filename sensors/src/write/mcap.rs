@@ -3,7 +3,7 @@
 //! schemas, channels, statistics and chunk indexes, so readers can seek.
 //!
 //! Records follow the MCAP specification (version 0, `ros2` profile). Memory is bounded by one
-//! chunk and the chunk indexes (about 100 bytes per chunk of [`CHUNK`] bytes), whatever the
+//! chunk and the chunk indexes (about 100 bytes per chunk of `CHUNK` bytes), whatever the
 //! length of the recording. Every checksum the format has is filled in (chunk, data section,
 //! summary), so a damaged file is caught by any reader.
 
