@@ -24,7 +24,7 @@ pub enum SenseError {
     },
     /// The world was made without geometry, so there is nothing to scan.
     #[error(
-        "the world has no mesh (it was made with --no-mesh or without a [tileset]); generate it with a tile set"
+        "the world has no mesh (made by generate --no-mesh, or without a [tileset]); generate it again with a tile set"
     )]
     NoMesh,
     /// The graph file is damaged.

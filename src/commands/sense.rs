@@ -65,13 +65,12 @@ pub struct Args {
 /// Writes the sequence, with a progress line, and prints what it holds and how fast it went.
 pub fn run(a: Args) -> Result<(), Error> {
     let max_disk = match a.max_disk.as_deref() {
-        // The sizes --max-memory takes, said of the disk.
-        Some(s) => Some(memory::parse_size(s).map_err(|e| {
-            Error::Usage(
-                e.to_string()
-                    .replace("--max-memory", "--max-disk")
-                    .replace("any world", "any sequence"),
-            )
+        // The sizes the memory limit takes, said of the disk.
+        Some(s) => Some(memory::parse_size(s).map_err(|_| {
+            Error::Usage(format!(
+                "--max-disk {}: give a size of at least 1M, like 20G, 500M or 2GiB",
+                subtgraph::core::error::excerpt(s)
+            ))
         })?),
         None => None,
     };
