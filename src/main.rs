@@ -9,7 +9,7 @@ use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
 
-use commands::{dataset, generate, plugins, presets, preview, score, stats, validate};
+use commands::{dataset, generate, plugins, presets, preview, score, sense, stats, validate};
 
 /// Procedural subterranean worlds with controlled topology, for robot simulation.
 #[derive(Parser)]
@@ -53,6 +53,10 @@ enum Command {
     Score(score::Args),
     /// Draw a shaded perspective picture of a world's mesh (no GPU needed).
     Preview(preview::Args),
+    /// Record a sensor sequence along a route through a world: a LiDAR, an IMU and ground-truth
+    /// poses, as a ROS 2 bag (bag/), a KITTI folder (kitti/), ground_truth.tum and
+    /// sequence.json (models, extrinsics, route, a label per scan). No simulator needed.
+    Sense(Box<sense::Args>),
 }
 
 fn main() -> ExitCode {
@@ -67,6 +71,7 @@ fn main() -> ExitCode {
         Command::Presets => presets::run(),
         Command::Score(a) => score::run(a),
         Command::Preview(a) => preview::run(a),
+        Command::Sense(a) => sense::run(*a),
     };
     match done {
         Ok(()) => ExitCode::SUCCESS,

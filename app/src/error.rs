@@ -98,6 +98,10 @@ pub enum Error {
         /// What is wrong with it.
         source: subtgraph_core::npy::NpyError,
     },
+    /// A sensor sequence was refused or failed (`sense`): the sensors crate's message says what
+    /// to change.
+    #[error(transparent)]
+    Sense(#[from] subtgraph_sensors::SenseError),
     /// A file of a world folder is not what `subtgraph generate` writes (edited, cut short,
     /// another version).
     #[error("{}: {source}", .world.display())]

@@ -14,6 +14,7 @@
 //! | [`StatsRequest`] | `stats` | the variability statistics of worlds, with plots |
 //! | [`PreviewRequest`] | `preview` | a shaded picture of a world's mesh |
 //! | [`PluginsRequest`] | `plugins list` | what plugin libraries register |
+//! | [`SenseRequest`] | `sense` | a sensor sequence (LiDAR, IMU, poses) along a route through a world, by [`sense::run`] |
 //!
 //! Every folder a request writes is written atomically and records which command wrote it
 //! ([`folder`]); `--force` replaces only a folder the same command wrote, never one being read,
@@ -42,6 +43,7 @@ pub mod plugins;
 pub mod presets;
 pub mod preview;
 pub mod score;
+pub mod sense;
 pub mod stats;
 pub mod validate;
 
@@ -53,5 +55,6 @@ pub use pipeline::PipelineSource;
 pub use plugins::{PluginsRequest, registry, registry_with};
 pub use preview::PreviewRequest;
 pub use score::ScoreRequest;
+pub use sense::SenseRequest;
 pub use stats::StatsRequest;
 pub use validate::ValidateRequest;

@@ -38,6 +38,7 @@ pub mod nesting;
 pub mod npy;
 pub mod params;
 pub mod range;
+pub mod raycast;
 pub mod registry;
 pub mod rng;
 pub mod route;

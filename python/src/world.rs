@@ -40,6 +40,8 @@ pub struct PyWorld {
     plugins: Vec<PathBuf>,
     codes: OnceLock<Vec<u8>>,
     tiles: OnceLock<Vec<u8>>,
+    /// The collision surface's ray caster and reflectivities, built on the first cast.
+    scene: OnceLock<subtgraph_sensors::Scene>,
 }
 
 impl PyWorld {
@@ -51,8 +53,31 @@ impl PyWorld {
             plugins,
             codes: OnceLock::new(),
             tiles: OnceLock::new(),
+            scene: OnceLock::new(),
         }
     }
+}
+
+/// The world's sensing scene (built once), or a `ValueError` for a world without meshes.
+fn scene_of(w: &PyWorld) -> PyResult<&subtgraph_sensors::Scene> {
+    if let Some(s) = w.scene.get() {
+        return Ok(s);
+    }
+    let scene = subtgraph_sensors::Scene::of_world(&w.world)
+        .map_err(|e| pyo3::exceptions::PyValueError::new_err(e.to_string()))?;
+    Ok(w.scene.get_or_init(|| scene))
+}
+
+/// Rows of three numbers from an `(n, 3)` array.
+fn triples(a: &numpy::PyReadonlyArray2<'_, f64>, what: &str) -> PyResult<Vec<[f64; 3]>> {
+    let v = a.as_array();
+    if v.ncols() != 3 {
+        return Err(pyo3::exceptions::PyValueError::new_err(format!(
+            "{what} must be an (n, 3) array, not {:?}",
+            v.shape()
+        )));
+    }
+    Ok(v.rows().into_iter().map(|r| [r[0], r[1], r[2]]).collect())
 }
 
 /// A read-only numpy view of `view`, whose memory `owner` holds.
@@ -327,6 +352,99 @@ impl PyWorld {
             ));
         }
         borrowed(slf, dyn_view(&m.materials, &[m.materials.len()]))
+    }
+
+    /// Distances in metres from each origin along each direction (normalised) to the first
+    /// collision triangle, `inf` where none is within `max_range`, `nan` for a zero direction:
+    /// `float64 [n]`. Casts in parallel with the GIL released.
+    #[pyo3(signature = (origins, directions, max_range=f64::INFINITY))]
+    fn raycast<'py>(
+        slf: &Bound<'py, Self>,
+        origins: numpy::PyReadonlyArray2<'py, f64>,
+        directions: numpy::PyReadonlyArray2<'py, f64>,
+        max_range: f64,
+    ) -> PyResult<Bound<'py, numpy::PyArray1<f64>>> {
+        let py = slf.py();
+        let o = triples(&origins, "origins")?;
+        let d = triples(&directions, "directions")?;
+        if o.len() != d.len() {
+            return Err(pyo3::exceptions::PyValueError::new_err(format!(
+                "{} origins but {} directions: give one direction per origin",
+                o.len(),
+                d.len()
+            )));
+        }
+        let scene = scene_of(slf.get())?;
+        let ranges = py.detach(|| {
+            let rays: Vec<subtgraph_core::raycast::Ray> = o
+                .iter()
+                .zip(&d)
+                .map(|(&origin, &dir)| {
+                    let len = (dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2]).sqrt();
+                    subtgraph_core::raycast::Ray {
+                        origin,
+                        dir: dir.map(|x| x / len),
+                    }
+                })
+                .collect();
+            let max = if max_range.is_finite() {
+                max_range
+            } else {
+                1e7
+            };
+            scene
+                .caster
+                .cast_all(&rays, max)
+                .into_iter()
+                .zip(&rays)
+                .map(|(h, r)| match h {
+                    Some(h) => h.t,
+                    None if r.dir.iter().all(|x| x.is_finite()) => f64::INFINITY,
+                    None => f64::NAN,
+                })
+                .collect::<Vec<f64>>()
+        });
+        Ok(numpy::PyArray1::from_vec(py, ranges))
+    }
+
+    /// One scan of a LiDAR model (`os1-32`, `os1-64`, `os1-128`, `vlp-16`, `mid-360`, or a
+    /// LiDAR table's path) standing still at `pose` (a 4 x 4 world-from-sensor matrix): its
+    /// returns as `float64 [n, 3]` in the sensor's frame (x forward, z up), without range noise
+    /// unless `noise` (drawn from `seed`).
+    #[pyo3(signature = (pose, model="os1-32", noise=false, seed=0))]
+    fn lidar_scan<'py>(
+        slf: &Bound<'py, Self>,
+        pose: numpy::PyReadonlyArray2<'py, f64>,
+        model: &str,
+        noise: bool,
+        seed: u64,
+    ) -> PyResult<Bound<'py, numpy::PyArray2<f64>>> {
+        let py = slf.py();
+        let m = pose.as_array();
+        if m.shape() != [4, 4] || m.iter().any(|x| !x.is_finite()) {
+            return Err(pyo3::exceptions::PyValueError::new_err(format!(
+                "pose must be a finite 4 x 4 matrix, not {:?}",
+                m.shape()
+            )));
+        }
+        let pose = subtgraph_sensors::frames::Pose {
+            translation: [m[[0, 3]], m[[1, 3]], m[[2, 3]]],
+            rotation: [
+                [m[[0, 0]], m[[0, 1]], m[[0, 2]]],
+                [m[[1, 0]], m[[1, 1]], m[[1, 2]]],
+                [m[[2, 0]], m[[2, 1]], m[[2, 2]]],
+            ],
+        };
+        let lidar =
+            subtgraph_sensors::lidar::LidarModel::named(model, |p| std::fs::read_to_string(p).ok())
+                .map_err(|e| pyo3::exceptions::PyValueError::new_err(e.to_string()))?;
+        let scene = scene_of(slf.get())?;
+        let points = py.detach(|| {
+            subtgraph_sensors::lidar::scan::still_scan(scene, &lidar, pose, noise, seed)
+        });
+        let n = points.len();
+        let flat: Vec<f64> = points.into_iter().flatten().collect();
+        numpy::PyArrayMethods::reshape(&numpy::PyArray1::from_vec(py, flat), [n, 3])
     }
 
     /// The tile set's material names.

@@ -214,6 +214,30 @@ class World:
         """The world-frame position in metres of a cell's centre on its floor."""
         return self._w.cell_position(level, row, col)
 
+    def raycast(self, origins: Any, directions: Any, max_range: float = float("inf")) -> Any:
+        """Distances in metres from each origin (``float64 [n, 3]``, world frame) along each
+        direction (``[n, 3]``, normalised here) to the first triangle of the collision mesh:
+        ``float64 [n]``, ``inf`` where nothing is within ``max_range``. Uses the same ray
+        caster as ``subtgraph sense``, built once per world, in parallel without the GIL.
+        """
+        import numpy as np
+
+        o = np.ascontiguousarray(origins, dtype=np.float64).reshape(-1, 3)
+        d = np.ascontiguousarray(directions, dtype=np.float64).reshape(-1, 3)
+        return self._w.raycast(o, d, float(max_range))
+
+    def lidar_scan(self, pose: Any, model: str = "os1-32", noise: bool = False,
+                   seed: int = 0) -> Any:
+        """One scan of a LiDAR model standing still at ``pose`` (a 4 x 4 world-from-sensor
+        matrix): its returns as ``float64 [n, 3]`` in the sensor's frame (x forward, z up).
+        ``model`` is ``os1-32``, ``os1-64``, ``os1-128``, ``vlp-16``, ``mid-360`` or a LiDAR
+        table's path, as ``subtgraph sense --lidar`` takes; range noise only with ``noise``
+        (drawn from ``seed``)."""
+        import numpy as np
+
+        p = np.ascontiguousarray(pose, dtype=np.float64)
+        return self._w.lidar_scan(p, model, bool(noise), int(seed))
+
     @property
     def graph(self) -> dict[str, Any]:
         """The topology graph as ``topology.json`` writes it: ``{"nodes": [...], "edges":

@@ -6,6 +6,7 @@ pub mod plugins;
 pub mod presets;
 pub mod preview;
 pub mod score;
+pub mod sense;
 pub mod stats;
 pub mod validate;
 

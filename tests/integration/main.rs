@@ -35,5 +35,6 @@ mod reliability;
 mod room_and_pillar;
 mod rubble;
 mod score;
+mod sense;
 mod stats;
 mod tilesets;

@@ -11,7 +11,7 @@ use crate::common;
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
 
-const COMMANDS: [&str; 8] = [
+const COMMANDS: [&str; 9] = [
     "generate",
     "dataset",
     "stats",
@@ -20,6 +20,7 @@ const COMMANDS: [&str; 8] = [
     "preview",
     "presets",
     "plugins list",
+    "sense",
 ];
 
 /// Flags named in a text: `--name` with a lower-case letter after the dashes.
@@ -200,6 +201,8 @@ fn reached_by(file: &str, src: &str, pos: usize) -> Vec<&'static str> {
         {
             vec!["dataset"]
         }
+        // Sensor sequences: only `sense` shows the sensors crate's messages and its own.
+        f if f.starts_with("sensors/") || f == "src/commands/sense.rs" => vec!["sense"],
         f if f.starts_with("src/") => vec!["generate", "dataset"],
         // Meshing happens only in generate and dataset (validate makes no mesh), and so does
         // writing files (the exporters' and the core's export errors).
@@ -253,6 +256,7 @@ fn every_flag_a_message_names_exists_on_the_command_that_shows_it() {
         "tilesets/src",
         "descriptors/src",
         "plugins/src",
+        "sensors/src",
     ] {
         rust_files(&root.join(dir), &mut files);
     }

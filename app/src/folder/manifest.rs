@@ -11,9 +11,10 @@
 //!   tell a dead run's leftovers (removed) from a live run's work (left alone).
 //!
 //! - **ownership by command**: its `complete` line names what the folder is (`complete world`,
-//!   `complete stats`, `complete score`), so each command's `--force` replaces only a folder
-//!   that command wrote: `stats` never replaces a world, `score` never replaces a world or a
-//!   stats report, `generate` never replaces a report.
+//!   `complete stats`, `complete score`, `complete sense`), so each command's `--force`
+//!   replaces only a folder that command wrote: `stats` never replaces a world, `score` never
+//!   replaces a world or a stats report, `generate` never replaces a report or a sensor
+//!   sequence, `sense` never replaces a world.
 //!
 //! The file is plain text, one entry per line, in path order, so it is byte-identical between
 //! runs like every other file of the world.
@@ -34,11 +35,13 @@ pub enum Kind {
     Stats,
     /// A `score` report.
     Score,
+    /// A `sense` sensor sequence.
+    Sense,
 }
 
 impl Kind {
     /// Every kind.
-    pub const ALL: [Kind; 3] = [Kind::World, Kind::Stats, Kind::Score];
+    pub const ALL: [Kind; 4] = [Kind::World, Kind::Stats, Kind::Score, Kind::Sense];
 
     /// Its word on the manifest's `complete` line.
     pub fn token(self) -> &'static str {
@@ -46,6 +49,7 @@ impl Kind {
             Kind::World => "world",
             Kind::Stats => "stats",
             Kind::Score => "score",
+            Kind::Sense => "sense",
         }
     }
 
@@ -55,6 +59,7 @@ impl Kind {
             Kind::World => "world folder",
             Kind::Stats => "stats report",
             Kind::Score => "score report",
+            Kind::Sense => "sensor sequence",
         }
     }
 
@@ -64,6 +69,7 @@ impl Kind {
             Kind::World => "subtgraph generate",
             Kind::Stats => "subtgraph stats",
             Kind::Score => "subtgraph score",
+            Kind::Sense => "subtgraph sense",
         }
     }
 
@@ -75,6 +81,7 @@ impl Kind {
             (Kind::World, "world.toml"),
             (Kind::Stats, "stats.json"),
             (Kind::Score, "score.json"),
+            (Kind::Sense, "sequence.json"),
         ]
         .into_iter()
         .find(|(_, f)| has(f))

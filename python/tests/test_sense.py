@@ -1,0 +1,87 @@
+"""Rays and LiDAR scans from Python (``World.raycast``, ``World.lidar_scan``), checked with
+trimesh, which computes the same things its own way."""
+
+import numpy as np
+import pytest
+
+import subtgraph
+
+
+@pytest.fixture(scope="module")
+def cave():
+    return subtgraph.generate(preset="cave", seed=7)
+
+
+def inside(world):
+    """A point in a passage: the ground truth's start node (on the passage's floor, where
+    its axis runs), a metre up."""
+    import json
+
+    graph = json.loads(world.files(["graph"])["ground_truth/graph.json"])
+    x, y, z = graph["nodes"][graph["start"]]["position"]
+    return np.array([x, y, z + 1.0])
+
+
+def trimesh_of(world):
+    trimesh = pytest.importorskip("trimesh")
+    v, f = world.mesh.collision
+    return trimesh.Trimesh(vertices=np.asarray(v, float), faces=np.asarray(f), process=False)
+
+
+def test_rays_from_inside_meet_the_rock_where_trimesh_says(cave):
+    rng = np.random.default_rng(3)
+    d = rng.normal(size=(300, 3))
+    o = np.repeat(inside(cave)[None], len(d), axis=0)
+    r = cave.raycast(o, d)
+    assert r.shape == (300,)
+    # The world is closed: every ray meets rock.
+    assert np.isfinite(r).all()
+    mesh = trimesh_of(cave)
+    pytest.importorskip("rtree")
+    unit = d / np.linalg.norm(d, axis=1)[:, None]
+    hits = o + r[:, None] * unit
+    _, dist, _ = mesh.nearest.on_surface(hits)
+    assert dist.max() < 1e-3, dist.max()
+    # And trimesh's own ray test finds the same first hits.
+    loc, idx, _ = mesh.ray.intersects_location(o[:40], unit[:40], multiple_hits=True)
+    for i in range(40):
+        mine = r[i]
+        theirs = np.linalg.norm(loc[idx == i] - o[i], axis=1).min()
+        assert abs(mine - theirs) < 1e-3, (i, mine, theirs)
+    # Beyond max_range: inf.
+    far = cave.raycast(o[:5], d[:5], max_range=0.01)
+    assert np.isinf(far).all()
+
+
+def test_a_lidar_scan_lands_on_the_rock_when_moved_by_its_pose(cave):
+    pose = np.eye(4)
+    yaw = 0.7
+    pose[:3, :3] = [[np.cos(yaw), -np.sin(yaw), 0], [np.sin(yaw), np.cos(yaw), 0], [0, 0, 1]]
+    pose[:3, 3] = inside(cave)
+    pts = cave.lidar_scan(pose, "os1-32")
+    assert pts.ndim == 2 and pts.shape[1] == 3
+    # Nearly every one of the 32 x 1024 rays returns in a closed cave.
+    assert 30000 < len(pts) <= 32 * 1024
+    world = pts @ pose[:3, :3].T + pose[:3, 3]
+    mesh = trimesh_of(cave)
+    pytest.importorskip("rtree")
+    _, dist, _ = mesh.nearest.on_surface(world[:: max(1, len(world) // 2000)])
+    assert dist.max() < 1e-3, dist.max()
+    # With noise: the same rays, ranges off by centimetres, the same for the same seed.
+    noisy = cave.lidar_scan(pose, "os1-32", noise=True, seed=5)
+    assert np.array_equal(noisy, cave.lidar_scan(pose, "os1-32", noise=True, seed=5))
+    assert not np.array_equal(noisy, cave.lidar_scan(pose, "os1-32", noise=True, seed=6))
+    vlp = cave.lidar_scan(pose, "vlp-16")
+    assert 25000 < len(vlp) <= 16 * 1800
+
+
+def test_bad_rays_and_models_are_refused_with_what_to_change(cave):
+    with pytest.raises(ValueError, match="one direction per origin"):
+        cave.raycast(np.zeros((3, 3)), np.ones((2, 3)))
+    with pytest.raises(ValueError, match="unknown LiDAR model 'os9'"):
+        cave.lidar_scan(np.eye(4), "os9")
+    with pytest.raises(ValueError, match="4 x 4"):
+        cave.lidar_scan(np.eye(3))
+    bare = subtgraph.generate(preset="cave", seed=7, mesh=False)
+    with pytest.raises(ValueError, match="no mesh"):
+        bare.raycast(np.zeros((1, 3)), np.ones((1, 3)))

@@ -1,0 +1,228 @@
+//! `subtgraph sense`: a typed request, checked before anything heavy is done, run against the
+//! application that hosts it (which rebuilds worlds and writes folders atomically).
+
+use std::path::{Path, PathBuf};
+
+use subtgraph_core::World;
+
+use crate::error::SenseError;
+use crate::graph::RouteGraph;
+use crate::imu::ImuModel;
+use crate::lidar::{LidarModel, Overrides};
+use crate::platform::Platform;
+use crate::route::RouteKind;
+use crate::scene::Scene;
+use crate::sequence::{Options, Sequence, Summary};
+use crate::write::Formats;
+
+/// What `subtgraph sense` is asked for. [`Default`] gives the command line's defaults.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SenseRequest {
+    /// The world folder (with `world.toml` and `ground_truth/graph.json`).
+    pub world: PathBuf,
+    /// The sequence folder to write.
+    pub out: PathBuf,
+    /// `ground` or `aerial`.
+    pub platform: String,
+    /// `out-and-back`, `loop`, `levels` or `coverage`.
+    pub route: String,
+    /// A built-in LiDAR model's name, or a LiDAR table's path (`.toml`).
+    pub lidar: String,
+    /// Scans a second, overriding the model's.
+    pub lidar_rate: Option<f64>,
+    /// Farthest return, metres, overriding the model's.
+    pub max_range: Option<f64>,
+    /// IMU samples a second.
+    pub imu_rate: f64,
+    /// Added to the IMU's time stamps, seconds.
+    pub imu_time_offset: f64,
+    /// `bag`, `kitti` (comma lists allowed); empty means both.
+    pub formats: Vec<String>,
+    /// Publish wheel odometry (ground platform).
+    pub wheel_odometry: bool,
+    /// No range noise, no IMU noise or drift.
+    pub noiseless: bool,
+    /// Stop after this many seconds.
+    pub duration: Option<f64>,
+    /// The seed of the route's choices and the noise (default: the world's).
+    pub seed: Option<u64>,
+    /// The most bytes the folder may take (default: the free space where it goes, less 1 GB).
+    pub max_disk: Option<u64>,
+    /// Replace `out` if subtgraph wrote it.
+    pub force: bool,
+}
+
+impl Default for SenseRequest {
+    fn default() -> Self {
+        SenseRequest {
+            world: PathBuf::new(),
+            out: PathBuf::new(),
+            platform: "ground".into(),
+            route: "out-and-back".into(),
+            lidar: "os1-32".into(),
+            lidar_rate: None,
+            max_range: None,
+            imu_rate: 200.0,
+            imu_time_offset: 0.0,
+            formats: Vec::new(),
+            wheel_odometry: false,
+            noiseless: false,
+            duration: None,
+            seed: None,
+            max_disk: None,
+            force: false,
+        }
+    }
+}
+
+/// What the application provides: the world of a folder, and an atomic folder to write into.
+///
+/// The command line implements it with its registry (built-ins and plugins) and its `folder`
+/// module: `world` rebuilds the world from the folder's `world.toml` (a world records its seed
+/// and whole resolved configuration, so it comes back exactly), and `write_folder` gives `fill`
+/// a temporary folder beside `out` that is moved into place only once `fill` succeeds, and
+/// removed otherwise.
+pub trait Host {
+    /// The world a world folder was made from.
+    fn world(&self, folder: &Path) -> Result<World, String>;
+
+    /// Writes the folder `out` through `fill`, atomically; `force` replaces a folder this tool
+    /// wrote, and nothing else.
+    fn write_folder(
+        &self,
+        out: &Path,
+        force: bool,
+        fill: &mut dyn FnMut(&Path) -> Result<(), SenseError>,
+    ) -> Result<(), SenseError>;
+
+    /// Told each scan's index as it is written (for a progress line).
+    fn progress(&self, _scan: u64, _of: u64) {}
+}
+
+/// The options a request names, checked (names, bounds), with `seed` for a missing seed.
+pub fn options(r: &SenseRequest, seed: u64) -> Result<Options, SenseError> {
+    let platform = Platform::named(&r.platform)?;
+    let route = RouteKind::named(&r.route)?;
+    let lidar = LidarModel::named(&r.lidar, |p| std::fs::read_to_string(p).ok())?;
+    let lidar = Overrides {
+        rate_hz: r.lidar_rate,
+        max_range_m: r.max_range,
+        noiseless: r.noiseless,
+    }
+    .apply(lidar)?;
+    let mut imu = ImuModel::adis16448(r.imu_rate);
+    imu.time_offset_s = r.imu_time_offset;
+    if r.noiseless {
+        imu = imu.noiseless();
+    }
+    imu.check()?;
+    Ok(Options {
+        platform,
+        route,
+        lidar,
+        imu,
+        formats: Formats::parse(&r.formats)?,
+        wheel_odometry: r.wheel_odometry,
+        seed: r.seed.unwrap_or(seed),
+        duration: r.duration,
+    })
+}
+
+/// Reads a world folder's route graph, or says why it has none.
+pub fn read_graph(world: &Path) -> Result<RouteGraph, SenseError> {
+    if !world.join("world.toml").is_file() {
+        return Err(SenseError::NoWorld {
+            path: world.to_owned(),
+            why: if world.is_dir() {
+                "it has no world.toml".into()
+            } else {
+                "no such folder".into()
+            },
+        });
+    }
+    let path = world.join("ground_truth/graph.json");
+    if !path.is_file() {
+        return Err(SenseError::NoGroundTruth {
+            path: world.to_owned(),
+        });
+    }
+    let text = std::fs::read_to_string(&path).map_err(|source| SenseError::Io {
+        what: "reading",
+        path: path.clone(),
+        source,
+    })?;
+    RouteGraph::from_json(&text, &path.display().to_string())
+}
+
+/// Free bytes on the file system that `out` goes to (its nearest existing ancestor).
+pub fn free_space(out: &Path) -> Option<u64> {
+    #[cfg(unix)]
+    {
+        let dir = out
+            .ancestors()
+            .find(|a| !a.as_os_str().is_empty() && a.is_dir())
+            .unwrap_or(Path::new("."));
+        let s = rustix::fs::statvfs(dir).ok()?;
+        Some(s.f_bavail.saturating_mul(s.f_frsize))
+    }
+    #[cfg(not(unix))]
+    {
+        let _ = out;
+        None
+    }
+}
+
+impl SenseRequest {
+    /// Makes the sequence: checks the request and the world folder, then (in the host's
+    /// atomic folder) rebuilds the world, plans the route, refuses a sequence past the disk
+    /// limit, and writes it.
+    pub fn run(&self, host: &dyn Host) -> Result<Summary, SenseError> {
+        // Names and bounds first, with a placeholder seed: nothing heavy yet.
+        options(self, 0)?;
+        let graph = read_graph(&self.world)?;
+        let limit = match self.max_disk {
+            Some(b) => b,
+            None => free_space(&self.out).map_or(u64::MAX, |f| f.saturating_sub(1 << 30)),
+        };
+        let mut summary = None;
+        host.write_folder(&self.out, self.force, &mut |dir| {
+            let started = std::time::Instant::now();
+            let world = host.world(&self.world).map_err(SenseError::Host)?;
+            check_graph(&world, &graph, &self.world)?;
+            let options = options(self, world.resolved.seed)?;
+            let scene = Scene::of_world(&world)?;
+            let sequence = Sequence::plan(&scene, &graph, options)?;
+            sequence.check_disk(limit)?;
+            let about = serde_json::json!({
+                "folder": self.world.display().to_string(),
+                "seed": world.resolved.seed,
+                "levels": world.resolved.levels,
+                "tile_pitch_m": world.resolved.tile_pitch,
+                "collision_triangles": scene.caster.triangle_count(),
+            });
+            let scans = sequence.scans;
+            let prepare_s = started.elapsed().as_secs_f64();
+            let mut written = sequence.write(dir, about, &mut |k| host.progress(k, scans))?;
+            written.prepare_s = prepare_s;
+            summary = Some(written);
+            Ok(())
+        })?;
+        Ok(summary.expect("written"))
+    }
+}
+
+/// Refuses a graph that is not the rebuilt world's (a folder made by another version).
+fn check_graph(world: &World, graph: &RouteGraph, folder: &Path) -> Result<(), SenseError> {
+    let (n, e) = (world.graph.nodes.len(), world.graph.edges.len());
+    if n != graph.nodes.len() || e != graph.edges.len() {
+        return Err(SenseError::NoWorld {
+            path: folder.to_owned(),
+            why: format!(
+                "its world.toml makes a world of {n} nodes and {e} edges but its ground_truth/graph.json has {} and {} (the folder was made by another version of subtgraph, or edited): generate it again",
+                graph.nodes.len(),
+                graph.edges.len()
+            ),
+        });
+    }
+    Ok(())
+}

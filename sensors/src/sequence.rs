@@ -1,0 +1,481 @@
+//! A sequence: a route planned through a scene, the sensors sampled along it, every file
+//! streamed to disk scan by scan.
+//!
+//! Memory does not grow with the route's length beyond its trajectory (a few hundred bytes per
+//! second of driving): scans are cast into two reused buffers, the next cast while the last is
+//! written (so the two cores share ray casting, compression and writing), the bag's chunks are
+//! written as they fill, and `sequence.json`'s labels are written one per line as each scan is
+//! done. Before anything is cast, [`Sequence::estimate`] says how many bytes the folder will
+//! take, so a run that cannot fit is refused first ([`Sequence::check_disk`]).
+
+use std::fs::File;
+use std::io::{BufWriter, Write};
+use std::path::Path;
+
+use serde::Serialize;
+use subtgraph_core::vec3::V3;
+
+use crate::error::SenseError;
+use crate::frames::{Pose, mul_t};
+use crate::graph::RouteGraph;
+use crate::imu::{ImuModel, ImuStream};
+use crate::labels;
+use crate::lidar::LidarModel;
+use crate::lidar::scan::{Scan, Scanner};
+use crate::platform::{Kind, Platform};
+use crate::route::{Route, RouteKind};
+use crate::scene::Scene;
+use crate::write::Formats;
+use crate::write::bag::{self, Bag};
+use crate::write::kitti::{Kitti, Tum};
+
+/// Ground-truth odometry messages a second.
+const ODOMETRY_HZ: f64 = 100.0;
+/// Wheel odometry messages a second.
+const WHEEL_HZ: f64 = 50.0;
+
+/// What to make.
+#[derive(Clone, Debug)]
+pub struct Options {
+    /// The platform.
+    pub platform: Platform,
+    /// The route.
+    pub route: RouteKind,
+    /// The LiDAR.
+    pub lidar: LidarModel,
+    /// The IMU.
+    pub imu: ImuModel,
+    /// Which outputs.
+    pub formats: Formats,
+    /// Also publish wheel odometry (ground platforms).
+    pub wheel_odometry: bool,
+    /// The seed of the route's choices and the sensors' noise.
+    pub seed: u64,
+    /// Stop after this many seconds (the whole route without).
+    pub duration: Option<f64>,
+}
+
+/// A planned sequence, ready to write.
+pub struct Sequence<'a> {
+    /// The world.
+    pub scene: &'a Scene,
+    /// Its graph.
+    pub graph: &'a RouteGraph,
+    /// What to make.
+    pub options: Options,
+    /// The route.
+    pub route: Route,
+    /// Scans it will have.
+    pub scans: u64,
+    /// Seconds it lasts.
+    pub duration: f64,
+}
+
+/// Bytes a sequence will take.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+pub struct Estimate {
+    /// In all, at most.
+    pub bytes: u64,
+    /// Per scan (both formats), at most.
+    pub per_scan: u64,
+}
+
+/// What a written sequence holds.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Summary {
+    /// Scans.
+    pub scans: u64,
+    /// Rays cast.
+    pub rays: u64,
+    /// Returns.
+    pub returns: u64,
+    /// Seconds of sensor time.
+    pub duration_s: f64,
+    /// Metres of route driven (within the duration).
+    pub route_length_m: f64,
+    /// Bytes written.
+    pub bytes: u64,
+    /// Scans labelled degenerate.
+    pub degenerate_scans: u64,
+    /// Seconds spent before the first scan (rebuilding the world, building the ray caster,
+    /// planning the route): for the benchmark, not written (it differs from run to run).
+    #[serde(skip)]
+    pub prepare_s: f64,
+}
+
+impl<'a> Sequence<'a> {
+    /// Plans the route and checks the options.
+    pub fn plan(
+        scene: &'a Scene,
+        graph: &'a RouteGraph,
+        options: Options,
+    ) -> Result<Sequence<'a>, SenseError> {
+        options.lidar.check()?;
+        options.imu.check()?;
+        if let Some(d) = options.duration
+            && !(d > 0.0 && d.is_finite())
+        {
+            return Err(SenseError::OutOfBounds {
+                what: "--duration".into(),
+                value: format!("{d} s"),
+                bounds: "a positive number of seconds".into(),
+            });
+        }
+        if options.wheel_odometry && options.platform.kind != Kind::Ground {
+            return Err(SenseError::OutOfBounds {
+                what: "--wheel-odometry".into(),
+                value: format!("on the {} platform", options.platform.name),
+                bounds: "used with --platform ground only (an aerial platform has no wheels)"
+                    .into(),
+            });
+        }
+        let route =
+            crate::route::plan(graph, scene, &options.platform, options.route, options.seed)?;
+        let full = route.trajectory.duration();
+        let duration = options.duration.map_or(full, |d| d.min(full));
+        let period = options.lidar.period();
+        let scans = ((duration / period).floor() as u64).max(1);
+        Ok(Sequence {
+            scene,
+            graph,
+            options,
+            route,
+            scans,
+            duration,
+        })
+    }
+
+    /// The bytes the folder will take, at most (the bag counted uncompressed).
+    pub fn estimate(&self) -> Estimate {
+        let o = &self.options;
+        let rays = o.lidar.rays_per_scan();
+        let mut per_scan = 600 + 110; // the label in sequence.json, the TUM line
+        if o.formats.bag {
+            per_scan += bag::scan_bytes(&o.lidar, rays);
+        }
+        if o.formats.kitti {
+            per_scan += 16 * rays as u64 + 260;
+        }
+        let mut per_second = 0.0;
+        if o.formats.bag {
+            per_second += o.imu.rate_hz * 360.0 + ODOMETRY_HZ * 760.0;
+            if o.wheel_odometry {
+                per_second += WHEEL_HZ * 760.0;
+            }
+        }
+        if o.formats.kitti {
+            per_second += o.imu.rate_hz * 120.0;
+        }
+        let bytes = self.scans * per_scan + (per_second * self.duration) as u64 + 64 * 1024;
+        Estimate { bytes, per_scan }
+    }
+
+    /// Refuses a sequence larger than `limit` bytes.
+    pub fn check_disk(&self, limit: u64) -> Result<Estimate, SenseError> {
+        let e = self.estimate();
+        if e.bytes > limit {
+            return Err(SenseError::TooLarge {
+                estimate: e.bytes,
+                per_scan: e.per_scan,
+                scans: self.scans,
+                limit,
+            });
+        }
+        Ok(e)
+    }
+
+    fn scanner(&self) -> Scanner<'_> {
+        Scanner::new(
+            &self.options.lidar,
+            self.scene,
+            &self.route.trajectory,
+            self.options.platform.lidar,
+            crate::noise::hash(self.options.seed, 0x11da5),
+        )
+    }
+
+    /// Writes the sequence into `dir` (an empty folder): `world` describes the world in
+    /// `sequence.json`. `progress` is told each scan's index as it is written.
+    pub fn write(
+        &self,
+        dir: &Path,
+        world: serde_json::Value,
+        progress: &mut dyn FnMut(u64),
+    ) -> Result<Summary, SenseError> {
+        let io = |what: &'static str, path: &Path| {
+            let path = path.to_owned();
+            move |source| SenseError::Io { what, path, source }
+        };
+        let o = &self.options;
+        let model = &o.lidar;
+        let mut bag = if o.formats.bag {
+            let d = dir.join("bag");
+            std::fs::create_dir_all(&d).map_err(io("creating", &d))?;
+            Some(Bag::create(&d, model, o.wheel_odometry).map_err(io("writing", &d))?)
+        } else {
+            None
+        };
+        let mut kitti = if o.formats.kitti {
+            let d = dir.join("kitti");
+            Some(Kitti::create(&d).map_err(io("writing", &d))?)
+        } else {
+            None
+        };
+        let tum_path = dir.join("ground_truth.tum");
+        let mut tum = Tum::create(&tum_path).map_err(io("writing", &tum_path))?;
+        let json_path = dir.join("sequence.json");
+        let mut json = BufWriter::new(File::create(&json_path).map_err(io("writing", &json_path))?);
+        let head = self.head(world);
+        let head = serde_json::to_string_pretty(&head).expect("plain data");
+        // The head object, left open for the labels.
+        let head = head.trim_end().trim_end_matches('}').trim_end();
+        write!(json, "{head},\n  \"scans\": [\n").map_err(io("writing", &json_path))?;
+
+        let platform = &o.platform;
+        if let Some(b) = &mut bag {
+            b.tf_static(&[
+                (bag::BASE, model.driver.frame_id(), platform.lidar),
+                (bag::BASE, bag::IMU, platform.imu),
+            ])
+            .map_err(io("writing", dir))?;
+        }
+        let scanner = self.scanner();
+        let trajectory = &self.route.trajectory;
+        let mut imu = ImuStream::new(&o.imu, trajectory, platform.imu, o.seed);
+        let variances = [
+            o.imu.gyroscope_noise_density.powi(2) * o.imu.rate_hz,
+            o.imu.accelerometer_noise_density.powi(2) * o.imu.rate_hz,
+        ];
+        let mut odometry_next = 0u64;
+        let mut wheel = Wheel::new(o.seed);
+        let period = model.period();
+        let mut summary = Summary {
+            scans: self.scans,
+            rays: 0,
+            returns: 0,
+            duration_s: self.duration,
+            route_length_m: 0.0,
+            bytes: 0,
+            degenerate_scans: 0,
+            prepare_s: 0.0,
+        };
+        let mut buffers = [Scan::default(), Scan::default()];
+        scanner.scan(0, 0.0, &mut buffers[0]);
+        let mut last_position: Option<V3> = None;
+        for k in 0..self.scans {
+            let (current, next) = buffers.split_at_mut(1);
+            let (current, next) = if k % 2 == 0 {
+                (&mut current[0], &mut next[0])
+            } else {
+                (&mut next[0], &mut current[0])
+            };
+            let cast_next = || {
+                if k + 1 < self.scans {
+                    scanner.scan(k + 1, (k + 1) as f64 * period, next);
+                }
+            };
+            let scan: &Scan = current;
+            let write_this = || -> Result<(labels::Label, Pose), SenseError> {
+                let publish = scan.start + period;
+                // Everything logged before this scan's cloud arrives.
+                loop {
+                    let t = imu.peek_time();
+                    if t > publish {
+                        break;
+                    }
+                    let s = imu.sample();
+                    if s.stamp < 0.0 {
+                        continue;
+                    }
+                    if let Some(b) = &mut bag {
+                        b.imu(s.stamp, s.gyroscope, s.accelerometer, variances)
+                            .map_err(io("writing", dir))?;
+                    }
+                    if let Some(kt) = &mut kitti {
+                        kt.imu(s.stamp, s.gyroscope, s.accelerometer)
+                            .map_err(io("writing", dir))?;
+                    }
+                }
+                while (odometry_next as f64) / ODOMETRY_HZ <= publish {
+                    let t = odometry_next as f64 / ODOMETRY_HZ;
+                    odometry_next += 1;
+                    if let Some(b) = &mut bag {
+                        let s = trajectory.state(t);
+                        let v = mul_t(&s.pose.rotation, s.velocity);
+                        b.odometry(
+                            "/ground_truth/odom",
+                            t,
+                            bag::MAP,
+                            &s.pose,
+                            v,
+                            s.angular_velocity,
+                            0.0,
+                        )
+                        .map_err(io("writing", dir))?;
+                    }
+                }
+                if o.wheel_odometry {
+                    while wheel.next_time() <= publish {
+                        let (t, pose, v, w) = wheel.step(trajectory);
+                        if let Some(b) = &mut bag {
+                            b.odometry("/wheel/odom", t, bag::ODOM, &pose, v, w, 1e-3)
+                                .map_err(io("writing", dir))?;
+                        }
+                    }
+                }
+                if let Some(b) = &mut bag {
+                    b.scan(scan).map_err(io("writing", dir))?;
+                }
+                let pose = scanner.pose(scan.start);
+                if let Some(kt) = &mut kitti {
+                    kt.scan(scan, &pose).map_err(io("writing", dir))?;
+                }
+                tum.pose(scan.start, &pose)
+                    .map_err(io("writing", &tum_path))?;
+                let wall = self
+                    .scene
+                    .caster
+                    .nearest(pose.translation, 100.0)
+                    .map_or(100.0, |n| n.distance);
+                Ok((labels::label(scan, &self.route, wall), pose))
+            };
+            let ((), written) = rayon::join(cast_next, write_this);
+            let (label, pose) = written?;
+            summary.rays += scan.points.len() as u64;
+            summary.returns += scan.returns as u64;
+            if label.degeneracy.as_ref().is_some_and(|d| d.degenerate) {
+                summary.degenerate_scans += 1;
+            }
+            if let Some(p) = last_position {
+                summary.route_length_m +=
+                    crate::frames::norm(subtgraph_core::vec3::sub(pose.translation, p));
+            }
+            last_position = Some(pose.translation);
+            let line = serde_json::to_string(&label).expect("plain data");
+            let sep = if k + 1 < self.scans { "," } else { "" };
+            writeln!(json, "    {line}{sep}").map_err(io("writing", &json_path))?;
+            progress(k);
+        }
+        // The IMU and odometry to the end of the last scan.
+        let end = self.scans as f64 * period;
+        while imu.peek_time() <= end {
+            let s = imu.sample();
+            if s.stamp < 0.0 {
+                continue;
+            }
+            if let Some(b) = &mut bag {
+                b.imu(s.stamp, s.gyroscope, s.accelerometer, variances)
+                    .map_err(io("writing", dir))?;
+            }
+            if let Some(kt) = &mut kitti {
+                kt.imu(s.stamp, s.gyroscope, s.accelerometer)
+                    .map_err(io("writing", dir))?;
+            }
+        }
+        if let Some(b) = bag {
+            summary.bytes += b.finish().map_err(io("writing", dir))?;
+        }
+        if let Some(kt) = kitti {
+            summary.bytes += kt.finish().map_err(io("writing", dir))?;
+        }
+        summary.bytes += tum.finish().map_err(io("writing", &tum_path))?;
+        summary.route_length_m = (summary.route_length_m * 1000.0).round() / 1000.0;
+        let tail = serde_json::to_string_pretty(&serde_json::json!({ "summary": &summary }))
+            .expect("plain data");
+        let tail = tail.trim_start().trim_start_matches('{');
+        writeln!(json, "  ],{tail}").map_err(io("writing", &json_path))?;
+        json.flush().map_err(io("writing", &json_path))?;
+        Ok(summary)
+    }
+
+    /// `sequence.json`'s head: everything but the labels and the summary.
+    fn head(&self, world: serde_json::Value) -> serde_json::Value {
+        let o = &self.options;
+        let pose = |p: &Pose| {
+            serde_json::json!({
+                "translation": p.translation,
+                "quaternion_xyzw": p.quaternion(),
+            })
+        };
+        serde_json::json!({
+            "format": "subtgraph-sequence/1",
+            "world": world,
+            "seed": o.seed,
+            "frames": {
+                "world": bag::MAP,
+                "base": bag::BASE,
+                "lidar": o.lidar.driver.frame_id(),
+                "imu": bag::IMU,
+                "convention": "REP 103/105: metres, x east, y north, z up in map (the world folder's frame); x forward, y left, z up in base_link",
+            },
+            "platform": &o.platform,
+            "extrinsics": {
+                "base_link_to_lidar": pose(&o.platform.lidar),
+                "base_link_to_imu": pose(&o.platform.imu),
+            },
+            "lidar": &o.lidar,
+            "imu": &o.imu,
+            "wheel_odometry": o.wheel_odometry,
+            "outputs": {
+                "bag": o.formats.bag,
+                "kitti": o.formats.kitti,
+                "ground_truth": "ground_truth.tum and kitti/poses.txt: the LiDAR's pose at each scan's start, world frame",
+            },
+            "route": {
+                "kind": self.route.kind.name(),
+                "nodes": &self.route.nodes,
+                "legs": &self.route.legs,
+                "length_m": (self.route.length * 1000.0).round() / 1000.0,
+                "duration_s": self.route.trajectory.duration(),
+                "control_step_s": self.route.trajectory.step(),
+            },
+            "scan_count": self.scans,
+            "scan_period_s": o.lidar.period(),
+            "degenerate_below": labels::DEGENERATE,
+        })
+    }
+}
+
+/// Wheel odometry: the body's forward speed and yaw rate, with a scale error and noise,
+/// integrated in the plane from where the robot started (the `odom` frame).
+struct Wheel {
+    seed: u64,
+    next: u64,
+    pose: [f64; 3],
+    scale: f64,
+}
+
+impl Wheel {
+    fn new(seed: u64) -> Wheel {
+        let seed = crate::noise::hash(seed, 0x0e1);
+        Wheel {
+            seed,
+            next: 0,
+            pose: [0.0; 3],
+            // A wheel's radius known to 1 %.
+            scale: 1.0 + 0.01 * crate::noise::normal(seed, u64::MAX),
+        }
+    }
+
+    fn next_time(&self) -> f64 {
+        self.next as f64 / WHEEL_HZ
+    }
+
+    fn step(&mut self, trajectory: &crate::trajectory::Trajectory) -> (f64, Pose, V3, V3) {
+        let t = self.next_time();
+        let k = self.next;
+        self.next += 1;
+        let s = trajectory.state(t);
+        let v = mul_t(&s.pose.rotation, s.velocity);
+        let speed = self.scale * v[0] + 0.02 * crate::noise::normal(self.seed, 2 * k);
+        let yaw_rate = s.angular_velocity[2] + 0.01 * crate::noise::normal(self.seed, 2 * k + 1);
+        if k > 0 {
+            let dt = 1.0 / WHEEL_HZ;
+            self.pose[2] += yaw_rate * dt;
+            self.pose[0] += speed * self.pose[2].cos() * dt;
+            self.pose[1] += speed * self.pose[2].sin() * dt;
+        }
+        let pose = Pose::from_euler([self.pose[0], self.pose[1], 0.0], [self.pose[2], 0.0, 0.0]);
+        (t, pose, [speed, 0.0, 0.0], [0.0, 0.0, yaw_rate])
+    }
+}

@@ -1,0 +1,127 @@
+//! `subtgraph sense`.
+
+use std::path::PathBuf;
+use std::time::Instant;
+
+use subtgraph::app::{Error, SenseRequest, memory, sense};
+
+/// `sense`'s arguments.
+#[derive(clap::Args)]
+pub struct Args {
+    /// A world folder made with ground truth (`generate --format ground-truth`).
+    world: PathBuf,
+    /// The sequence folder to write (must not exist, unless --force and subtgraph sense wrote it).
+    #[arg(long)]
+    out: PathBuf,
+    /// ground (a wheeled robot: corridors and ramps) or aerial (a quadrotor: shafts too).
+    #[arg(long, default_value = "ground")]
+    platform: String,
+    /// out-and-back (to the farthest dead end and back), loop, levels or coverage.
+    #[arg(long, default_value = "out-and-back")]
+    route: String,
+    /// os1-32, os1-64, os1-128, vlp-16, mid-360, or a LiDAR table FILE.toml.
+    #[arg(long, default_value = "os1-32", value_name = "MODEL")]
+    lidar: String,
+    /// Scans a second, instead of the model's (1 to 50).
+    #[arg(long, value_name = "HZ")]
+    lidar_rate: Option<f64>,
+    /// Farthest return in metres, instead of the model's.
+    #[arg(long, value_name = "METRES")]
+    max_range: Option<f64>,
+    /// IMU samples a second (10 to 4000).
+    #[arg(long, default_value_t = 200.0, value_name = "HZ")]
+    imu_rate: f64,
+    /// Seconds added to the IMU's time stamps (a clock offset, -1 to 1).
+    #[arg(
+        long,
+        default_value_t = 0.0,
+        value_name = "SECONDS",
+        allow_hyphen_values = true
+    )]
+    imu_time_offset: f64,
+    /// Outputs besides sequence.json and ground_truth.tum: bag, kitti (default both).
+    #[arg(long, value_name = "LIST")]
+    format: Vec<String>,
+    /// Also publish wheel odometry on /wheel/odom (ground platform).
+    #[arg(long)]
+    wheel_odometry: bool,
+    /// No range noise, no IMU noise or drift.
+    #[arg(long)]
+    noiseless: bool,
+    /// Stop after this many seconds of the route.
+    #[arg(long, value_name = "SECONDS")]
+    duration: Option<f64>,
+    /// Seed of the route's choices and the noise (default: the world's seed).
+    #[arg(long)]
+    seed: Option<u64>,
+    /// The most disk the folder may take, like 20G (default: the free space less 1 GB).
+    #[arg(long, value_name = "SIZE")]
+    max_disk: Option<String>,
+    /// Replace --out if it is a sensor sequence subtgraph sense wrote.
+    #[arg(long)]
+    force: bool,
+}
+
+/// Writes the sequence, with a progress line, and prints what it holds and how fast it went.
+pub fn run(a: Args) -> Result<(), Error> {
+    let max_disk = match a.max_disk.as_deref() {
+        // The sizes the memory limit takes, said of the disk.
+        Some(s) => Some(memory::parse_size(s).map_err(|_| {
+            Error::Usage(format!(
+                "--max-disk {}: give a size of at least 1M, like 20G, 500M or 2GiB",
+                subtgraph::core::error::excerpt(s)
+            ))
+        })?),
+        None => None,
+    };
+    let request = SenseRequest {
+        world: a.world,
+        out: a.out,
+        platform: a.platform,
+        route: a.route,
+        lidar: a.lidar,
+        lidar_rate: a.lidar_rate,
+        max_range: a.max_range,
+        imu_rate: a.imu_rate,
+        imu_time_offset: a.imu_time_offset,
+        formats: a.format,
+        wheel_odometry: a.wheel_odometry,
+        noiseless: a.noiseless,
+        duration: a.duration,
+        seed: a.seed,
+        max_disk,
+        force: a.force,
+    };
+    let started = Instant::now();
+    let sensed = sense::run(&request, &|scan, of| {
+        if (scan + 1) % 500 == 0 || scan + 1 == of {
+            eprint!("\r  scan {} of {of}", scan + 1);
+            if scan + 1 == of {
+                eprintln!();
+            }
+        }
+    })?;
+    let took = started.elapsed().as_secs_f64();
+    if let Some((parent, n)) = &sensed.swept {
+        eprintln!(
+            "note: removed {n} unfinished folder(s) in {} left by runs that were killed",
+            parent.display()
+        );
+    }
+    let s = &sensed.summary;
+    super::print(&format!(
+        "wrote {} ({} scans, {:.1} s of sensor time, {:.0} m driven, {} of {} rays returned, {:.1} MB, {} degenerate scans) in {took:.1} s (world rebuilt, ray caster built and route planned in {:.1} s): {:.1} M rays/s, {:.0} scans/s\n",
+        request.out.display(),
+        s.scans,
+        s.duration_s,
+        s.route_length_m,
+        s.returns,
+        s.rays,
+        s.bytes as f64 / 1e6,
+        s.degenerate_scans,
+        s.prepare_s,
+        s.rays as f64 / took / 1e6,
+        s.scans as f64 / took
+    ));
+    Ok(())
+}
