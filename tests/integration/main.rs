@@ -37,3 +37,4 @@ mod rubble;
 mod score;
 mod stats;
 mod tilesets;
+mod trajectory;

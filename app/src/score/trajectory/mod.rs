@@ -140,6 +140,7 @@ pub struct TrajectoryScore {
     /// The first divergence or jump, if any.
     pub failure: Option<Failure>,
     /// The score folder written.
+    #[serde(skip)]
     pub out: PathBuf,
 }
 
