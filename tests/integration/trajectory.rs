@@ -93,23 +93,19 @@ fn write_kitti(path: &Path, rows: &[Row], times_name: &str) {
 /// A winding, climbing reference: 3D positions and orientations that turn about every axis,
 /// so no alignment is degenerate. `n` poses at 10 Hz.
 fn reference(n: usize) -> Vec<Row> {
-    (0..n)
-        .map(|k| {
-            let s = k as f64 * 0.1;
-            let p = [
-                6.0 * s + 8.0 * (0.07 * s).sin(),
-                5.0 * (0.11 * s).sin() + 0.5 * s,
-                0.4 * s + (0.3 * s).cos(),
-            ];
-            let pitch = [
-                (0.05 * (0.2 * s).sin()).sin(),
-                0.0,
-                0.0,
-                (0.05 * (0.2 * s).sin()).cos(),
-            ];
-            (s, p, mul(yaw(0.3 * s), pitch))
-        })
-        .collect()
+    (0..n).map(|k| at(k as f64 * 0.1)).collect()
+}
+
+/// The reference's pose at time `s`.
+fn at(s: f64) -> Row {
+    let p = [
+        6.0 * s + 8.0 * (0.07 * s).sin(),
+        5.0 * (0.11 * s).sin() + 0.5 * s,
+        0.4 * s + (0.3 * s).cos(),
+    ];
+    let h = 0.05 * (0.2 * s).sin();
+    let pitch = [h.sin(), 0.0, 0.0, h.cos()];
+    (s, p, mul(yaw(0.3 * s), pitch))
 }
 
 fn json(out: &Path) -> Value {
@@ -350,6 +346,40 @@ fn a_constant_yaw_drift_matches_its_closed_form() {
         200.0 * 0.05,
         1e-7,
         "deg/100 m over 100 m",
+    );
+}
+
+#[test]
+fn an_estimate_at_another_rate_is_associated_as_evo_does() {
+    let dir = tempfile::tempdir().unwrap();
+    let rows = reference(400);
+    // 20 Hz with up to ±15 ms of jitter and a slow drift: some poses fall outside the
+    // default 10 ms of every reference pose, some two land on the same one.
+    let est: Vec<Row> = (0..800)
+        .map(|k| {
+            let kf = k as f64;
+            let t = 0.05 * kf + 0.015 * (1.7 * kf).sin();
+            let (_, p, q) = at(t);
+            (t, [p[0] + 0.002 * kf, p[1], p[2]], mul(q, yaw(0.0005 * kf)))
+        })
+        .collect();
+    let r = write_tum(&dir.path().join("ref.tum"), &rows);
+    let e = write_tum(&dir.path().join("est.tum"), &est);
+    for (align, delta) in [("none", "1"), ("se3", "5"), ("sim3", "2")] {
+        let j = score(
+            dir.path(),
+            align,
+            &r,
+            &e,
+            &["--align", align, "--delta", delta],
+        );
+        let pairs = j["associated_poses"].as_u64().unwrap();
+        assert!(pairs > 100 && pairs < 400, "{align}: {pairs} pairs");
+    }
+    let j = score(dir.path(), "wide", &r, &e, &["--max-diff", "0.05"]);
+    assert_eq!(
+        j["associated_poses"], 400,
+        "every reference pose within 50 ms"
     );
 }
 
