@@ -153,8 +153,8 @@ pub fn read(file: &Path, times: Option<&Path>) -> Result<Trajectory, Error> {
         )));
     }
     let (time_file, time_lines) = time_source;
-    for k in 1..traj.times.len() {
-        let (now, before) = (traj.times[k], traj.times[k - 1]);
+    for (k, w) in traj.times.windows(2).enumerate() {
+        let (before, now) = (w[0], w[1]);
         if now <= before {
             let word = if now == before {
                 "duplicate"
@@ -163,7 +163,7 @@ pub fn read(file: &Path, times: Option<&Path>) -> Result<Trajectory, Error> {
             };
             return Err(bad(
                 &time_file,
-                time_lines[k],
+                time_lines[k + 1],
                 format!(
                     "{word} time {now} (the pose before is at {before}): times must increase strictly"
                 ),
