@@ -112,7 +112,7 @@ pub fn run(a: Args) -> Result<(), Error> {
         world: a.world,
         reports: a
             .reports
-            .expect("clap requires --reports without --trajectory"),
+            .expect("clap requires the reports file unless a trajectory is scored"),
         map: a.map,
         radius: a.radius,
         tolerance: a.tolerance,
