@@ -626,3 +626,108 @@ fn the_same_run_gives_the_same_bytes() {
     assert_eq!(strip(&a), strip(&b));
     assert!(a.join("trajectory.png").is_file() && a.join("errors.csv").is_file());
 }
+
+#[test]
+fn with_a_world_the_error_increase_is_placed_on_its_graph_edge() {
+    let dir = tempfile::tempdir().unwrap();
+    let pipeline = dir.path().join("p.toml");
+    std::fs::write(
+        &pipeline,
+        "[world]\nseed = 5\nlevels = 1\nrows = 20\ncols = 20\ntile_pitch = 16.0\nlevel_height = 16.0\n\n\
+         [topology]\nloops = 1\nt_junctions = 1\nintersections = 1\n\n[route]\ntype = \"parabolic\"\n",
+    )
+    .unwrap();
+    let world = dir.path().join("world");
+    ok(&["generate", arg(&pipeline), "--out", arg(&world)]);
+    let topo: Value =
+        serde_json::from_slice(&std::fs::read(world.join("topology.json")).unwrap()).unwrap();
+    let (p, rows) = (num(&topo, "tile_pitch_m"), num(&topo, "rows"));
+    let node = &topo["nodes"][0];
+    let cell = |c: &Value| (num(c, "row"), num(c, "col"));
+    let (nr, nc) = cell(&node["cell"]);
+    let (oc, or) = (
+        (node["position"][0].as_f64().unwrap() / p).round() - nc,
+        rows - 1.0 - (node["position"][1].as_f64().unwrap() / p).round() - nr,
+    );
+    // The longest edge on the one level, walked cell centre to cell centre, 1 m a pose.
+    let edge = topo["edges"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .max_by_key(|e| e["cells"].as_array().unwrap().len())
+        .unwrap();
+    let centres: Vec<[f64; 2]> = edge["cells"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|c| {
+            let (r, c) = cell(c);
+            [(c + oc) * p, (rows - 1.0 - (r + or)) * p]
+        })
+        .collect();
+    let m = centres.len();
+    assert!(m >= 6, "a long edge: {edge}");
+    let steps = p as usize;
+    let mut reference = Vec::new();
+    let mut estimate = Vec::new();
+    for (i, w) in centres.windows(2).enumerate() {
+        for s in 0..steps {
+            let f = s as f64 / steps as f64;
+            let xy = [
+                w[0][0] + f * (w[1][0] - w[0][0]),
+                w[0][1] + f * (w[1][1] - w[0][1]),
+            ];
+            // The estimate rises 2 m while the robot is between the edge's third cell and its
+            // third last, well inside its corridor tiles; level before and after.
+            let along = i as f64 + f;
+            let rise = 2.0 * ((along - 2.0) / (m as f64 - 5.0)).clamp(0.0, 1.0);
+            let t = reference.len() as f64 * 0.1;
+            reference.push((t, [xy[0], xy[1], 1.0], [0.0, 0.0, 0.0, 1.0]));
+            estimate.push((t, [xy[0], xy[1], 1.0 + rise], [0.0, 0.0, 0.0, 1.0]));
+        }
+    }
+    let r = write_tum(&dir.path().join("ref.tum"), &reference);
+    let e = write_tum(&dir.path().join("est.tum"), &estimate);
+    let out = dir.path().join("scored");
+    let printed = ok(&[
+        "score",
+        arg(&world),
+        "--trajectory",
+        arg(&e),
+        "--reference",
+        arg(&r),
+        "--out",
+        arg(&out),
+    ]);
+    let j = json(&out);
+    let worst = &j["graph"]["largest_increases"][0];
+    assert_eq!(worst["region"], "edge", "{worst}");
+    assert_eq!(worst["id"], edge["id"], "{worst}");
+    near(
+        num(worst, "ape_increase_m"),
+        2.0,
+        1e-9,
+        "the edge's increase",
+    );
+    let second = &j["graph"]["largest_increases"][1];
+    near(
+        num(second, "ape_increase_m"),
+        0.0,
+        1e-9,
+        "no other stretch grew",
+    );
+    assert!(printed.contains("largest APE increase: edge"), "{printed}");
+    // The increases add up to the final APE.
+    let csv = std::fs::read_to_string(out.join("graph.csv")).unwrap();
+    let total: f64 = csv
+        .lines()
+        .skip(1)
+        .map(|l| l.rsplit(',').next().unwrap().parse::<f64>().unwrap())
+        .sum();
+    near(
+        total,
+        num(&j, "final_drift_m"),
+        1e-9,
+        "sum of the increases",
+    );
+}

@@ -45,6 +45,14 @@ struct Options {
 }
 
 #[derive(Serialize)]
+struct GraphJson {
+    world: String,
+    stretches: usize,
+    poses_outside: usize,
+    largest_increases: Vec<super::graph::Stretch>,
+}
+
+#[derive(Serialize)]
 struct Doc<'a> {
     format: &'static str,
     command: String,
@@ -54,6 +62,7 @@ struct Doc<'a> {
     options: Options,
     associated_poses: usize,
     failed: bool,
+    graph: Option<GraphJson>,
     #[serde(flatten)]
     score: &'a TrajectoryScore,
 }
@@ -125,6 +134,16 @@ pub(super) fn files(
         },
         associated_poses: s.pairs.len(),
         failed: s.summary.failure.is_some(),
+        graph: s.stretches.as_ref().map(|st| GraphJson {
+            world: r.world_or_sequence.display().to_string(),
+            stretches: st.len(),
+            poses_outside: st
+                .iter()
+                .filter(|t| t.region == "outside")
+                .map(|t| t.poses[1] - t.poses[0] + 1)
+                .sum(),
+            largest_increases: super::graph::largest(st, 5),
+        }),
         score: &s.summary,
     };
     let mut json = serde_json::to_string_pretty(&doc).expect("plain data serializes");
@@ -145,13 +164,15 @@ pub(super) fn files(
             reference.times[i], estimate.times[j], q[0], q[1], q[2], p[0], p[1], p[2], s.ape[k]
         );
     }
-    Files {
-        list: vec![
-            ("trajectory.json".to_owned(), json.into_bytes()),
-            ("errors.csv".to_owned(), csv.into_bytes()),
-            ("trajectory.png".to_owned(), picture(reference, s)),
-        ],
+    let mut list = vec![
+        ("trajectory.json".to_owned(), json.into_bytes()),
+        ("errors.csv".to_owned(), csv.into_bytes()),
+        ("trajectory.png".to_owned(), picture(reference, s)),
+    ];
+    if let Some(st) = &s.stretches {
+        list.push(("graph.csv".to_owned(), super::graph::csv(st).into_bytes()));
     }
+    Files { list }
 }
 
 const GREY: Rgb = [170, 170, 170];

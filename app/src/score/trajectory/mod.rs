@@ -12,6 +12,7 @@
 
 mod align;
 mod files;
+pub mod graph;
 mod metrics;
 pub mod pose;
 pub mod read;
@@ -139,6 +140,10 @@ pub struct TrajectoryScore {
     pub points_final: u32,
     /// The first divergence or jump, if any.
     pub failure: Option<Failure>,
+    /// With a world folder: the stretch of the run on one graph node or edge where the APE
+    /// grew most (all of them in `graph.csv`).
+    #[serde(skip)]
+    pub worst_stretch: Option<graph::Stretch>,
     /// The score folder written.
     #[serde(skip)]
     pub out: PathBuf,
@@ -174,6 +179,15 @@ impl fmt::Display for TrajectoryScore {
             self.points_mean,
             self.points_final
         )?;
+        if let Some(w) = &self.worst_stretch {
+            let id = w.id.map_or(String::new(), |i| format!(" {i}"));
+            let level = w.level.map_or(String::new(), |l| format!(", level {l}"));
+            writeln!(
+                f,
+                "largest APE increase: {}{id} ({}{level}), {:+.3} m between t = {} and {} s",
+                w.region, w.kind, w.ape_increase_m, w.time_s[0], w.time_s[1]
+            )?;
+        }
         match &self.failure {
             None => writeln!(f, "no failure")?,
             Some(x) => writeln!(
@@ -230,7 +244,12 @@ impl TrajectoryRequest {
         out.check()?;
         let reference = read::read(&reference_file, self.reference_times.as_deref())?;
         let estimate = read::read(&self.estimate, self.times.as_deref())?;
-        let scored = score(self, &reference, &estimate)?;
+        let world = self.world_or_sequence.join("topology.json").is_file();
+        let cells = match world {
+            true => Some(crate::score::world::cells(&self.world_or_sequence)?),
+            false => None,
+        };
+        let scored = score(self, &reference, &estimate, cells.as_ref())?;
         let files = files::files(self, &reference, &estimate, &scored);
         crate::folder::write_atomically(&out, |w| {
             for (name, bytes) in &files.list {
@@ -253,6 +272,8 @@ pub(crate) struct Scored {
     ape: Vec<f64>,
     /// RPE `(translation, rotation degrees)` of the pair ending at each associated pose.
     rpe_at: Vec<Option<(f64, f64)>>,
+    /// With a world folder: the run's stretches on its graph.
+    stretches: Option<Vec<graph::Stretch>>,
     summary: TrajectoryScore,
 }
 
@@ -260,6 +281,7 @@ fn score(
     r: &TrajectoryRequest,
     reference: &read::Trajectory,
     estimate: &read::Trajectory,
+    cells: Option<&crate::score::world::Cells>,
 ) -> Result<Scored, Error> {
     let pairs = align::associate(&reference.times, &estimate.times, r.max_diff);
     let need = if r.align == Align::None { 2 } else { 3 };
@@ -336,6 +358,7 @@ fn score(
     let path_length_m = metrics::path_length(&refs);
     let final_drift_m = ape[ape.len() - 1];
     let points: Vec<u32> = ape.iter().map(|&e| metrics::points(e)).collect();
+    let stretches = cells.map(|c| graph::stretches(c, &times, &refs, &ape));
     let summary = TrajectoryScore {
         poses: [estimate.poses.len(), reference.poses.len(), pairs.len()],
         alignment,
@@ -352,6 +375,9 @@ fn score(
         points_mean: points.iter().map(|&p| f64::from(p)).sum::<f64>() / points.len() as f64,
         points_final: points[points.len() - 1],
         failure: metrics::failure(&times, &refs, &aligned, &ape, r.fail_ape, r.fail_jump),
+        worst_stretch: stretches
+            .as_deref()
+            .and_then(|s| graph::largest(s, 1).pop()),
         out: r.out.clone(),
     };
     Ok(Scored {
@@ -359,6 +385,7 @@ fn score(
         aligned,
         ape,
         rpe_at,
+        stretches,
         summary,
     })
 }
