@@ -7,8 +7,10 @@
 //!   SE(3) or Sim(3), or origin alignment.
 //! - Scores (`metrics.rs`): APE, RPE over frames and over 10 m and 100 m of travel, final
 //!   drift, HILTI-style points, a failure flag.
-//! - Output (`files.rs`): `trajectory.json`, `errors.csv` and `trajectory.png` in a score
-//!   folder written atomically, like every folder the tool writes.
+//! - With a world folder (`graph.rs`): the run cut into stretches per graph node and edge,
+//!   with the APE increase of each.
+//! - Output (`files.rs`): `trajectory.json`, `errors.csv`, `trajectory.png` (and `graph.csv`)
+//!   in a score folder written atomically, like every folder the tool writes.
 
 mod align;
 mod files;
