@@ -49,7 +49,9 @@ enum Command {
     Presets,
     /// Grade a robot's run against a world's ground truth: artifact reports by the DARPA
     /// rule (same class within 5 m, each artifact once), and a map's coverage of the free
-    /// space (per level and graph edge) and error. JSON, CSV, a picture per level.
+    /// space (per level and graph edge) and error; or an estimated trajectory (--trajectory)
+    /// against a ground-truth one: APE, RPE, drift, points, as evo computes them. JSON, CSV,
+    /// pictures.
     Score(score::Args),
     /// Draw a shaded perspective picture of a world's mesh (no GPU needed).
     Preview(preview::Args),

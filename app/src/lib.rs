@@ -55,6 +55,7 @@ pub use pipeline::PipelineSource;
 pub use plugins::{PluginsRequest, registry, registry_with};
 pub use preview::PreviewRequest;
 pub use score::ScoreRequest;
+pub use score::trajectory::{Align, TrajectoryRequest};
 pub use sense::SenseRequest;
 pub use stats::StatsRequest;
 pub use validate::ValidateRequest;

@@ -1,17 +1,20 @@
-//! `subtgraph score`.
+//! `subtgraph score`: a run's artifact reports and map, or a trajectory (`--trajectory`).
 
 use std::path::PathBuf;
 
-use subtgraph::app::{Error, ScoreRequest};
+use subtgraph::app::{Align, Error, ScoreRequest, TrajectoryRequest};
 
 /// `score`'s arguments.
 #[derive(clap::Args)]
 pub struct Args {
-    /// A world folder generated with [artifacts] (and free-space ground truth for --map).
+    /// A world folder generated with [artifacts] (and free-space ground truth for --map); with
+    /// --trajectory, a sensor sequence folder (its ground_truth.tum is the reference), the
+    /// reference trajectory file itself, or a world folder with --reference.
+    #[arg(value_name = "WORLD_OR_SEQUENCE")]
     world: PathBuf,
     /// The team's reports: CSV with columns time,class,x,y,z, or a JSON list of them.
-    #[arg(long)]
-    reports: PathBuf,
+    #[arg(long, required_unless_present = "trajectory")]
+    reports: Option<PathBuf>,
     /// The robot's map in the world frame: a PLY or PCD point cloud, or an occupancy .npy
     /// on the grid of ground_truth/free_space.npy.
     #[arg(long, value_name = "CLOUD")]
@@ -22,6 +25,56 @@ pub struct Args {
     /// A mapped point farther than this many metres from the surface is a map error.
     #[arg(long, default_value_t = 0.5, value_name = "METRES")]
     tolerance: f64,
+    /// Score an estimated trajectory instead: TUM (t x y z qx qy qz qw) or KITTI (3x4 pose
+    /// rows, times from --times or times.txt beside it).
+    #[arg(long, value_name = "FILE", conflicts_with_all = ["reports", "map"])]
+    trajectory: Option<PathBuf>,
+    /// The estimate's times file (one time a line), when it is KITTI.
+    #[arg(long, value_name = "FILE", requires = "trajectory")]
+    times: Option<PathBuf>,
+    /// The ground-truth trajectory (TUM or KITTI), when WORLD_OR_SEQUENCE is not one.
+    #[arg(long, value_name = "FILE", requires = "trajectory")]
+    reference: Option<PathBuf>,
+    /// The reference's times file, when it is KITTI.
+    #[arg(long, value_name = "FILE", requires = "trajectory")]
+    reference_times: Option<PathBuf>,
+    /// Poses further apart in time than this are not associated (evo's --t_max_diff).
+    #[arg(
+        long,
+        default_value_t = 0.01,
+        value_name = "SECONDS",
+        requires = "trajectory"
+    )]
+    max_diff: f64,
+    /// none: the estimate's first pose put on the reference's (evo --align_origin); se3:
+    /// Umeyama rigid (evo -a); sim3: Umeyama with scale (evo -as).
+    #[arg(long, default_value = "none", value_parser = ["none", "se3", "sim3"], requires = "trajectory")]
+    align: String,
+    /// RPE between poses this many frames apart (evo --delta N --delta_unit f).
+    #[arg(
+        long,
+        default_value_t = 1,
+        value_name = "FRAMES",
+        requires = "trajectory"
+    )]
+    delta: usize,
+    /// An APE above this many metres is a divergence: the run is flagged failed.
+    #[arg(
+        long,
+        default_value_t = 10.0,
+        value_name = "METRES",
+        requires = "trajectory"
+    )]
+    fail_ape: f64,
+    /// A step this many metres longer than the reference's is a jump: the run is flagged
+    /// failed.
+    #[arg(
+        long,
+        default_value_t = 1.0,
+        value_name = "METRES",
+        requires = "trajectory"
+    )]
+    fail_jump: f64,
     /// The score folder (must not exist, unless --force and the tool wrote it).
     #[arg(long)]
     out: PathBuf,
@@ -32,9 +85,34 @@ pub struct Args {
 
 /// Scores the run and prints the summary.
 pub fn run(a: Args) -> Result<(), Error> {
+    if let Some(estimate) = a.trajectory {
+        let scored = TrajectoryRequest {
+            world_or_sequence: a.world,
+            estimate,
+            times: a.times,
+            reference: a.reference,
+            reference_times: a.reference_times,
+            max_diff: a.max_diff,
+            align: match a.align.as_str() {
+                "se3" => Align::Se3,
+                "sim3" => Align::Sim3,
+                _ => Align::None,
+            },
+            delta: a.delta,
+            fail_ape: a.fail_ape,
+            fail_jump: a.fail_jump,
+            out: a.out,
+            force: a.force,
+        }
+        .run()?;
+        super::print(&format!("{scored}\n"));
+        return Ok(());
+    }
     let scored = ScoreRequest {
         world: a.world,
-        reports: a.reports,
+        reports: a
+            .reports
+            .expect("clap requires the reports file unless a trajectory is scored"),
         map: a.map,
         radius: a.radius,
         tolerance: a.tolerance,

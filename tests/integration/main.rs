@@ -38,3 +38,4 @@ mod score;
 mod sense;
 mod stats;
 mod tilesets;
+mod trajectory;

@@ -19,6 +19,7 @@ pub mod coverage;
 mod picture;
 mod report;
 pub mod reports;
+pub mod trajectory;
 pub mod world;
 
 use std::fmt;

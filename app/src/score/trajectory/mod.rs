@@ -1,0 +1,393 @@
+//! `subtgraph score WORLD_OR_SEQUENCE --trajectory EST --out DIR`: grades an estimated
+//! trajectory (a SLAM or odometry run) against a ground-truth one, with the numbers evo gives
+//! on the same files and options.
+//!
+//! - Reading (`read.rs`): TUM or KITTI files, every row checked.
+//! - Association and alignment (`align.rs`): nearest in time within `--max-diff`; Umeyama
+//!   SE(3) or Sim(3), or origin alignment.
+//! - Scores (`metrics.rs`): APE, RPE over frames and over 10 m and 100 m of travel, final
+//!   drift, HILTI-style points, a failure flag.
+//! - With a world folder (`graph.rs`): the run cut into stretches per graph node and edge,
+//!   with the APE increase of each.
+//! - Output (`files.rs`): `trajectory.json`, `errors.csv`, `trajectory.png` (and `graph.csv`)
+//!   in a score folder written atomically, like every folder the tool writes.
+
+mod align;
+mod files;
+pub mod graph;
+mod metrics;
+pub mod pose;
+pub mod read;
+
+use std::fmt;
+use std::path::{Path, PathBuf};
+
+use serde::Serialize;
+
+use crate::Error;
+use crate::folder::{Kind, Out};
+
+pub use align::Alignment;
+pub use metrics::{Failure, POINTS, Stats};
+pub use read::{SEQUENCE_GROUND_TRUTH, UNIT_TOLERANCE};
+
+/// How the estimate is put in the reference's frame before it is scored.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Align {
+    /// None beyond the start: the estimate's first associated pose is put on the
+    /// reference's (evo's `--align_origin`), as LiDAR odometry is judged.
+    None,
+    /// Umeyama's least-squares rigid transform (evo's `--align`, `-a`).
+    Se3,
+    /// Umeyama's least-squares similarity, with scale (evo's `--align --correct_scale`,
+    /// `-as`), for monocular methods.
+    Sim3,
+}
+
+impl Align {
+    /// Its name on the command line.
+    pub fn name(self) -> &'static str {
+        match self {
+            Align::None => "none",
+            Align::Se3 => "se3",
+            Align::Sim3 => "sim3",
+        }
+    }
+
+    /// The `evo_ape`/`evo_rpe` option that does the same.
+    pub fn evo_option(self) -> &'static str {
+        match self {
+            Align::None => "--align_origin",
+            Align::Se3 => "--align",
+            Align::Sim3 => "--align --correct_scale",
+        }
+    }
+}
+
+/// The travelled distances RPE is also measured over, metres (as KITTI's odometry benchmark
+/// reports drift per distance).
+pub const SEGMENTS_M: [f64; 2] = [10.0, 100.0];
+
+/// What `score --trajectory` is asked.
+#[derive(Clone, Debug)]
+pub struct TrajectoryRequest {
+    /// The world or sensor sequence folder, or the reference trajectory file itself.
+    pub world_or_sequence: PathBuf,
+    /// The estimated trajectory (TUM or KITTI).
+    pub estimate: PathBuf,
+    /// The estimate's times file, when it is KITTI (else `times.txt` beside it).
+    pub times: Option<PathBuf>,
+    /// The ground-truth trajectory, when the positional argument is not one (or a sequence).
+    pub reference: Option<PathBuf>,
+    /// The reference's times file, when it is KITTI.
+    pub reference_times: Option<PathBuf>,
+    /// Poses further apart in time are not associated, seconds (evo's `--t_max_diff`).
+    pub max_diff: f64,
+    /// The alignment.
+    pub align: Align,
+    /// RPE's pose distance in frames (evo's `--delta N --delta_unit f`).
+    pub delta: usize,
+    /// An APE above this is a divergence: the run failed, metres.
+    pub fail_ape: f64,
+    /// A step this much longer than the reference's is a jump: the run failed, metres.
+    pub fail_jump: f64,
+    /// The output folder.
+    pub out: PathBuf,
+    /// Replace a score folder the tool wrote.
+    pub force: bool,
+}
+
+/// RPE over pairs of poses.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Rpe {
+    /// The pose distance: frames, or metres travelled on the reference.
+    pub delta: f64,
+    /// `"frames"` or `"m"`.
+    pub unit: &'static str,
+    /// Statistics of the translation errors, metres (`None` when no pair is that long).
+    pub translation_m: Option<Stats>,
+    /// Statistics of the rotation errors, degrees.
+    pub rotation_deg: Option<Stats>,
+    /// For metres: the mean translation error as a percentage of the distance (KITTI's
+    /// translation error).
+    pub translation_percent: Option<f64>,
+    /// For metres: the mean rotation error per 100 m, degrees (KITTI's rotation error, in
+    /// its usual unit).
+    pub rotation_deg_per_100m: Option<f64>,
+}
+
+/// What a trajectory scored; [`fmt::Display`] writes the summary the command line prints.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct TrajectoryScore {
+    /// Poses of the estimate, of the reference, and associated pairs.
+    pub poses: [usize; 3],
+    /// The transform applied to the estimate.
+    pub alignment: Alignment,
+    /// APE statistics, metres.
+    pub ape_m: Stats,
+    /// RPE over `--delta` frames.
+    pub rpe: Rpe,
+    /// RPE over [`SEGMENTS_M`] of travel.
+    pub segments: Vec<Rpe>,
+    /// The reference's path over the associated poses, metres.
+    pub path_length_m: f64,
+    /// The last associated pose's APE, metres.
+    pub final_drift_m: f64,
+    /// The same as a percentage of `path_length_m`.
+    pub final_drift_percent: f64,
+    /// Mean points per associated pose, 0 to 10.
+    pub points_mean: f64,
+    /// Points of the last associated pose.
+    pub points_final: u32,
+    /// The first divergence or jump, if any.
+    pub failure: Option<Failure>,
+    /// With a world folder: the stretch of the run on one graph node or edge where the APE
+    /// grew most (all of them in `graph.csv`).
+    #[serde(skip)]
+    pub worst_stretch: Option<graph::Stretch>,
+    /// The score folder written.
+    #[serde(skip)]
+    pub out: PathBuf,
+}
+
+impl fmt::Display for TrajectoryScore {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let [e, r, n] = self.poses;
+        let a = &self.ape_m;
+        writeln!(
+            f,
+            "trajectory: {n} pose pairs ({e} estimated, {r} reference); APE RMSE {:.4} m, mean {:.4} m, max {:.4} m",
+            a.rmse, a.mean, a.max
+        )?;
+        if let Some(t) = &self.rpe.translation_m {
+            writeln!(
+                f,
+                "RPE over {} frame(s): RMSE {:.4} m",
+                self.rpe.delta, t.rmse
+            )?;
+        }
+        for s in &self.segments {
+            if let (Some(p), Some(d)) = (s.translation_percent, s.rotation_deg_per_100m) {
+                writeln!(f, "RPE over {} m: {p:.3} %, {d:.3} deg/100 m", s.delta)?;
+            }
+        }
+        writeln!(
+            f,
+            "final drift {:.4} m, {:.3} % of {:.1} m travelled; points {:.2} per pose (final {})",
+            self.final_drift_m,
+            self.final_drift_percent,
+            self.path_length_m,
+            self.points_mean,
+            self.points_final
+        )?;
+        if let Some(w) = &self.worst_stretch {
+            let id = w.id.map_or(String::new(), |i| format!(" {i}"));
+            let level = w.level.map_or(String::new(), |l| format!(", level {l}"));
+            writeln!(
+                f,
+                "largest APE increase: {}{id} ({}{level}), {:+.3} m between t = {} and {} s",
+                w.region, w.kind, w.ape_increase_m, w.time_s[0], w.time_s[1]
+            )?;
+        }
+        match &self.failure {
+            None => writeln!(f, "no failure")?,
+            Some(x) => writeln!(
+                f,
+                "FAILED: {} at pose {} (t = {} s, {:.3} m)",
+                x.kind, x.pose, x.time, x.value_m
+            )?,
+        }
+        write!(f, "wrote {}", self.out.display())
+    }
+}
+
+impl TrajectoryRequest {
+    fn reference_file(&self) -> Result<PathBuf, Error> {
+        if let Some(r) = &self.reference {
+            return Ok(r.clone());
+        }
+        read::reference_in(&self.world_or_sequence).ok_or_else(|| {
+            Error::Usage(format!(
+                "{} is neither a trajectory file nor a sensor sequence folder (one with {SEQUENCE_GROUND_TRUTH}): give the ground truth with --reference FILE",
+                self.world_or_sequence.display()
+            ))
+        })
+    }
+
+    /// Scores the trajectory and writes the score folder (`--out` checked before anything
+    /// is read).
+    pub fn run(&self) -> Result<TrajectoryScore, Error> {
+        for (what, v) in [
+            ("--max-diff", self.max_diff),
+            ("--fail-ape", self.fail_ape),
+            ("--fail-jump", self.fail_jump),
+        ] {
+            if !(v.is_finite() && v >= 0.0) {
+                return Err(Error::Usage(format!(
+                    "{what} must be a number, 0 or more (seconds for --max-diff, metres for the others)"
+                )));
+            }
+        }
+        if self.delta == 0 {
+            return Err(Error::Usage("--delta must be 1 or more frames".to_owned()));
+        }
+        let reference_file = self.reference_file()?;
+        let mut reading: Vec<&Path> =
+            vec![&self.world_or_sequence, &self.estimate, &reference_file];
+        reading.extend(self.times.as_deref());
+        reading.extend(self.reference_times.as_deref());
+        let out = Out {
+            path: &self.out,
+            kind: Kind::Score,
+            force: self.force,
+            reading: &reading,
+        };
+        out.check()?;
+        let reference = read::read(&reference_file, self.reference_times.as_deref())?;
+        let estimate = read::read(&self.estimate, self.times.as_deref())?;
+        let world = self.world_or_sequence.join("topology.json").is_file();
+        let cells = match world {
+            true => Some(crate::score::world::cells(&self.world_or_sequence)?),
+            false => None,
+        };
+        let scored = score(self, &reference, &estimate, cells.as_ref())?;
+        let files = files::files(self, &reference, &estimate, &scored);
+        crate::folder::write_atomically(&out, |w| {
+            for (name, bytes) in &files.list {
+                std::fs::write(w.root().join(name), bytes)
+                    .map_err(Error::io(format!("writing {name}")))?;
+            }
+            Ok::<(), Error>(())
+        })?;
+        Ok(scored.summary)
+    }
+}
+
+/// Everything computed, per pose and in summary.
+pub(crate) struct Scored {
+    /// Associated `(reference, estimate)` indices.
+    pairs: Vec<(usize, usize)>,
+    /// The estimate's associated poses, aligned.
+    aligned: Vec<pose::Pose>,
+    /// APE per associated pose.
+    ape: Vec<f64>,
+    /// RPE `(translation, rotation degrees)` of the pair ending at each associated pose.
+    rpe_at: Vec<Option<(f64, f64)>>,
+    /// With a world folder: the run's stretches on its graph.
+    stretches: Option<Vec<graph::Stretch>>,
+    summary: TrajectoryScore,
+}
+
+fn score(
+    r: &TrajectoryRequest,
+    reference: &read::Trajectory,
+    estimate: &read::Trajectory,
+    cells: Option<&crate::score::world::Cells>,
+) -> Result<Scored, Error> {
+    let pairs = align::associate(&reference.times, &estimate.times, r.max_diff);
+    let need = if r.align == Align::None { 2 } else { 3 };
+    if pairs.len() < need {
+        let span =
+            |t: &read::Trajectory| format!("{} to {} s", t.times[0], t.times[t.times.len() - 1]);
+        return Err(Error::Input(format!(
+            "{} pose pair(s) within --max-diff {} s between {} ({}) and {} ({}); scoring needs at least {need}: are both in seconds on the same clock? (widen --max-diff for sparser poses)",
+            pairs.len(),
+            r.max_diff,
+            reference.file.display(),
+            span(reference),
+            estimate.file.display(),
+            span(estimate)
+        )));
+    }
+    let refs: Vec<pose::Pose> = pairs.iter().map(|&(i, _)| reference.poses[i]).collect();
+    let ests: Vec<pose::Pose> = pairs.iter().map(|&(_, j)| estimate.poses[j]).collect();
+    let times: Vec<f64> = pairs.iter().map(|&(i, _)| reference.times[i]).collect();
+    let alignment = match r.align {
+        Align::None => align::origin(&ests[0], &refs[0]),
+        Align::Se3 | Align::Sim3 => {
+            let x: Vec<pose::Vec3> = ests.iter().map(|p| p.t).collect();
+            let y: Vec<pose::Vec3> = refs.iter().map(|p| p.t).collect();
+            align::umeyama(&x, &y, r.align == Align::Sim3).map_err(|why| {
+                Error::Input(format!(
+                    "{}: cannot align with --align {}: {why}; try --align none",
+                    estimate.file.display(),
+                    r.align.name()
+                ))
+            })?
+        }
+    };
+    let aligned: Vec<pose::Pose> = ests.iter().map(|p| alignment.apply(p)).collect();
+    let ape = metrics::ape(&refs, &aligned);
+    let frame_pairs = metrics::pairs_by_frames(refs.len(), r.delta);
+    let frame_rpe = metrics::rpe(&refs, &aligned, &frame_pairs);
+    let mut rpe_at = vec![None; refs.len()];
+    for (&(_, j), &e) in frame_pairs.iter().zip(&frame_rpe) {
+        rpe_at[j] = Some(e);
+    }
+    let rpe = |delta: f64, unit: &'static str, errors: &[(f64, f64)]| {
+        let t: Vec<f64> = errors.iter().map(|e| e.0).collect();
+        let a: Vec<f64> = errors.iter().map(|e| e.1).collect();
+        let (ts, rs) = if t.is_empty() {
+            (None, None)
+        } else {
+            (Some(Stats::of(&t)), Some(Stats::of(&a)))
+        };
+        let per = |s: Option<Stats>, k: f64| {
+            (unit == "m")
+                .then_some(s.map(|s| s.mean / delta * k))
+                .flatten()
+        };
+        Rpe {
+            delta,
+            unit,
+            translation_m: ts,
+            rotation_deg: rs,
+            translation_percent: per(ts, 100.0),
+            rotation_deg_per_100m: per(rs, 100.0),
+        }
+    };
+    let segments = SEGMENTS_M
+        .iter()
+        .map(|&d| {
+            rpe(
+                d,
+                "m",
+                &metrics::rpe(&refs, &aligned, &metrics::pairs_by_path(&refs, d)),
+            )
+        })
+        .collect();
+    let path_length_m = metrics::path_length(&refs);
+    let final_drift_m = ape[ape.len() - 1];
+    let points: Vec<u32> = ape.iter().map(|&e| metrics::points(e)).collect();
+    let stretches = cells.map(|c| graph::stretches(c, &times, &refs, &ape));
+    let summary = TrajectoryScore {
+        poses: [estimate.poses.len(), reference.poses.len(), pairs.len()],
+        alignment,
+        ape_m: Stats::of(&ape),
+        rpe: rpe(r.delta as f64, "frames", &frame_rpe),
+        segments,
+        path_length_m,
+        final_drift_m,
+        final_drift_percent: if path_length_m > 0.0 {
+            100.0 * final_drift_m / path_length_m
+        } else {
+            0.0
+        },
+        points_mean: points.iter().map(|&p| f64::from(p)).sum::<f64>() / points.len() as f64,
+        points_final: points[points.len() - 1],
+        failure: metrics::failure(&times, &refs, &aligned, &ape, r.fail_ape, r.fail_jump),
+        worst_stretch: stretches
+            .as_deref()
+            .and_then(|s| graph::largest(s, 1).pop()),
+        out: r.out.clone(),
+    };
+    Ok(Scored {
+        pairs,
+        aligned,
+        ape,
+        rpe_at,
+        stretches,
+        summary,
+    })
+}

@@ -1,0 +1,248 @@
+//! Trajectory files: TUM (`t x y z qx qy qz qw` a line, as the TUM RGB-D benchmark, evo and
+//! the sensor sequences' `ground_truth.tum` write them) and KITTI (a row-major 3x4 pose
+//! matrix a line, with the times in a separate file of one time a line, as the KITTI odometry
+//! benchmark's `poses/NN.txt` and `sequences/NN/times.txt`).
+//!
+//! Every row is checked before anything is scored, and a bad one is refused naming the file
+//! and its line: a wrong number of columns, a NaN or infinity, a time not after the one
+//! before (unsorted or duplicate), a quaternion whose norm is off 1 by more than
+//! [`UNIT_TOLERANCE`] or a KITTI rotation that is not one within it, or fewer than two poses.
+//! Quaternions within the tolerance are normalised, as evo does.
+
+use std::path::{Path, PathBuf};
+
+use super::pose::{Pose, from_matrix};
+use crate::Error;
+
+/// How far a quaternion's norm may be from 1 (and a KITTI rotation's columns from
+/// orthonormal) before the row is refused: 1e-3, loose enough for poses printed with six
+/// digits, tight enough to catch a scale or a column in the wrong place.
+pub const UNIT_TOLERANCE: f64 = 1e-3;
+
+/// The file name of the ground truth in a sensor sequence folder (`subtgraph sense`).
+pub const SEQUENCE_GROUND_TRUTH: &str = "ground_truth.tum";
+
+/// A trajectory as read: strictly increasing times, one pose each.
+#[derive(Clone, Debug)]
+pub struct Trajectory {
+    /// The file it was read from.
+    pub file: PathBuf,
+    /// `"tum"` or `"kitti"`.
+    pub format: &'static str,
+    /// Times, seconds.
+    pub times: Vec<f64>,
+    /// Poses, one per time.
+    pub poses: Vec<Pose>,
+    /// The file's line of each pose (1-based), for messages.
+    pub lines: Vec<usize>,
+}
+
+/// The trajectory file a positional argument names: the file itself, or a sensor sequence
+/// folder's `ground_truth.tum`; `None` for a folder without one (a world folder).
+pub fn reference_in(path: &Path) -> Option<PathBuf> {
+    if path.is_file() {
+        return Some(path.to_path_buf());
+    }
+    let gt = path.join(SEQUENCE_GROUND_TRUTH);
+    gt.is_file().then_some(gt)
+}
+
+fn bad(file: &Path, line: usize, what: impl std::fmt::Display) -> Error {
+    Error::Input(format!("{}: line {line}: {what}", file.display()))
+}
+
+/// The numbers of each data line (blank lines and `#` comments skipped), with line numbers.
+fn rows(file: &Path) -> Result<Vec<(usize, Vec<f64>)>, Error> {
+    let text =
+        std::fs::read_to_string(file).map_err(Error::io(format!("reading {}", file.display())))?;
+    let mut out = Vec::new();
+    for (k, raw) in text.lines().enumerate() {
+        let line = k + 1;
+        let s = raw.trim();
+        if s.is_empty() || s.starts_with('#') {
+            continue;
+        }
+        let mut v = Vec::with_capacity(12);
+        for word in s.split(|c: char| c.is_whitespace() || c == ',') {
+            if word.is_empty() {
+                continue;
+            }
+            let x: f64 = word
+                .parse()
+                .map_err(|_| bad(file, line, format!("'{word}' is not a number")))?;
+            if !x.is_finite() {
+                return Err(bad(
+                    file,
+                    line,
+                    format!("{word} is not a finite number: every time and pose value must be"),
+                ));
+            }
+            v.push(x);
+        }
+        out.push((line, v));
+    }
+    Ok(out)
+}
+
+/// Reads a TUM or KITTI file (told by the number of columns: 8 or 12); a KITTI file's times
+/// come from `times`, or `times.txt` beside it.
+pub fn read(file: &Path, times: Option<&Path>) -> Result<Trajectory, Error> {
+    let rows = rows(file)?;
+    let Some((_, first)) = rows.first() else {
+        return Err(Error::Input(format!(
+            "{}: no poses: a trajectory needs TUM lines `t x y z qx qy qz qw` or KITTI lines of 12 numbers (a 3x4 pose matrix, row by row)",
+            file.display()
+        )));
+    };
+    let kitti = first.len() == 12;
+    let want = if kitti { 12 } else { 8 };
+    let mut traj = Trajectory {
+        file: file.to_path_buf(),
+        format: if kitti { "kitti" } else { "tum" },
+        times: Vec::with_capacity(rows.len()),
+        poses: Vec::with_capacity(rows.len()),
+        lines: Vec::with_capacity(rows.len()),
+    };
+    for (line, v) in &rows {
+        if v.len() != want {
+            return Err(bad(
+                file,
+                *line,
+                format!(
+                    "{} numbers, but this file's first line has {want}: TUM lines are `t x y z qx qy qz qw` (8), KITTI lines a 3x4 pose matrix row by row (12)",
+                    v.len()
+                ),
+            ));
+        }
+        let pose = if kitti {
+            kitti_pose(v, file, *line)?
+        } else {
+            let (t, q) = (v[0], [v[7], v[4], v[5], v[6]]);
+            traj.times.push(t);
+            let n = q.iter().map(|x| x * x).sum::<f64>().sqrt();
+            if (n - 1.0).abs() > UNIT_TOLERANCE {
+                return Err(bad(
+                    file,
+                    *line,
+                    format!(
+                        "the quaternion (qx qy qz qw) = ({} {} {} {}) has norm {n:.6}, not 1 within {UNIT_TOLERANCE}: columns out of order, or not a rotation",
+                        v[4], v[5], v[6], v[7]
+                    ),
+                ));
+            }
+            Pose {
+                q: q.map(|x| x / n),
+                t: [v[1], v[2], v[3]],
+            }
+        };
+        traj.poses.push(pose);
+        traj.lines.push(*line);
+    }
+    let time_source = if kitti {
+        let (path, t, lines) = kitti_times(file, times, rows.len())?;
+        traj.times = t;
+        (path, lines)
+    } else {
+        (file.to_path_buf(), traj.lines.clone())
+    };
+    if traj.poses.len() < 2 {
+        return Err(Error::Input(format!(
+            "{}: {} pose(s): a trajectory needs at least 2",
+            file.display(),
+            traj.poses.len()
+        )));
+    }
+    let (time_file, time_lines) = time_source;
+    for (k, w) in traj.times.windows(2).enumerate() {
+        let (before, now) = (w[0], w[1]);
+        if now <= before {
+            let word = if now == before {
+                "duplicate"
+            } else {
+                "unsorted"
+            };
+            return Err(bad(
+                &time_file,
+                time_lines[k + 1],
+                format!(
+                    "{word} time {now} (the pose before is at {before}): times must increase strictly"
+                ),
+            ));
+        }
+    }
+    Ok(traj)
+}
+
+fn kitti_pose(v: &[f64], file: &Path, line: usize) -> Result<Pose, Error> {
+    let r = [[v[0], v[1], v[2]], [v[4], v[5], v[6]], [v[8], v[9], v[10]]];
+    let mut worst: f64 = 0.0;
+    for i in 0..3 {
+        for j in 0..3 {
+            let d: f64 = (0..3).map(|k| r[k][i] * r[k][j]).sum();
+            worst = worst.max((d - if i == j { 1.0 } else { 0.0 }).abs());
+        }
+    }
+    let det = r[0][0] * (r[1][1] * r[2][2] - r[1][2] * r[2][1])
+        - r[0][1] * (r[1][0] * r[2][2] - r[1][2] * r[2][0])
+        + r[0][2] * (r[1][0] * r[2][1] - r[1][1] * r[2][0]);
+    if worst > UNIT_TOLERANCE || det < 0.0 {
+        return Err(bad(
+            file,
+            line,
+            format!(
+                "the 3x3 part is not a rotation (RᵀR is off the identity by {worst:.6}, determinant {det:.6}; tolerance {UNIT_TOLERANCE}): KITTI lines are r11 r12 r13 tx r21 r22 r23 ty r31 r32 r33 tz"
+            ),
+        ));
+    }
+    Ok(Pose {
+        q: from_matrix(r),
+        t: [v[3], v[7], v[11]],
+    })
+}
+
+/// The times of a KITTI file: `(times file, times, their lines)`.
+fn kitti_times(
+    file: &Path,
+    times: Option<&Path>,
+    poses: usize,
+) -> Result<(PathBuf, Vec<f64>, Vec<usize>), Error> {
+    let path = match times {
+        Some(p) => p.to_path_buf(),
+        None => {
+            let beside = file.with_file_name("times.txt");
+            if !beside.is_file() {
+                return Err(Error::Input(format!(
+                    "{}: a KITTI trajectory has no times: give its times file (one time a line) with --times (the estimate's) or --reference-times, or put it beside as times.txt",
+                    file.display()
+                )));
+            }
+            beside
+        }
+    };
+    let rows = rows(&path)?;
+    let mut out = Vec::with_capacity(rows.len());
+    let mut lines = Vec::with_capacity(rows.len());
+    for (line, v) in &rows {
+        if v.len() != 1 {
+            return Err(bad(
+                &path,
+                *line,
+                format!(
+                    "{} numbers: a times file has one time (seconds) a line",
+                    v.len()
+                ),
+            ));
+        }
+        out.push(v[0]);
+        lines.push(*line);
+    }
+    if out.len() != poses {
+        return Err(Error::Input(format!(
+            "{}: {} times for the {poses} poses of {}: a KITTI times file has one line per pose",
+            path.display(),
+            out.len(),
+            file.display()
+        )));
+    }
+    Ok((path, out, lines))
+}
