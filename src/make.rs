@@ -148,10 +148,12 @@ pub fn write_folder(
 ) -> Result<(), crate::folder::FolderError> {
     let default_obj = !exporters.iter().any(|e| e.exporter.needs_geometry());
     crate::folder::write_atomically(out, force, |w| {
-        subtgraph_exporters::write_world_files(world, w, default_obj)?;
+        // The world's survey, once for every exporter (and the artifacts placed by it).
+        let survey = subtgraph_survey::WorldSurvey::new(world)?;
+        subtgraph_exporters::write_world_files(world, &survey, w, default_obj)?;
         for e in exporters {
             e.exporter
-                .export(world, w)
+                .export(world, &survey, w)
                 .map_err(|err| anyhow!("exporter '{}': {err}", e.name))?;
         }
         subtgraph_plugins::check_failures().map_err(|e| anyhow!(e))?;

@@ -88,26 +88,20 @@ pub fn assemble_within(
     budget: &Budget,
 ) -> Result<WorldMesh, TileSetError> {
     tileset.check(layout)?;
-    if let Some(h) = layout
-        .pipeline
-        .hazards
-        .as_ref()
-        .filter(|h| h.has_geometry())
-    {
-        if !tileset.makes_hazards() {
-            let key = if h.rubble > 0.0 {
-                "hazards.rubble"
-            } else {
-                "hazards.drops"
-            };
-            return Err(TileSetError::Unsuited {
-                what: format!(
-                    "{key}: this tile set does not make rubble fields or drops (only the \
-                     procedural ones do: cave, mine, lava-tube)"
-                ),
-                fix: "remove hazards.rubble and hazards.drops, or use a procedural tile set".into(),
-            });
-        }
+    let h = &layout.floor_hazards;
+    if h.asked() && !tileset.makes_hazards() {
+        let key = if h.rubble {
+            "hazards.rubble"
+        } else {
+            "hazards.drops"
+        };
+        return Err(TileSetError::Unsuited {
+            what: format!(
+                "{key}: this tile set does not make rubble fields or drops (only the \
+                 procedural ones do: cave, mine, lava-tube)"
+            ),
+            fix: "remove hazards.rubble and hazards.drops, or use a procedural tile set".into(),
+        });
     }
     let mut ramps = Vec::new();
     if layout.resolved.connections == crate::config::Connections::Ramp {

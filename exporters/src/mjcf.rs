@@ -3,13 +3,13 @@
 //!
 //! MuJoCo collides every mesh geom as its convex hull, so the world's collision surface as one
 //! mesh would be a solid block. By default each tile gets two height fields instead
-//! ([`crate::heightfields`]): a floor, and a roof turned upside down, sampled `step` metres
+//! (`subtgraph_survey::heightfields`): a floor, and a roof turned upside down, sampled `step` metres
 //! apart on vertical lines through the closed collision surface; between them is the passage.
 //! That is two geoms per tile with no hull to build: MuJoCo 4.0 also spends time quadratic in
 //! the number of geoms while it reads a model (every geom added resets its lists of all
 //! geoms), so the 45,000 convex slabs of a cave took 10 s to load and the 170,000 of a lava
 //! tube 90 s. `collision = "slabs"` keeps the older export: the surface cut into thin convex
-//! slabs in the rock ([`crate::convex_pieces`]), each an inline `<mesh vertex>`, which follows
+//! slabs in the rock (`subtgraph_survey::convex_pieces`), each an inline `<mesh vertex>`, which follows
 //! overhangs a height field cannot, for small worlds.
 //!
 //! The visual mesh is a part's own `mujoco/meshes/<part>-<k>.msh` (MuJoCo's binary mesh format,
@@ -35,7 +35,7 @@
 //!
 //! A ramp between levels (`world.connections = "ramp"`) is a spiral with several floors over
 //! one point, which no height field holds: its two tiles collide as convex slabs
-//! ([`convex_pieces`]), cut from those tiles' collision triangles alone, and the rest of the
+//! ([`convex_pieces`](subtgraph_survey::convex_pieces)), cut from those tiles' collision triangles alone, and the rest of the
 //! world keeps its fields.
 //!
 //! Every part file is a complete model (`<mujoco>` root, its own `<compiler meshdir="..">`,
@@ -62,22 +62,23 @@ use subtgraph_core::assembly::WorldMesh;
 use subtgraph_core::error::ConfigError;
 use subtgraph_core::export::{ExportError, Exporter, WorldWriter, stream_file, write_file};
 use subtgraph_core::params::Params;
+use subtgraph_core::survey::Survey;
 
-use crate::convex_pieces::{Piece, PieceSettings, convex_pieces};
-use crate::heightfields::{TileField, tile_fields};
 use crate::parts::{Part, Split, parts};
 use crate::text::{push_fixed, push_uint, write_lines, xml_escape};
+use subtgraph_survey::convex_pieces::{Piece, PieceSettings, convex_pieces};
+use subtgraph_survey::heightfields::{TileField, tile_fields};
 
 /// What MuJoCo collides with.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Collision {
-    /// A floor and a roof `hfield` per tile ([`crate::heightfields`]), samples `step` metres
+    /// A floor and a roof `hfield` per tile (`subtgraph_survey::heightfields`), samples `step` metres
     /// apart: a few geoms per tile, no hull to build, so large worlds load in seconds.
     Heightfields {
         /// Metres between samples (rounded so a whole number of them spans the pitch).
         step: f64,
     },
-    /// Thin convex slabs in the rock ([`crate::convex_pieces`]): follows overhangs and walls
+    /// Thin convex slabs in the rock (`subtgraph_survey::convex_pieces`): follows overhangs and walls
     /// within `tolerance`, but MuJoCo builds a hull per slab and its loader slows down with
     /// the geom count (tens of thousands per preset world).
     Slabs,
@@ -534,8 +535,8 @@ fn ramp_tiles(world: &World, mesh: &WorldMesh) -> Vec<bool> {
 /// robot can push them, and `body` names them `artifact-<name>`. A contact margin of 1 cm
 /// softens its contact with the height fields.
 ///
-/// Each stands on its pad, `artifact-pad-<name>` ([`Artifact::pad`](crate::artifacts::Artifact::pad)).
-fn artifact_bodies(s: &mut String, artifacts: &[crate::artifacts::Artifact]) {
+/// Each stands on its pad, `artifact-pad-<name>` ([`Artifact::pad`](subtgraph_core::artifacts::Artifact::pad)).
+fn artifact_bodies(s: &mut String, artifacts: &[subtgraph_core::artifacts::Artifact]) {
     if artifacts.is_empty() {
         return;
     }
@@ -567,7 +568,12 @@ fn artifact_bodies(s: &mut String, artifacts: &[crate::artifacts::Artifact]) {
 }
 
 impl Exporter for Mjcf {
-    fn export(&self, world: &World, out: &mut dyn WorldWriter) -> Result<(), ExportError> {
+    fn export(
+        &self,
+        world: &World,
+        survey: &dyn Survey,
+        out: &mut dyn WorldWriter,
+    ) -> Result<(), ExportError> {
         let Some(mesh) = world.mesh() else {
             return Err(ExportError::Unsupported(
                 "the MJCF exporter needs geometry: add a [tileset] to the pipeline (or drop --no-mesh)".into(),
@@ -580,7 +586,7 @@ impl Exporter for Mjcf {
             Vec::new()
         };
         let fields = match self.collision {
-            Collision::Heightfields { step } => tile_fields(world, mesh, step),
+            Collision::Heightfields { step } => tile_fields(world, survey, mesh, step),
             Collision::Slabs => Vec::new(),
         };
         // Slabs of every part in parallel; each part's are cut alone, so the result does not
@@ -615,7 +621,7 @@ impl Exporter for Mjcf {
         let ramp = &ramp_tiles(world, mesh);
         // Floor friction per mesh tile, from the floor patches.
         let mut friction: Vec<Option<f64>> = vec![None; mesh.tiles.len()];
-        let patches = crate::hazards::patches(world);
+        let patches = survey.patches().unwrap_or(&[]);
         for (t, tile) in mesh.tiles.iter().enumerate() {
             if let Ok(k) = patches
                 .binary_search_by_key(&(tile.cell.level, tile.cell.row, tile.cell.col), |p| {
@@ -721,7 +727,7 @@ impl Exporter for Mjcf {
                 w.write_all(b"  </worldbody>\n</mujoco>\n")
             })?;
         }
-        artifact_bodies(&mut main, &crate::artifacts::place(world)?);
+        artifact_bodies(&mut main, crate::artifacts_of(survey));
         main.push_str("</mujoco>\n");
         write_file(out, "mujoco/world.xml", main.as_bytes())
     }
@@ -770,7 +776,8 @@ mod tests {
                 collision,
                 ..Mjcf::default()
             };
-            m.export(&world, &mut out).unwrap();
+            m.export(&world, &crate::survey_of(&world), &mut out)
+                .unwrap();
             let main = String::from_utf8(out.get("mujoco/world.xml").unwrap().to_vec()).unwrap();
             let includes: Vec<&str> = main
                 .split("<include file=\"")

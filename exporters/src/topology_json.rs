@@ -5,6 +5,7 @@ use serde::Serialize;
 use subtgraph_core::World;
 use subtgraph_core::export::{ExportError, Exporter, WorldWriter};
 use subtgraph_core::graph::{Edge, Node};
+use subtgraph_core::survey::Survey;
 use subtgraph_core::world::{LevelReport, Shaft};
 
 /// Writes `topology.json`.
@@ -33,7 +34,12 @@ struct Document<'a> {
 }
 
 impl Exporter for TopologyJson {
-    fn export(&self, world: &World, out: &mut dyn WorldWriter) -> Result<(), ExportError> {
+    fn export(
+        &self,
+        world: &World,
+        _survey: &dyn Survey,
+        out: &mut dyn WorldWriter,
+    ) -> Result<(), ExportError> {
         let occupied = world.occupancy.occupied_count();
         let reachable = world.reachable_from_start();
         let start = world
@@ -71,7 +77,9 @@ mod tests {
     fn the_graph_and_counts_read_back() {
         let world = crate::test_world();
         let mut out = MemoryWriter::default();
-        TopologyJson.export(&world, &mut out).unwrap();
+        TopologyJson
+            .export(&world, &crate::survey_of(&world), &mut out)
+            .unwrap();
         let doc: serde_json::Value =
             serde_json::from_slice(out.get("topology.json").unwrap()).unwrap();
         assert_eq!(

@@ -48,6 +48,7 @@ use subtgraph_core::params::Params;
 use subtgraph_core::registry::{Catalogue, Registry};
 use subtgraph_core::route::{RouteDescriptor, Segment};
 use subtgraph_core::shape::{Arm, ConstraintShape, Heading, Offset};
+use subtgraph_core::survey::Survey;
 use subtgraph_core::tile::TileKind;
 use subtgraph_core::tileset::{CrossSection, TileContext, TileGeometry, TileSet, TileSetError};
 
@@ -56,7 +57,7 @@ mod loader;
 pub use loader::{LoadedPlugin, PluginError, check_failures, load, loaded};
 
 /// The plugin API version: bumped whenever the declaration or [`Registrar`] changes.
-pub const API_VERSION: u32 = 5;
+pub const API_VERSION: u32 = 6;
 /// The compiler that built this copy of the crate.
 pub const RUSTC_VERSION: &str = env!("SUBTGRAPH_RUSTC_VERSION");
 /// The version of the subtgraph crates this copy belongs to.
@@ -498,9 +499,14 @@ impl TileSet for Guarded<dyn TileSet> {
 
 #[deny(clippy::missing_trait_methods)] // a new defaulted method must be forwarded, not skipped
 impl Exporter for Guarded<dyn Exporter> {
-    fn export(&self, world: &World, out: &mut dyn WorldWriter) -> Result<(), ExportError> {
+    fn export(
+        &self,
+        world: &World,
+        survey: &dyn Survey,
+        out: &mut dyn WorldWriter,
+    ) -> Result<(), ExportError> {
         self.try_call("Exporter::export", ExportError::Unsupported, |e| {
-            e.export(world, out)
+            e.export(world, survey, out)
         })
     }
     fn needs_geometry(&self) -> bool {

@@ -162,9 +162,10 @@ impl PyWorld {
     /// Runs exporters into memory.
     fn run(&self, exporters: &[NamedExporter]) -> anyhow::Result<MemoryWriter> {
         let mut out = MemoryWriter::default();
+        let survey = subtgraph::survey::WorldSurvey::new(&self.world)?;
         for e in exporters {
             e.exporter
-                .export(&self.world, &mut out)
+                .export(&self.world, &survey, &mut out)
                 .map_err(|err| anyhow::anyhow!("exporter '{}': {err}", e.name))?;
         }
         subtgraph_plugins::check_failures().map_err(|e| anyhow::anyhow!(e))?;
@@ -453,10 +454,11 @@ impl PyWorld {
                     }
                     None => w,
                 };
-                subtgraph_exporters::write_world_files(&self.world, out, default_obj)?;
+                let survey = subtgraph::survey::WorldSurvey::new(&self.world)?;
+                subtgraph_exporters::write_world_files(&self.world, &survey, out, default_obj)?;
                 for e in exporters {
                     e.exporter
-                        .export(&self.world, out)
+                        .export(&self.world, &survey, out)
                         .map_err(|err| anyhow::anyhow!("exporter '{}': {err}", e.name))?;
                 }
                 subtgraph_plugins::check_failures().map_err(|e| anyhow::anyhow!(e))?;

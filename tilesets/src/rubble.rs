@@ -3,7 +3,8 @@
 //! one closed surface, visual and collision alike, and seamless across tiles.
 //!
 //! Which tiles get one, and on which arm (the half-corridor from the tile's centre toward one
-//! opening), is [`HazardsSection::floor_hazard`]'s answer; the rest is drawn here from the
+//! opening), the layout says ([`Layout::floor_hazards`], resolved from `[hazards]` when the
+//! layout was made: a tile set never reads the pipeline); the rest is drawn here from the
 //! world's `"rubble"` stream keyed by the cell, so every tile evaluating a neighbour's field
 //! places the same rocks. With `w` the passage's nominal width, `p` the tile pitch and `h` the
 //! collision lattice's spacing (pitch / `collision_resolution`):
@@ -34,7 +35,7 @@
 
 use subtgraph_core::Layout;
 use subtgraph_core::grid::Cell;
-use subtgraph_core::hazards::{FloorHazard, HazardRegion, HazardsSection};
+use subtgraph_core::hazards::{FloorHazard, HazardRegion};
 use subtgraph_core::rng::WorldRng;
 
 use crate::field::{Passage, Profile};
@@ -84,11 +85,7 @@ pub fn pit_depth(height: f64) -> f64 {
 
 /// Whether the world asks for drops (its levels' blocks then reach deeper).
 pub fn has_drops(world: &Layout) -> bool {
-    world
-        .pipeline
-        .hazards
-        .as_ref()
-        .is_some_and(|h| h.drops > 0.0)
+    world.floor_hazards.drops
 }
 
 /// The rubble field or drop of `cell`, if it has one.
@@ -101,10 +98,9 @@ pub fn tile_hazard(
     passage: &Passage,
     profile: &dyn Profile,
 ) -> Option<TileHazard> {
-    let section: &HazardsSection = world.pipeline.hazards.as_ref()?;
+    let hazards = &world.floor_hazards;
+    let (kind, arm) = hazards.at(cell)?;
     let tile = world.tiles.get(cell).as_ref()?;
-    let (kind, arm) =
-        section.floor_hazard(world.resolved.seed, cell, tile, world.start == Some(cell))?;
     let pitch = world.resolved.tile_pitch;
     // A squeeze is already as tight as `min_clearance` allows: no rubble or drop there.
     if passage
@@ -141,9 +137,9 @@ pub fn tile_hazard(
             };
             let (s0, s1) = (0.08 * pitch, 0.42 * pitch);
             let samples = arm_line.samples(s0, s1, 48);
-            let gap = section.rubble_passable.then(|| {
-                let c = side * (0.25 * w - 0.5 * section.rubble_gap).max(0.0);
-                (c - 0.5 * section.rubble_gap, c + 0.5 * section.rubble_gap)
+            let gap = hazards.rubble_passable.then(|| {
+                let c = side * (0.25 * w - 0.5 * hazards.rubble_gap).max(0.0);
+                (c - 0.5 * hazards.rubble_gap, c + 0.5 * hazards.rubble_gap)
             });
             // The local width, as `LocalField::column` has it.
             let sizes = Noise::new(world.resolved.seed, "sizes");

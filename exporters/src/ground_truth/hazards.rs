@@ -1,16 +1,15 @@
 //! `ground_truth/hazards.json`: the floor patches of `[hazards]` (where they are, their
-//! material and friction), from [`crate::hazards::patches`], the same list every simulator
-//! format writes its friction from; and the rubble fields and drops (`regions`: tile, kind,
+//! material and friction), as the survey found them, the same list every simulator format
+//! writes its friction from; and the rubble fields and drops (`regions`: tile, kind,
 //! box in the plane, floor and height range, a rubble field's rocks and lane), as the tile set
 //! made them in the geometry every format exports (`WorldMesh::hazards`).
 
 use serde::Serialize;
 use subtgraph_core::World;
 use subtgraph_core::export::{ExportError, WorldWriter};
-use subtgraph_core::hazards::HazardRegion;
+use subtgraph_core::hazards::{HazardRegion, Patch};
 
 use super::FRAME;
-use crate::hazards::Patch;
 
 #[derive(Serialize)]
 struct Document<'a> {
@@ -23,14 +22,17 @@ struct Document<'a> {
 }
 
 /// Writes `ground_truth/hazards.json`.
-pub(crate) fn write(world: &World, out: &mut dyn WorldWriter) -> Result<(), ExportError> {
-    let p = crate::hazards::patches(world);
+pub(crate) fn write(
+    world: &World,
+    patches: &[Patch],
+    out: &mut dyn WorldWriter,
+) -> Result<(), ExportError> {
     let doc = Document {
         format: "subtgraph-hazards/1",
         seed: world.resolved.seed,
         frame: FRAME,
         note: "floor patches: the whole floor of each tile has the material's friction (MuJoCo: the tile's floor height field); regions: rubble fields (rocks as x, y, z, radius; gap: the lane kept free) and drops (z: the pit's bottom and the floor), part of every format's collision and visual meshes",
-        patches: &p,
+        patches,
         regions: world.mesh().map_or(&[], |m| m.hazards.as_slice()),
     };
     crate::write_json(out, "ground_truth/hazards.json", &doc)

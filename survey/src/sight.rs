@@ -1,8 +1,10 @@
 //! Lines of sight through the collision surface's free space: whether an artifact is seen
-//! from its tile's passage axis (`axis.rs`). One computation for two users, so they cannot
-//! disagree: placement (`artifacts.rs`, which hides a share of the artifacts on purpose with
-//! `[artifacts] hidden`) and the ground truth's `visible_from_axis` flag
-//! (`ground_truth/artifacts.rs`).
+//! from its tile's passage axis (`axis`). One computation for two users, so they cannot
+//! disagree: placement (`artifacts`, which hides a share of the artifacts on purpose with
+//! `[artifacts] hidden`) and the ground truth's `visible_from_axis` flag (the exporters'
+//! `ground_truth/artifacts.rs`, from [`Artifact::visible_from_axis`]).
+//!
+//! [`Artifact::visible_from_axis`]: subtgraph_core::artifacts::Artifact::visible_from_axis
 //!
 //! The eye is [`EYE`] above the nearest point of the tile's axis (its anchor and its paths to
 //! the openings, as a polyline per path) to the artifact's centre. The line from the eye to
@@ -21,7 +23,7 @@
 //! openings), so an artifact just past a bend, or in the far leg of a junction, is hidden.
 //! Without the key the eye stays the nearest point, as in worlds made before it.
 
-use crate::inside::Passages;
+use crate::passages::Passages;
 
 /// Height of the eye above the passage axis's floor, metres (a robot's sensor).
 pub const EYE: f64 = 0.5;

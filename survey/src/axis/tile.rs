@@ -1,51 +1,24 @@
-//! The passage axis of every tile, taken from the free space of the collision surface: where a
-//! robot drives through a tile, as opposed to where the grid puts the tile's centre.
-//!
-//! A tile's passage need not pass through its centre: a DARPA cave tile's corner arcs away from
-//! it and its straight tiles wind (on `examples/darpa-cave.toml`, 54 % of the corner tiles and
-//! 38 % of the dead ends have no surface at all on the vertical line through their centre). So
-//! every tile is looked at on a grid of vertical lines (at least [`PIXELS`] x [`PIXELS`], at
-//! most [`SPACING`] apart, so a ridge of rock a ball cannot cross lies on a line): a line is
-//! drivable where one of its free stretches starts within the level (its floor) and is at least
-//! [`BODY`] high. Over the drivable lines, a clearance-weighted shortest path (steps away from
-//! the walls and from ledges are cheaper, so paths keep to the middle of the passage; no
-//! diagonal step passes between two lines it could not step to) joins each opening of the
-//! tile (the widest drivable line of the seam, nearest the seam's middle) to the tile's
-//! *anchor*: for a tile with two or more openings the point nearest all of them along the
-//! passage (the middle of a corridor tile, the meeting point of a junction), for a dead end
-//! the middle of its passage (from the opening to the far end that still has clearance), and
-//! for a shaft foot or landing the drivable line nearest the shaft's axis. Paths climb at most
-//! 0.6 of the line spacing per line (31 degrees) and pay for every metre up or down.
-//!
-//! The paths' points are kept every [`KEEP_M`] and wherever the straight line between kept
-//! points would stray more than [`CHORD`] from the path (a body is driven point to point).
-//! The graph's node positions, its corridor polylines (anchor, path to the opening, the next
-//! tile's path from its opening, its anchor, ...), the tiles' positions in the semantic labels and the spawn
-//! and goal poses all use these, with the floor's own height. A tile where nothing is drivable
-//! or an opening is not reached keeps its grid centre (`fallback` counts them). Without a
-//! mesh the passages are the grid's, and the axis is the line through the cell centres.
-//!
-//! Deterministic: lines come from the exact raster of [`crate::inside`], paths from a Dijkstra
-//! with integer costs and ties broken by index, tiles in parallel collected in order.
+//! One tile's passage axis (see the module above): its drivable lines, their clearance, the
+//! shortest paths from each opening, the anchor where they meet, and the points kept.
 
 use std::cmp::Reverse;
-use std::collections::{BinaryHeap, HashMap};
+use std::collections::BinaryHeap;
 
-use rayon::prelude::*;
 use subtgraph_core::World;
 use subtgraph_core::grid::{Cell, Direction};
 use subtgraph_core::tile::TileKind;
 
-use crate::inside::{Columns, Passages};
+use super::{TileAxis, ramp_end};
+use crate::passages::{Columns, Passages};
 
 /// Least lines per tile side.
-pub(crate) const PIXELS: usize = 64;
+const PIXELS: usize = 64;
 /// Most metres between neighbouring lines: a ball of 0.3 m (a small robot's wheel) is stopped
 /// by a ridge of rock narrower than a coarser spacing could see (the DARPA tiles' 80 m pitch
 /// at 64 lines puts them 1.25 m apart, and their floors hold boulders 0.8 m across).
 const SPACING: f64 = 0.4;
 /// Least free height over a drivable line's floor, metres (a ground robot's body).
-pub(crate) const BODY: f64 = 1.0;
+pub(super) const BODY: f64 = 1.0;
 /// How deep into a tile an opening's entry is looked for, as a share of the tile's side.
 const ENTRY_DEPTH: usize = 8; // of PIXELS lines
 /// A path point is kept about every this many metres (and at the ends).
@@ -54,206 +27,15 @@ const KEEP_M: f64 = 2.5;
 /// metres from the path (round a boulder or a bend: a body driven from point to point in
 /// straight lines must stay where the path found room).
 const CHORD: f64 = 0.25;
-/// Least horizontal run over which [`Axes::grade`] measures a rise, metres.
-pub(crate) const GRADE_RUN: f64 = 4.0;
 /// What a metre of floor height between neighbouring lines costs, in metres along.
 const CLIMB: u64 = 10;
 /// How strongly paths keep away from walls: a step next to a wall costs `1 + WALL` times a step
 /// far from them.
 const WALL: u64 = 8;
 
-/// One tile's axis.
-#[derive(Clone, Debug, PartialEq)]
-pub(crate) struct TileAxis {
-    /// Where the tile's node stands, on its floor.
-    pub anchor: [f64; 3],
-    /// Per direction (`Direction as usize`): the path from the anchor (excluded) to the
-    /// opening's entry line next to the seam (included), on the floor. The neighbour's path
-    /// starts on the line across the seam: the seam itself is not a point (the DARPA tiles'
-    /// collision leaves a sliver open along some seams).
-    pub exits: [Vec<[f64; 3]>; 4],
-}
-
-/// The axes of a world's tiles.
-#[derive(Debug, Default)]
-pub(crate) struct Axes {
-    tiles: HashMap<Cell, TileAxis>,
-    /// Tiles that kept their grid centre.
-    pub fallback: usize,
-}
-
-impl Axes {
-    /// Every tile's axis, from the passages (the collision surface, or the grid).
-    pub fn of(world: &World, passages: &Passages) -> Axes {
-        if matches!(passages, Passages::Grid(_)) {
-            return Axes::default();
-        }
-        let cells: Vec<Cell> = world
-            .occupancy
-            .cells()
-            .filter(|&c| *world.occupancy.get(c))
-            .collect();
-        let found: Vec<Option<TileAxis>> = cells
-            .par_iter()
-            .map(|&c| tile_axis(world, passages, c))
-            .collect();
-        let mut axes = Axes::default();
-        for (c, a) in cells.into_iter().zip(found) {
-            match a {
-                Some(a) => {
-                    axes.tiles.insert(c, a);
-                }
-                None => axes.fallback += 1,
-            }
-        }
-        axes
-    }
-
-    /// The axes of `cells` only (the tiles artifacts stand in), as [`of`](Self::of) finds
-    /// them.
-    pub fn of_cells(world: &World, passages: &Passages, cells: &[Cell]) -> Axes {
-        let mut axes = Axes::default();
-        if matches!(passages, Passages::Grid(_)) {
-            return axes;
-        }
-        let found: Vec<Option<TileAxis>> = cells
-            .par_iter()
-            .map(|&c| tile_axis(world, passages, c))
-            .collect();
-        for (&c, a) in cells.iter().zip(found) {
-            match a {
-                Some(a) => {
-                    axes.tiles.insert(c, a);
-                }
-                None => axes.fallback += 1,
-            }
-        }
-        axes
-    }
-
-    /// Every point of a tile's axis: its anchor and its paths to the openings (the grid
-    /// centre alone for a tile without an axis).
-    pub fn tile_points(&self, world: &World, c: Cell) -> Vec<[f64; 3]> {
-        match self.tiles.get(&c) {
-            Some(a) => std::iter::once(a.anchor)
-                .chain(a.exits.iter().flatten().copied())
-                .collect(),
-            None => vec![world.cell_position(c)],
-        }
-    }
-
-    /// A robot's way through a tile it enters from `from`: that opening's path to the anchor,
-    /// the anchor, then the paths to the other openings (east, north, west, south); `None`
-    /// for a tile without an axis or without that opening.
-    pub fn walk_from(&self, c: Cell, from: Direction) -> Option<Vec<[f64; 3]>> {
-        let a = self.tiles.get(&c)?;
-        let entry = &a.exits[from as usize];
-        if entry.is_empty() {
-            return None;
-        }
-        let mut walk: Vec<[f64; 3]> = entry.iter().rev().copied().collect();
-        walk.push(a.anchor);
-        for d in Direction::ALL.into_iter().filter(|&d| d != from) {
-            walk.extend(a.exits[d as usize].iter().copied());
-        }
-        Some(walk)
-    }
-
-    /// Where a tile's node stands: its anchor, or the grid centre.
-    pub fn position(&self, world: &World, c: Cell) -> [f64; 3] {
-        self.tiles
-            .get(&c)
-            .map_or_else(|| world.cell_position(c), |a| a.anchor)
-    }
-
-    /// The steepest grade of a tile's floor along its axis, degrees: rise over run from the
-    /// anchor along each exit, between points at least [`GRADE_RUN`] metres apart horizontally
-    /// (nearer points are merged, so rubble is not a grade). `None` without an axis.
-    pub fn grade(&self, c: Cell) -> Option<f64> {
-        let a = self.tiles.get(&c)?;
-        let mut worst: f64 = 0.0;
-        for exit in &a.exits {
-            let mut last = a.anchor;
-            for &p in exit {
-                let run = (p[0] - last[0]).hypot(p[1] - last[1]);
-                if run >= GRADE_RUN {
-                    worst = worst.max((p[2] - last[2]).abs().atan2(run).to_degrees());
-                    last = p;
-                }
-            }
-        }
-        Some(worst)
-    }
-
-    /// The centreline through `cells` (consecutive cells of one corridor, or a shaft's two
-    /// ends): anchors joined by each tile's path to the opening they share.
-    pub fn polyline(&self, world: &World, cells: &[Cell]) -> Vec<[f64; 3]> {
-        let mut out: Vec<[f64; 3]> = Vec::new();
-        let push = |p: [f64; 3], out: &mut Vec<[f64; 3]>| {
-            if out.last() != Some(&p) {
-                out.push(p);
-            }
-        };
-        for (k, &c) in cells.iter().enumerate() {
-            if k > 0 {
-                let prev = cells[k - 1];
-                if let (Some(d), Some(a)) = (towards(c, prev), self.tiles.get(&c)) {
-                    for &p in a.exits[d as usize].iter().rev() {
-                        push(p, &mut out);
-                    }
-                }
-            }
-            push(self.position(world, c), &mut out);
-            if let Some(&next) = cells.get(k + 1) {
-                if let (Some(d), Some(a)) = (towards(c, next), self.tiles.get(&c)) {
-                    for &p in &a.exits[d as usize] {
-                        push(p, &mut out);
-                    }
-                }
-            }
-        }
-        out
-    }
-}
-
-/// The floor line of the ramp joining `cells` (a ramp's foot and landing), when the world's
-/// mesh has one.
-pub(crate) fn ramp_line<'a>(world: &'a World, cells: &[Cell]) -> Option<&'a [[f64; 3]]> {
-    let i = world
-        .shafts
-        .iter()
-        .position(|s| cells.first() == Some(&s.up) && cells.last() == Some(&s.landing))?;
-    world.mesh()?.ramps.get(i).map(Vec::as_slice)
-}
-
-/// Where a ramp's floor line leaves the level of `c`, when `c` is a ramp's foot or landing.
-fn ramp_end(world: &World, c: Cell) -> Option<[f64; 2]> {
-    let ramps = &world.mesh()?.ramps;
-    let (i, s) = world
-        .shafts
-        .iter()
-        .enumerate()
-        .find(|(_, s)| s.up == c || s.landing == c)?;
-    let line = ramps.get(i)?;
-    let p = if s.up == c { line.first() } else { line.last() }?;
-    Some([p[0], p[1]])
-}
-
-/// The direction of a step from `a` to its neighbour `b` on the same level.
-fn towards(a: Cell, b: Cell) -> Option<Direction> {
-    if a.level != b.level {
-        return None;
-    }
-    let step = (b.row as i64 - a.row as i64, b.col as i64 - a.col as i64);
-    Direction::ALL.into_iter().find(|d| {
-        let (dr, dc) = d.step();
-        (i64::from(dr), i64::from(dc)) == step
-    })
-}
-
 /// Lines per tile side for a tile pitch: [`PIXELS`], or more where that would put them more
 /// than [`SPACING`] apart.
-pub(crate) fn lines_per_side(pitch: f64) -> usize {
+fn lines_per_side(pitch: f64) -> usize {
     PIXELS.max((pitch / SPACING).ceil() as usize)
 }
 
@@ -436,7 +218,7 @@ fn paths(
 }
 
 /// The axis of one tile, or `None` when it has no drivable line or an opening is not reached.
-fn tile_axis(world: &World, passages: &Passages, c: Cell) -> Option<TileAxis> {
+pub(super) fn tile_axis(world: &World, passages: &Passages, c: Cell) -> Option<TileAxis> {
     let tile = world.tiles.get(c).as_ref()?;
     let n = lines_per_side(world.resolved.tile_pitch);
     let (cols, floor) = floors(world, passages, c, n);
@@ -596,62 +378,4 @@ fn kept(line: &[[f64; 2]], keep: usize) -> Vec<usize> {
         }
     }
     out
-}
-
-impl Axes {
-    /// Whether no tile has an axis of its own (a world without a mesh).
-    pub fn is_empty(&self) -> bool {
-        self.tiles.is_empty()
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use subtgraph_core::graph::EdgeKind;
-
-    #[test]
-    fn nodes_and_centrelines_stand_on_the_floor_of_the_passages() {
-        let world = crate::ground_truth::tests::world_with_mesh();
-        let passages = Passages::of(&world);
-        let axes = Axes::of(&world, &passages);
-        assert_eq!(axes.fallback, 0, "every tile has an axis");
-        let on_floor = |p: [f64; 3]| {
-            passages
-                .column(p[0], p[1])
-                .iter()
-                .any(|s| (s[0] - p[2]).abs() < 1e-9 && s[1] - s[0] >= BODY)
-        };
-        for n in &world.graph.nodes {
-            let p = axes.position(&world, n.cell);
-            assert!(on_floor(p), "node {} at {p:?}", n.id);
-        }
-        for e in world
-            .graph
-            .edges
-            .iter()
-            .filter(|e| e.kind == EdgeKind::Corridor)
-        {
-            let line = axes.polyline(&world, &e.cells);
-            assert!(
-                line.len() > e.cells.len(),
-                "the path follows the passage between anchors"
-            );
-            for p in line {
-                // Free half a metre above it, on a floor at most a metre below it (seam
-                // points carry the floor of the line next to the seam).
-                let free = passages
-                    .column(p[0], p[1])
-                    .iter()
-                    .any(|s| s[0] <= p[2] + 0.5 && p[2] + 0.5 <= s[1] && p[2] - s[0] < 1.0);
-                assert!(free, "edge {} point {p:?}", e.id);
-            }
-        }
-        // Without a mesh the axis is the grid's: cell centres.
-        let grid = crate::test_world();
-        let axes = Axes::of(&grid, &Passages::of(&grid));
-        assert!(axes.is_empty());
-        let c = grid.start.unwrap();
-        assert_eq!(axes.position(&grid, c), grid.cell_position(c));
-    }
 }
