@@ -79,6 +79,10 @@ pub enum ExportError {
     /// The exporter cannot represent this world; the message says what it needs.
     #[error("{0}")]
     Unsupported(String),
+    /// A plugin's exporter panicked, now or on an earlier call: the message names the plugin
+    /// and the call (fix or remove the plugin).
+    #[error("{0}")]
+    Plugin(String),
 }
 
 /// What to do about an I/O error a user can fix (a full disk, a file-size limit), as a

@@ -132,12 +132,7 @@ pub trait Survey: Send + Sync {
     /// parallel, spans sorted by line then height; `open` lists the lines of the row that
     /// crossed the surface an odd number of times. Returns how many lines were open. The
     /// object-safe form of [`raster_within`](dyn Survey::raster_within).
-    fn visit_rows(
-        &self,
-        cols: &Columns,
-        bounds: [f64; 4],
-        row: &RowVisitor<'_>,
-    ) -> usize;
+    fn visit_rows(&self, cols: &Columns, bounds: [f64; 4], row: &RowVisitor<'_>) -> usize;
 
     /// The free stretches along the vertical line through `(x, y)`, bottom up.
     fn column(&self, x: f64, y: f64) -> Vec<[f64; 2]>;

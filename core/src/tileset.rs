@@ -132,10 +132,10 @@ pub enum TileSetError {
         /// The kinds' names, in the order the layout first needs them.
         kinds: Vec<String>,
     },
-    /// The world's meshes would need more memory than the budget allows: the message (from
-    /// [`crate::budget::Budget::check`]) says how much, and what to make smaller or raise.
+    /// The world's meshes would need more memory than the budget allows
+    /// ([`crate::budget::Budget::check`]): how much, and what to make smaller or raise.
     #[error("{0}")]
-    TooLarge(String),
+    TooLarge(crate::budget::OverBudget),
     /// Making one tile failed: where, and why.
     #[error(
         "tile at level {}, row {}, column {} ({}): {source}",

@@ -128,12 +128,24 @@ impl FixedText {
     }
 }
 
+/// A plugin's code failed: it panicked (caught inside the plugin) or registered a name that
+/// is taken. The message names the plugin and the call; fix or remove the plugin.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("{message}")]
+pub struct PluginFailure {
+    /// What failed, naming the plugin.
+    pub message: String,
+}
+
 /// Declares a plugin: `declare_plugin!("name", register_fn)`.
 #[macro_export]
 macro_rules! declare_plugin {
     ($name:expr, $register:path) => {
         fn __subtgraph_register(r: &mut $crate::Registrar<'_>) -> Result<(), String> {
+            // The declaration's function returns the failure's text: what crosses the
+            // library boundary.
             r.run_guarded("register", |r| $register(r))
+                .map_err(|e| e.message)
         }
 
         /// The plugin's declaration, read by `subtgraph` when it loads this library.
@@ -203,9 +215,11 @@ impl<'a> Registrar<'a> {
         &mut self,
         what: &str,
         f: impl FnOnce(&mut Self) -> T,
-    ) -> Result<T, String> {
+    ) -> Result<T, PluginFailure> {
         let info = self.info.clone();
-        catch_unwind(AssertUnwindSafe(|| f(self))).map_err(|p| info.fail(what, p))
+        catch_unwind(AssertUnwindSafe(|| f(self))).map_err(|p| PluginFailure {
+            message: info.fail(what, p),
+        })
     }
 
     fn origin(&self) -> String {
@@ -505,7 +519,7 @@ impl Exporter for Guarded<dyn Exporter> {
         survey: &dyn Survey,
         out: &mut dyn WorldWriter,
     ) -> Result<(), ExportError> {
-        self.try_call("Exporter::export", ExportError::Unsupported, |e| {
+        self.try_call("Exporter::export", ExportError::Plugin, |e| {
             e.export(world, survey, out)
         })
     }

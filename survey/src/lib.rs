@@ -148,12 +148,7 @@ impl Survey for WorldSurvey<'_> {
         self.passages().source()
     }
 
-    fn visit_rows(
-        &self,
-        cols: &Columns,
-        bounds: [f64; 4],
-        row: &RowVisitor<'_>,
-    ) -> usize {
+    fn visit_rows(&self, cols: &Columns, bounds: [f64; 4], row: &RowVisitor<'_>) -> usize {
         self.passages()
             .raster_within(cols, bounds, |j, spans, open| row(j, spans, open))
             .open_lines

@@ -12,7 +12,7 @@
 //! world coordinates, and each tile meshes its own block of a world-wide lattice with marching
 //! tetrahedra ([`marching`]). Adjacent tiles therefore meet on exactly the same opening,
 //! vertex for vertex, the assembled world is one closed surface, and no two tiles are alike.
-//! A new cave type needs only a [`field::Profile`] and a [`procedural::Style`].
+//! A new cave type needs only a [`passage::Profile`] and a [`procedural::Style`].
 //!
 //! [`mesh_files`] places meshes of your own (the DARPA SubT tiles, scans) from a manifest.
 
@@ -28,6 +28,7 @@ pub mod marching;
 pub mod mesh_files;
 pub mod mine;
 pub mod noise;
+pub mod passage;
 pub mod procedural;
 pub mod ramp;
 pub mod rubble;
