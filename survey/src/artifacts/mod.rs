@@ -14,7 +14,8 @@
 //! its whole box plus `CLEAR` above is free, as is the rock-free margin `GAP` around it at the
 //! height `PROBE_Z` above its base (height-field simulators let a wall stand up to half a
 //! metre into the passage). `wall` wants rock within `WALL` metres of the margin, `floor` none
-//! within `OPEN` metres. Artifacts keep `min_spacing` metres apart. A tile with no fitting
+//! within `OPEN` metres. Artifacts keep `min_spacing` metres apart, and never overlap whatever
+//! the spacing (their boxes and pads, even with `min_spacing = 0`). A tile with no fitting
 //! spot is dropped and another drawn; a rule with no tile left gives way to the next; when no
 //! rule has a tile left, placement fails saying what to relax.
 //!

@@ -13,6 +13,7 @@ use super::lookout::Lookout;
 use super::{CLEAR, EXACT, FLAT, GAP, HIDDEN_TRIES, LIFT, OPEN, PROBE_Z, STEP, TRIES, WALL};
 use crate::passages::{Columns, Passages, Span};
 use crate::sight;
+use subtgraph_core::artifacts::PAD;
 
 /// What [`spot_in`] looks for.
 pub(super) struct Request<'a> {
@@ -72,6 +73,7 @@ pub(super) fn spot_in(
         if placed.iter().any(|a| {
             let p = a.position;
             (p[0] - x).hypot(p[1] - y).hypot(p[2] - hi) < min_spacing
+                || meets(a, [x, y, hi], yaw, size)
         }) {
             continue;
         }
@@ -103,6 +105,38 @@ pub(super) fn spot_in(
         return Some(([x, y, base], yaw, looked));
     }
     None
+}
+
+/// Whether an artifact of `size` standing at `base` (its floor: the base may rise by up to
+/// `FLAT` once cast exactly) turned by `yaw` would meet artifact `a`: their boxes with their
+/// pads (`PAD` wider, reaching `2 PAD` below the base) overlap in height and in the plane
+/// (separating axes: two rectangles are apart when one of their four edge directions
+/// separates them). Whatever `min_spacing` asks, even 0, artifacts never overlap.
+fn meets(a: &Artifact, base: [f64; 3], yaw: f64, size: [f64; 3]) -> bool {
+    let (lo, hi) = (base[2] - 2.0 * PAD, base[2] + FLAT + size[2]);
+    let (alo, ahi) = (a.position[2] - 2.0 * PAD, a.position[2] + a.size[2]);
+    if hi <= alo || ahi <= lo {
+        return false;
+    }
+    let rect = |c: [f64; 3], yaw: f64, size: [f64; 3]| {
+        let (sin, cos) = yaw.sin_cos();
+        let half = [0.5 * size[0] + PAD, 0.5 * size[1] + PAD];
+        ([c[0], c[1]], [[cos, sin], [-sin, cos]], half)
+    };
+    let rects = [rect(a.position, a.yaw, a.size), rect(base, yaw, size)];
+    let d = [rects[1].0[0] - rects[0].0[0], rects[1].0[1] - rects[0].0[1]];
+    let dot = |u: [f64; 2], v: [f64; 2]| u[0] * v[0] + u[1] * v[1];
+    // Apart along an axis when the centres are farther apart along it than the two
+    // rectangles' half extents along it together.
+    !rects.iter().flat_map(|r| r.1).any(|axis| {
+        let reach: f64 = rects
+            .iter()
+            .map(|(_, axes, half)| {
+                half[0] * dot(axes[0], axis).abs() + half[1] * dot(axes[1], axis).abs()
+            })
+            .sum();
+        dot(d, axis).abs() >= reach
+    })
 }
 
 /// The vertical lines over one tile and `reach` around it, `STEP` metres apart (finer for
