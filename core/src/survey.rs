@@ -117,8 +117,8 @@ pub struct EdgeLine {
 /// What an exporter may ask of a surveyed world. Implemented by `subtgraph-survey`; an
 /// exporter receives it beside the [`crate::World`] it writes.
 ///
-/// The generic conveniences ([`raster`](dyn Survey::raster), [`floor`](dyn Survey::floor),
-/// ...) are on `dyn Survey`.
+/// The generic conveniences (`raster`, `floor`, ...) are inherent
+/// methods of `dyn Survey`.
 pub trait Survey: Send + Sync {
     /// The resolved pipeline the world was made from (every range drawn): the record
     /// `world.toml` writes. Exporters read the survey's answers, not the pipeline's sections.
@@ -131,7 +131,7 @@ pub trait Survey: Send + Sync {
     /// must hold every line) can cross: `row(j, spans, open)` once for each row `j`, in
     /// parallel, spans sorted by line then height; `open` lists the lines of the row that
     /// crossed the surface an odd number of times. Returns how many lines were open. The
-    /// object-safe form of [`raster_within`](dyn Survey::raster_within).
+    /// object-safe form of `dyn Survey::raster_within`.
     fn visit_rows(&self, cols: &Columns, bounds: [f64; 4], row: &RowVisitor<'_>) -> usize;
 
     /// The free stretches along the vertical line through `(x, y)`, bottom up.
@@ -177,7 +177,7 @@ impl dyn Survey + '_ {
         self.raster_within(cols, all, row)
     }
 
-    /// [`raster`](Self::raster), using only the surface's triangles near `bounds`
+    /// `raster`, using only the surface's triangles near `bounds`
     /// (`[x0, y0, x1, y1]`), which must hold every line of `cols`.
     pub fn raster_within<T: Send>(
         &self,

@@ -1,7 +1,7 @@
 //! Floor patches (`[hazards] friction`, found by the survey: `survey/src/hazards.rs`) in the
 //! formats that give each collision element its own friction: SDF and USD as separate
 //! collision meshes holding the patched tiles' up-facing (floor) triangles, with the
-//! material's friction ([`split_collision`]; URDF as a fixed link per part and material,
+//! material's friction (`split_collision`; URDF as a fixed link per part and material,
 //! since PyBullet's friction is per link).
 
 use std::collections::BTreeMap;

@@ -4,7 +4,7 @@
 //! The collision surface is closed, so along any vertical line its crossings alternate between
 //! entering and leaving the passages (ray parity); where a surface is not (the DARPA tiles'
 //! overlap themselves and each other), the triangles' facing tells floors from ceilings
-//! ([`stretches`]). Each triangle is rasterised to the columns
+//! (`stretches`). Each triangle is rasterised to the columns
 //! of a regular grid whose centres it covers, so a whole grid costs O(triangles + columns),
 //! bands of rows run in parallel, and the result does not depend on the thread count.
 //!

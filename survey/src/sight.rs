@@ -17,7 +17,7 @@
 //! The nearest point of the axis sees nearly everything in a tile (on the cave preset, seeds
 //! 1 and 2, a search of every tile found 3 of the 6 hidden spots asked for, on the small
 //! caves of the tests 5 of 16): a robot that has driven up to an artifact has found it. What hides an artifact is where the robot
-//! is when it first comes near: with `[artifacts] hidden`, the eye is [`approach_eye`], the
+//! is when it first comes near: with `[artifacts] hidden`, the eye is `approach_eye`, the
 //! first point within [`NEAR`] of the artifact on the robot's way into the tile from the
 //! opening nearest the start along the graph (then on to the anchor and the other
 //! openings), so an artifact just past a bend, or in the far leg of a junction, is hidden.
@@ -34,7 +34,7 @@ pub const SIGHT_END: f64 = 0.3;
 
 /// How near a robot on its way comes to an artifact before the artifact counts as in reach
 /// of its sensors, metres: with `[artifacts] hidden`, the eye is the first point of the way
-/// this near ([`approach_eye`]).
+/// this near (`approach_eye`).
 pub const NEAR: f64 = 10.0;
 
 /// The eye looking at `target` as a robot comes to it: [`EYE`] above the first point of

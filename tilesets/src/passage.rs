@@ -57,7 +57,7 @@ pub struct Passage {
     pub striations: bool,
     /// Chambers, squeezes and the clearance they keep (see [`crate::chambers`]).
     pub rooms: Rooms,
-    /// How passages turn at corner cells (see [`bends`]).
+    /// How passages turn at corner cells (see [`crate::bends`]).
     pub bends: Bends,
     /// Greatest sideways meander of a straight cell's passage, metres.
     pub meander: f64,

@@ -7,7 +7,7 @@
 //! its class in turn from `classes`, a rule from `placement`, then a tile the rule allows
 //! (dead end; T-junction or intersection for a chamber; any tile but a shaft's end for wall
 //! and floor) at least `min_distance_from_start` metres from the start along the graph, and a
-//! spot in it ([`spot`]). A spot is checked on the exact passages ([`crate::passages`]): every
+//! spot in it (`spot`). A spot is checked on the exact passages ([`crate::passages`]): every
 //! vertical line under the artifact's footprint (on a raster `STEP` metres apart, then cast
 //! exactly every `EXACT` metres, corners and edges included) finds
 //! floor within `FLAT` metres of the highest, the artifact stands on that highest floor, and
