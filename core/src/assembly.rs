@@ -35,6 +35,8 @@ pub struct PlacedTile {
     /// How far its floor stands above its level's floor, metres, lowest and highest
     /// ([`TileSet::floor_lift`]).
     pub floor_lift: [f64; 2],
+    /// Its passage axis as the tile set laid it ([`TileGeometry::axis`]), if it knows one.
+    pub axis: Option<crate::tileset::PassageAxis>,
 }
 
 /// The assembled world.
@@ -59,9 +61,15 @@ impl WorldMesh {
     /// How far the floor of the tile at `cell` stands above its level's floor, metres, lowest
     /// and highest ([`PlacedTile::floor_lift`]; `[0, 0]` for a cell without a tile).
     pub fn floor_lift(&self, cell: Cell) -> [f64; 2] {
+        self.tile(cell).map_or([0.0, 0.0], |t| t.floor_lift)
+    }
+
+    /// The placed tile at `cell`, if it has one.
+    pub fn tile(&self, cell: Cell) -> Option<&PlacedTile> {
         self.tiles
             .binary_search_by_key(&cell, |t| t.cell)
-            .map_or([0.0, 0.0], |i| self.tiles[i].floor_lift)
+            .ok()
+            .map(|i| &self.tiles[i])
     }
 }
 
@@ -278,6 +286,7 @@ fn append_tile(
         collision_triangles: collision_start..out.collision.triangle_count(),
         labels: g.labels.clone(),
         floor_lift,
+        axis: g.axis.clone(),
     });
 }
 

@@ -172,7 +172,7 @@ impl Survey for WorldSurvey<'_> {
 
     fn edges(&self) -> &[EdgeLine] {
         self.edges
-            .get_or_init(|| centrelines::edges(self.world, &self.all_axes()))
+            .get_or_init(|| centrelines::edges(self.world, self.passages(), &self.all_axes()))
     }
 
     fn sections(&self) -> &[Option<(f64, f64)>] {

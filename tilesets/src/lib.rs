@@ -19,6 +19,7 @@
 use subtgraph_core::registry::{DuplicateName, Registry};
 use subtgraph_core::tileset::TileSet;
 
+pub mod axis;
 pub mod bends;
 pub mod cave;
 pub mod chambers;

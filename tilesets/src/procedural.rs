@@ -473,6 +473,7 @@ impl TileSet for Procedural {
                 collision: collision_seam,
             },
             hazards,
+            axis: crate::axis::passage_axis(world, ctx.cell, &passage, levels, fine),
         })
     }
 

@@ -4,10 +4,10 @@
 //! A tile's passage need not pass through its centre: a DARPA cave tile's corner arcs away from
 //! it and its straight tiles wind (on `examples/darpa-cave.toml`, 54 % of the corner tiles and
 //! 38 % of the dead ends have no surface at all on the vertical line through their centre). So
-//! every tile is looked at on a grid of vertical lines (at least [`PIXELS`] x [`PIXELS`], at
-//! most [`SPACING`] apart, so a ridge of rock a ball cannot cross lies on a line): a line is
+//! every tile is looked at on a grid of vertical lines (at least `PIXELS` x `PIXELS`, at
+//! most `SPACING` apart, so a ridge of rock a ball cannot cross lies on a line): a line is
 //! drivable where one of its free stretches starts within the level (its floor) and is at least
-//! [`BODY`] high. Over the drivable lines, a clearance-weighted shortest path (steps away from
+//! `BODY` high. Over the drivable lines, a clearance-weighted shortest path (steps away from
 //! the walls and from ledges are cheaper, so paths keep to the middle of the passage; no
 //! diagonal step passes between two lines it could not step to) joins each opening of the
 //! tile (the widest drivable line of the seam, nearest the seam's middle) to the tile's
@@ -17,21 +17,21 @@
 //! for a shaft foot or landing the drivable line nearest the shaft's axis. Paths climb at most
 //! 0.6 of the line spacing per line (31 degrees) and pay for every metre up or down.
 //!
-//! The paths' points are kept every [`KEEP_M`] and wherever the straight line between kept
-//! points would stray more than [`CHORD`] from the path (a body is driven point to point).
+//! The paths' points are kept every `KEEP_M` and wherever the straight line between kept
+//! points would stray more than `CHORD` from the path (a body is driven point to point).
 //! The graph's node positions, its corridor polylines (anchor, path to the opening, the next
 //! tile's path from its opening, its anchor, ...), the tiles' positions in the semantic labels and the spawn
 //! and goal poses all use these, with the floor's own height. A tile where nothing is drivable
-//! or an opening is not reached keeps its grid centre ([`Axes::fallback`] counts them). Without a
+//! or an opening is not reached keeps its grid centre (`Axes::fallback` counts them). Without a
 //! mesh the passages are the grid's, and the axis is the line through the cell centres.
 //!
 //! Deterministic: lines come from the exact raster of [`crate::passages`], paths from a
 //! Dijkstra with integer costs and ties broken by index. Each tile's axis is found once, when
-//! first asked for ([`AxisCache`]): artifact placement asks for a few tiles, the ground truth
+//! first asked for (`AxisCache`): artifact placement asks for a few tiles, the ground truth
 //! for all of them (in parallel); a tile's axis depends on nothing else, so the order does
 //! not matter.
 
-mod tile;
+pub(crate) mod tile;
 
 use std::sync::OnceLock;
 
@@ -56,6 +56,20 @@ pub(crate) struct TileAxis {
     /// starts on the line across the seam: the seam itself is not a point (the DARPA tiles'
     /// collision leaves a sliver open along some seams).
     pub exits: [Vec<[f64; 3]>; 4],
+    /// The anchor's room: metres to the nearest line a body cannot stand on.
+    pub anchor_room: f64,
+    /// Per direction, every line of the path `exits` keeps points of (from the anchor,
+    /// excluded, to the entry line, included), with its room: what a smoothed centreline may
+    /// move within ([`crate::centrelines`]).
+    pub lines: [Vec<Line>; 4],
+}
+
+/// A raster line on a tile's path, on its floor, and how far a body on it may move sideways
+/// and still stand on drivable floor: metres to the nearest undrivable line.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct Line {
+    pub point: [f64; 3],
+    pub room: f64,
 }
 
 /// Each tile's axis, found when first asked for (`None`: the tile keeps its grid centre), in
@@ -105,7 +119,7 @@ impl<'a> Axes<'a> {
     }
 
     /// The axis of the tile at `c`, found now if it was not yet.
-    fn get(&self, c: Cell) -> Option<&'a TileAxis> {
+    pub(crate) fn get(&self, c: Cell) -> Option<&'a TileAxis> {
         if matches!(self.passages, Passages::Grid(_)) || !*self.world.occupancy.get(c) {
             return None;
         }
@@ -260,7 +274,7 @@ pub(crate) fn ramp_end(world: &World, c: Cell) -> Option<[f64; 2]> {
 }
 
 /// The direction of a step from `a` to its neighbour `b` on the same level.
-fn towards(a: Cell, b: Cell) -> Option<Direction> {
+pub(crate) fn towards(a: Cell, b: Cell) -> Option<Direction> {
     if a.level != b.level {
         return None;
     }

@@ -8,7 +8,7 @@ use subtgraph_core::World;
 use subtgraph_core::grid::{Cell, Direction};
 use subtgraph_core::tile::TileKind;
 
-use super::{TileAxis, ramp_end};
+use super::{Line, TileAxis, ramp_end};
 use crate::passages::{Columns, Passages};
 
 /// Least lines per tile side.
@@ -35,7 +35,7 @@ const WALL: u64 = 8;
 
 /// Lines per tile side for a tile pitch: [`PIXELS`], or more where that would put them more
 /// than [`SPACING`] apart.
-fn lines_per_side(pitch: f64) -> usize {
+pub(crate) fn lines_per_side(pitch: f64) -> usize {
     PIXELS.max((pitch / SPACING).ceil() as usize)
 }
 
@@ -54,7 +54,24 @@ fn floors(world: &World, passages: &Passages, c: Cell, n: usize) -> (Columns, Ve
     // The floor is looked for within 0.45 level heights of the level's floor, or of the
     // heights the tile set lifted this tile's floor to (a hill's tiles: `floor_lift`).
     let half = 0.45 * world.resolved.level_height;
-    let [low, high] = world.floor_lift(c).map(|l| centre[2] + l);
+    let band = world.floor_lift(c).map(|l| centre[2] + l);
+    let bounds = [cols.x0, cols.y0, cols.x0 + pitch, cols.y0 + pitch];
+    let floors = floors_in(passages, &cols, bounds, band, half);
+    (cols, floors)
+}
+
+/// Per line of `cols` (rows south to north, each west to east; all within `bounds`) the floor a
+/// body stands on (NaN where none): the floor of a free stretch at least [`BODY`] high,
+/// nearest the heights `band` (`[low, high]`), at most `half` from them.
+pub(crate) fn floors_in(
+    passages: &Passages,
+    cols: &Columns,
+    bounds: [f64; 4],
+    band: [f64; 2],
+    half: f64,
+) -> Vec<f64> {
+    let [low, high] = band;
+    let (nx, ny) = (cols.nx, cols.ny);
     let off = |z: f64| {
         if z < low {
             low - z
@@ -64,15 +81,14 @@ fn floors(world: &World, passages: &Passages, c: Cell, n: usize) -> (Columns, Ve
             0.0
         }
     };
-    let bounds = [cols.x0, cols.y0, cols.x0 + pitch, cols.y0 + pitch];
     // Every line's crossings, bottom up, with the facing of their triangles. The surface need
     // not be closed (the DARPA tiles' is not: ray parity would call half their lines open), so
     // floors are read from the facing: a floor is a crossing whose triangle faces into the
     // passage above it. Which winding faces in is taken from the lines' lowest crossings, which
     // are floors wherever a line crosses anything.
     let lines: Vec<Vec<(f64, bool)>> = passages
-        .crossings_within(&cols, bounds, |_, hits| {
-            let mut row = vec![Vec::new(); n];
+        .crossings_within(cols, bounds, |_, hits| {
+            let mut row = vec![Vec::new(); nx];
             for h in hits {
                 row[h.i as usize].push((h.z, h.up));
             }
@@ -106,29 +122,55 @@ fn floors(world: &World, passages: &Passages, c: Cell, n: usize) -> (Columns, Ve
             best
         })
         .collect::<Vec<f64>>();
-    if floors.len() != n * n {
-        return (cols, vec![f64::NAN; n * n]);
+    if floors.len() != nx * ny {
+        return vec![f64::NAN; nx * ny];
     }
-    (cols, floors)
+    floors
 }
 
 /// The most a path climbs (or drops) from one line to the next, metres: 31 degrees.
-fn climb_per_line(step: f64) -> f64 {
+pub(crate) fn climb_per_line(step: f64) -> f64 {
     (0.6 * step).max(0.25)
+}
+
+/// Which drivable lines have room about them: walls are rock, and so are the edges of a step
+/// up or down that no path climbs (a body keeps off a ledge as off a wall). The raster's
+/// border is not a wall.
+pub(crate) fn roomy(
+    free: &[bool],
+    floor: &[f64],
+    (nx, ny): (usize, usize),
+    step: f64,
+) -> Vec<bool> {
+    let climb = climb_per_line(step);
+    (0..nx * ny)
+        .map(|k| {
+            let (i, j) = (k % nx, k / nx);
+            free[k]
+                && [(1, 0), (-1, 0), (0, 1), (0, -1)].iter().all(|&(di, dj)| {
+                    let (a, b) = (i as i64 + di, j as i64 + dj);
+                    if a < 0 || b < 0 || a >= nx as i64 || b >= ny as i64 {
+                        return true;
+                    }
+                    let m = b as usize * nx + a as usize;
+                    !free[m] || (floor[m] - floor[k]).abs() <= climb
+                })
+        })
+        .collect()
 }
 
 /// Chamfer distance (3-4) of every drivable line to the nearest undrivable one, in thirds of
 /// a line spacing. The tile's border is not a wall: the passage goes on beyond it.
-fn clearance(free: &[bool], n: usize) -> Vec<u32> {
+pub(crate) fn clearance(free: &[bool], nx: usize, ny: usize) -> Vec<u32> {
     let big = u32::MAX / 4;
     let mut d: Vec<u32> = free.iter().map(|&f| if f { big } else { 0 }).collect();
     let at = |i: i64, j: i64| {
-        (i >= 0 && j >= 0 && (i as usize) < n && (j as usize) < n)
-            .then(|| j as usize * n + i as usize)
+        (i >= 0 && j >= 0 && (i as usize) < nx && (j as usize) < ny)
+            .then(|| j as usize * nx + i as usize)
     };
-    for j in 0..n as i64 {
-        for i in 0..n as i64 {
-            let k = j as usize * n + i as usize;
+    for j in 0..ny as i64 {
+        for i in 0..nx as i64 {
+            let k = j as usize * nx + i as usize;
             for (di, dj, w) in [(-1, 0, 3), (0, -1, 3), (-1, -1, 4), (1, -1, 4)] {
                 if let Some(m) = at(i + di, j + dj) {
                     d[k] = d[k].min(d[m] + w);
@@ -136,9 +178,9 @@ fn clearance(free: &[bool], n: usize) -> Vec<u32> {
             }
         }
     }
-    for j in (0..n as i64).rev() {
-        for i in (0..n as i64).rev() {
-            let k = j as usize * n + i as usize;
+    for j in (0..ny as i64).rev() {
+        for i in (0..nx as i64).rev() {
+            let k = j as usize * nx + i as usize;
             for (di, dj, w) in [(1, 0, 3), (0, 1, 3), (1, 1, 4), (-1, 1, 4)] {
                 if let Some(m) = at(i + di, j + dj) {
                     d[k] = d[k].min(d[m] + w);
@@ -149,17 +191,20 @@ fn clearance(free: &[bool], n: usize) -> Vec<u32> {
     d
 }
 
-/// Dijkstra over drivable lines from `source`: costs (integer) and parents.
-fn paths(
+/// Dijkstra over drivable lines from `source`: costs (integer) and parents. The raster is
+/// `nx` x `ny` lines, `n` of them to a tile's side.
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn paths(
     free: &[bool],
     floor: &[f64],
     clear: &[u32],
     step: f64,
+    (nx, ny): (usize, usize),
     n: usize,
     source: usize,
 ) -> (Vec<u64>, Vec<u32>) {
-    let mut dist = vec![u64::MAX; n * n];
-    let mut parent = vec![u32::MAX; n * n];
+    let mut dist = vec![u64::MAX; nx * ny];
+    let mut parent = vec![u32::MAX; nx * ny];
     let mut heap = BinaryHeap::new();
     dist[source] = 0;
     heap.push(Reverse((0u64, source as u32)));
@@ -169,7 +214,7 @@ fn paths(
         if d > dist[u] {
             continue;
         }
-        let (i, j) = ((u % n) as i64, (u / n) as i64);
+        let (i, j) = ((u % nx) as i64, (u / nx) as i64);
         for (di, dj, len) in [
             (1, 0, 1000u64),
             (-1, 0, 1000),
@@ -181,10 +226,10 @@ fn paths(
             (-1, -1, 1414),
         ] {
             let (a, b) = (i + di, j + dj);
-            if a < 0 || b < 0 || a >= n as i64 || b >= n as i64 {
+            if a < 0 || b < 0 || a >= nx as i64 || b >= ny as i64 {
                 continue;
             }
-            let v = b as usize * n + a as usize;
+            let v = b as usize * nx + a as usize;
             let rise = (floor[v] - floor[u]).abs();
             if !free[v] || rise > climb {
                 continue;
@@ -193,7 +238,7 @@ fn paths(
             // floor a step up or down): the rock of the two may meet between them (the DARPA
             // tiles' floors hold blocks of rock touching at a corner).
             if di != 0 && dj != 0 {
-                let side = [j as usize * n + a as usize, b as usize * n + i as usize];
+                let side = [j as usize * nx + a as usize, b as usize * nx + i as usize];
                 if side
                     .iter()
                     .any(|&m| !free[m] || (floor[m] - floor[u]).abs() > climb)
@@ -227,24 +272,7 @@ pub(super) fn tile_axis(world: &World, passages: &Passages, c: Cell) -> Option<T
         return None;
     }
     let step = cols.step;
-    // Walls are rock, and the edges of a step up or down that no path climbs: a line next to
-    // one has no clearance (a body keeps off a ledge as off a wall).
-    let climb = climb_per_line(step);
-    let roomy: Vec<bool> = (0..n * n)
-        .map(|k| {
-            let (i, j) = (k % n, k / n);
-            free[k]
-                && [(1, 0), (-1, 0), (0, 1), (0, -1)].iter().all(|&(di, dj)| {
-                    let (a, b) = (i as i64 + di, j as i64 + dj);
-                    if a < 0 || b < 0 || a >= n as i64 || b >= n as i64 {
-                        return true;
-                    }
-                    let m = b as usize * n + a as usize;
-                    !free[m] || (floor[m] - floor[k]).abs() <= climb
-                })
-        })
-        .collect();
-    let clear = clearance(&roomy, n);
+    let clear = clearance(&roomy(&free, &floor, (n, n), step), n, n);
     let entry_depth = ENTRY_DEPTH * n / PIXELS;
     // Each opening's entry: the widest drivable line on that seam, nearest its middle; where
     // the seam's own lines are not drivable (a tile whose passage ends short of its border),
@@ -277,7 +305,7 @@ pub(super) fn tile_axis(world: &World, passages: &Passages, c: Cell) -> Option<T
     let runs: Vec<(Direction, usize, Vec<u64>, Vec<u32>)> = entries
         .iter()
         .map(|&(d, e)| {
-            let (dist, parent) = paths(&free, &floor, &clear, step, n, e);
+            let (dist, parent) = paths(&free, &floor, &clear, step, (n, n), n, e);
             (d, e, dist, parent)
         })
         .collect();
@@ -333,7 +361,16 @@ pub(super) fn tile_axis(world: &World, passages: &Passages, c: Cell) -> Option<T
         [x, y, floor[k]]
     };
     let keep = ((KEEP_M / step).round() as usize).max(1);
+    // Metres from a line to the nearest one a body cannot stand on (the chamfer distance is
+    // in thirds of a line spacing; a tile without any such line counts half a pitch).
+    let pitch = world.resolved.tile_pitch;
+    let room = |k: usize| (f64::from(clear[k]) / 3.0 * step).min(0.5 * pitch);
+    let line_at = |k: usize| Line {
+        point: point(k),
+        room: room(k),
+    };
     let mut exits: [Vec<[f64; 3]>; 4] = Default::default();
+    let mut lines: [Vec<Line>; 4] = Default::default();
     for (d, e, _, parent) in &runs {
         // From the anchor back along the parents to the entry.
         let mut path = vec![anchor];
@@ -347,15 +384,19 @@ pub(super) fn tile_axis(world: &World, passages: &Passages, c: Cell) -> Option<T
             .into_iter()
             .map(|i| point(path[i]))
             .collect();
+        lines[*d as usize] = path[1..].iter().map(|&k| line_at(k)).collect();
     }
     // An opening whose drivable lines do not meet the anchor's on the floor (a climb steeper
     // than a robot drives): its entry line, on its floor; the way between is unknown.
     for (d, e, _, _) in &apart {
         exits[*d as usize] = vec![point(*e)];
+        lines[*d as usize] = vec![line_at(*e)];
     }
     Some(TileAxis {
         anchor: point(anchor),
         exits,
+        anchor_room: room(anchor),
+        lines,
     })
 }
 

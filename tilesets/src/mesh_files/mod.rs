@@ -270,6 +270,9 @@ impl TileSet for MeshFiles {
             // No rubble or drops (`makes_hazards` is false: assembly refuses a pipeline
             // asking for them, naming the key).
             hazards: Vec::new(),
+            // The files' passages are known only from their surface: the survey finds their
+            // axis in the free space.
+            axis: None,
         })
     }
 
