@@ -41,5 +41,24 @@ fn largest_lava_tube(c: &mut Criterion) {
     });
 }
 
-criterion_group!(benches, presets, largest_lava_tube);
+/// A room-and-pillar panel of 300 x 300 pillars (360,000 cells of drifts and crosscuts) on a
+/// 640 x 640 level: the cost that grew with the square of the block (issue 21 item 8).
+fn large_room_and_pillar(c: &mut Criterion) {
+    let registry = subtgraph::registry();
+    let pipeline = subtgraph::core::Pipeline::parse(
+        "[world]\nseed = 1\nrows = 640\ncols = 640\n\n\
+         [topology]\nloops = 0\nt_junctions = 0\nintersections = 0\n\n\
+         [[topology.structure]]\ntype = \"room-and-pillar\"\ncount = 1\npillars = [300, 300]\n",
+        "room-and-pillar bench",
+    )
+    .expect("parses");
+    let mut group = c.benchmark_group("generate");
+    group.sample_size(10);
+    group.bench_function("room-and-pillar-300x300", |b| {
+        b.iter(|| generate(black_box(&pipeline), &registry).expect("generates"))
+    });
+    group.finish();
+}
+
+criterion_group!(benches, presets, largest_lava_tube, large_room_and_pillar);
 criterion_main!(benches);

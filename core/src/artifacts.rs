@@ -272,6 +272,20 @@ impl ArtifactsSection {
                 "lists no rule; use some of \"dead-end\", \"chamber\", \"wall\", \"floor\"".into(),
             ));
         }
+        // Rules are drawn as often as each other: a rule written twice would be drawn twice
+        // as often, which the key does not say it does.
+        for (i, p) in self.placement.iter().enumerate() {
+            if self.placement[..i].contains(p) {
+                return Some((
+                    "artifacts.placement",
+                    format!(
+                        "lists '{}' twice; name each rule once (each rule is drawn as often as \
+                         the others)",
+                        p.name()
+                    ),
+                ));
+            }
+        }
         if self.count.max() > MAX_ARTIFACTS {
             return Some((
                 "artifacts.count",

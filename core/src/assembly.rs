@@ -95,7 +95,7 @@ pub fn assemble_within(
     tileset: &dyn TileSet,
     budget: &Budget,
 ) -> Result<WorldMesh, TileSetError> {
-    let ramps = suited(layout, tileset)?;
+    let ramps = check(layout, tileset)?;
     let memory = MemoryCheck::new(layout, tileset, budget);
     if let Some(e) = crate::budget::mesh_estimate(layout, |k| tileset.estimate(layout, k)) {
         memory.check(e, "estimated")?;
@@ -146,9 +146,13 @@ pub fn assemble_within(
     Ok(out)
 }
 
-/// Checks that the tile set can make this layout's tiles at all (its own `check`, the
-/// `[hazards]` it is asked for, ramps between levels), and returns the ramps' floor lines.
-fn suited(layout: &Layout, tileset: &dyn TileSet) -> Result<Vec<Vec<[f64; 3]>>, TileSetError> {
+/// Everything about a layout a tile set refuses before any tile is meshed: the tile set's own
+/// [`TileSet::check`], hazards it cannot make (`hazards.rubble`, `hazards.drops`, as resolved
+/// on [`Layout::floor_hazards`]) and ramps it cannot make (`world.connections = "ramp"`).
+/// [`assemble_within`] starts with it, and `validate` runs it without meshing, so the two
+/// refuse the same pipelines. Returns each shaft's ramp line for a world joined by ramps
+/// (empty otherwise).
+pub fn check(layout: &Layout, tileset: &dyn TileSet) -> Result<Vec<Vec<[f64; 3]>>, TileSetError> {
     tileset.check(layout)?;
     let h = &layout.floor_hazards;
     if h.asked() && !tileset.makes_hazards() {

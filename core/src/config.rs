@@ -278,6 +278,38 @@ const MAX_LENGTH: f64 = 1000.0;
 const MAX_SIDE: u32 = 2048;
 const MIN_SIDE: u32 = 8;
 
+/// What a `[world]` key with a bounded range accepts, as its refusals say it: the same
+/// message for every value outside the range, whether the reader refuses it (a negative
+/// number where a count or a seed is read) or the pipeline's check does (zero, too many).
+fn range_of(key: &str) -> Option<String> {
+    Some(match key {
+        "world.seed" => "must be from 0 to 2^63 - 1".into(),
+        "world.levels" => {
+            format!("must be between 1 and {MAX_LEVELS} (a number, or [low, high] drawn per world)")
+        }
+        "world.rows" | "world.cols" => format!("must be between {MIN_SIDE} and {MAX_SIDE} cells"),
+        "world.min_length" => format!(
+            "gives a grid side outside {MIN_SIDE}..{MAX_SIDE} cells; use {} to {} metres",
+            MIN_SIDE * MIN_SIDE,
+            MAX_SIDE * MAX_SIDE
+        ),
+        "world.attempts" => "must be between 1 and 10000".into(),
+        _ => return None,
+    })
+}
+
+/// The message for a value the reader refused: a bounded key's range ([`range_of`]) when the
+/// reader refused a number for its sign or size, else the reader's own words.
+fn reader_message(key: &str, message: String) -> String {
+    let out_of_range = message.contains("must be >= 0")
+        || message.starts_with("invalid value: integer")
+        || message.starts_with("too large");
+    match range_of(key) {
+        Some(range) if out_of_range => range,
+        _ => message,
+    }
+}
+
 /// A pipeline's fixed numbers, as generation needs them.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Resolved {
@@ -351,12 +383,14 @@ impl Pipeline {
             });
         }
         let mut p: Pipeline = toml::from_str(source).map_err(|e| {
-            let offset = e.span().map_or(0, |s| s.start);
+            let (offset, message) =
+                crate::nesting::explain(source, e.span().map(|s| s.start), e.message());
             let location = Location::of_offset(&file, source, offset);
+            let key = key_at(source, offset);
             ConfigError {
-                key: key_at(source, offset),
+                message: reader_message(&key, message),
+                key,
                 location,
-                message: e.message().trim().to_owned(),
             }
         })?;
         p.route.params.locate(&file, source, "route".into());
@@ -382,17 +416,15 @@ impl Pipeline {
             message,
         };
         let w = &self.world;
+        let out_of_range = |key: &str| err(key, range_of(key).unwrap_or_default());
         if w.seed > i64::MAX as u64 {
-            return Err(err("world.seed", "must be at most 2^63 - 1".into()));
+            return Err(out_of_range("world.seed"));
         }
-        if w.levels.max() == 0 || w.levels.max() > MAX_LEVELS {
-            return Err(err(
-                "world.levels",
-                format!("must be between 1 and {MAX_LEVELS}"),
-            ));
-        }
-        if matches!(w.levels, IntRange::Between(0, _)) {
-            return Err(err("world.levels", "must be at least 1".into()));
+        if w.levels.max() == 0
+            || w.levels.max() > MAX_LEVELS
+            || matches!(w.levels, IntRange::Between(0, _))
+        {
+            return Err(out_of_range("world.levels"));
         }
         match (w.min_length, w.rows, w.cols) {
             (Some(_), Some(_), _) | (Some(_), _, Some(_)) => {
@@ -407,13 +439,8 @@ impl Pipeline {
             _ => {}
         }
         for (key, v) in [("world.rows", w.rows), ("world.cols", w.cols)] {
-            if let Some(v) = v {
-                if !(MIN_SIDE..=MAX_SIDE).contains(&v) {
-                    return Err(err(
-                        key,
-                        format!("must be between {MIN_SIDE} and {MAX_SIDE} cells"),
-                    ));
-                }
+            if v.is_some_and(|v| !(MIN_SIDE..=MAX_SIDE).contains(&v)) {
+                return Err(out_of_range(key));
             }
         }
         if let Some(m) = w.min_length {
@@ -425,14 +452,7 @@ impl Pipeline {
             };
             let side = |x: f64| x.sqrt().floor() as u32;
             if side(lo) < MIN_SIDE || side(hi) > MAX_SIDE {
-                return Err(err(
-                    "world.min_length",
-                    format!(
-                        "gives a grid side outside {MIN_SIDE}..{MAX_SIDE} cells; use {} to {} metres",
-                        MIN_SIDE * MIN_SIDE,
-                        MAX_SIDE * MAX_SIDE
-                    ),
-                ));
+                return Err(out_of_range("world.min_length"));
             }
         }
         // Lengths a passage tile can physically have: from a crawlspace to a cavern. Beyond,
@@ -464,7 +484,7 @@ impl Pipeline {
             }
         }
         if w.attempts == 0 || w.attempts > 10_000 {
-            return Err(err("world.attempts", "must be between 1 and 10000".into()));
+            return Err(out_of_range("world.attempts"));
         }
         if let Some((key, message)) = self.hazards.as_ref().and_then(|h| h.problem()) {
             return Err(err(key, message));

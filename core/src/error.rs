@@ -29,6 +29,20 @@ pub fn excerpt_to(value: &str, max: usize) -> Cow<'_, str> {
     }
 }
 
+/// A computed number as messages show it: at most six decimals, without trailing zeros.
+///
+/// The default level height of 12 m tiles is `0.8 * 12.0`, which is 9.600000000000001 in
+/// binary and was shown so; this shows 9.6 (and 12.0 as 12). A value the user wrote is
+/// shown the same way, so a message quotes it as it was written (short of seven decimals).
+pub fn number(x: f64) -> String {
+    if !x.is_finite() {
+        return x.to_string();
+    }
+    let s = format!("{x:.6}");
+    let s = s.trim_end_matches('0').trim_end_matches('.');
+    if s == "-0" { "0".into() } else { s.into() }
+}
+
 /// A message with every quoted span (between `"`, `'` or backticks, as serde, TOML and our
 /// own messages quote values) longer than [`QUOTE_LIMIT`] characters cut with [`excerpt`],
 /// and any line still longer than ten times that cut in its middle. Applied where messages
@@ -244,6 +258,21 @@ pub enum Error {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn numbers_are_shown_rounded_without_trailing_zeros() {
+        for (x, shown) in [
+            (0.8 * 12.0, "9.6"),
+            (12.0, "12"),
+            (0.125, "0.125"),
+            (-0.0000001, "0"),
+            (1e20, "100000000000000000000"),
+            (f64::INFINITY, "inf"),
+            (2.0 / 3.0, "0.666667"),
+        ] {
+            assert_eq!(number(x), shown, "{x}");
+        }
+    }
 
     #[test]
     fn long_values_are_cut_where_messages_quote_them() {

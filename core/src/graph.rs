@@ -1,13 +1,13 @@
 //! The topological graph: junctions, intersections, dead ends and shafts as nodes; corridors
 //! (with their cells and length) and shafts as edges.
 
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 use crate::grid::{Cell, Direction, Grid3, Occupancy, Shaft};
 use crate::tile::{Tile, TileKind};
 
 /// A node of the graph.
-#[derive(Clone, Debug, PartialEq, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Node {
     /// Index in [`TopologyGraph::nodes`].
     pub id: usize,
@@ -20,7 +20,7 @@ pub struct Node {
 }
 
 /// What an edge is.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum EdgeKind {
     /// A passage on one level.
@@ -32,7 +32,7 @@ pub enum EdgeKind {
 }
 
 /// An edge: a corridor between two nodes, or a shaft.
-#[derive(Clone, Debug, PartialEq, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Edge {
     /// Index in [`TopologyGraph::edges`].
     pub id: usize,

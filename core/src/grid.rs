@@ -65,7 +65,7 @@ pub const fn rotate_openings(mask: Openings, quarter_turns: u8) -> Openings {
 }
 
 /// A vertical shaft from a dead end of one level to a dead end of the level above.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 pub struct Shaft {
     /// The dead end at the foot of the shaft, on level `k`.
     pub up: Cell,
@@ -77,7 +77,7 @@ pub struct Shaft {
     /// `+1` or `-1`. Those three cells are empty on both levels, so the spiral is twice as wide
     /// as a cell and a decline at a drivable grade fits. `None` for a shaft, or a ramp that
     /// turns inside its own cell (an imported grid with no free block beside the foot).
-    #[serde(skip_serializing_if = "Option::is_none")]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub block: Option<[i8; 2]>,
 }
 

@@ -161,7 +161,7 @@ impl FloorHazard {
 }
 
 /// Where a tile set put a rubble field or a drop, in world metres, for the ground truth.
-#[derive(Clone, Debug, PartialEq, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct HazardRegion {
     /// Rubble or drop.
     pub kind: FloorHazard,
@@ -177,10 +177,10 @@ pub struct HazardRegion {
     pub z: [f64; 2],
     /// A passable rubble field's lane free of rocks, `[x0, y0, x1, y1]` (it runs along the
     /// whole field).
-    #[serde(skip_serializing_if = "Option::is_none")]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub gap: Option<[f64; 4]>,
     /// Rubble: each rock as `[x, y, z, radius]` (a sphere, roughened by the wall relief).
-    #[serde(skip_serializing_if = "Vec::is_empty")]
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub rocks: Vec<[f64; 4]>,
 }
 
@@ -294,7 +294,10 @@ impl HazardsSection {
                 ));
             }
         }
-        if self.rubble + self.drops > 1.0 {
+        // Shares written to add up to 1 may sum to a hair above it in binary (mud = 0.34,
+        // ice = 0.56, sand = 0.1 sum to 1.0000000000000002): the whole floor is allowed.
+        const WHOLE: f64 = 1.0 + 1e-9;
+        if self.rubble + self.drops > WHOLE {
             return Some((
                 "hazards.drops",
                 "rubble and drops together are more than every corridor tile (1); lower them"
@@ -320,7 +323,7 @@ impl HazardsSection {
                 "each share is a number from 0 to 1, e.g. friction = { mud = 0.05 }".into(),
             ));
         }
-        if self.friction.values().sum::<f64>() > 1.0 {
+        if self.friction.values().sum::<f64>() > WHOLE {
             return Some((
                 "hazards.friction",
                 "the shares add up to more than the whole floor (1); lower them".into(),

@@ -9,7 +9,7 @@
 
 use std::collections::BTreeMap;
 
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 use crate::config::{Pipeline, Resolved};
 use crate::graph::TopologyGraph;
@@ -22,7 +22,7 @@ use crate::topology;
 pub use crate::topology::Counts;
 
 /// What one level asked for and what it has.
-#[derive(Clone, Debug, PartialEq, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct LevelReport {
     /// Level index.
     pub level: usize,

@@ -35,6 +35,7 @@ pub mod hazards;
 pub mod import;
 pub mod layout;
 pub mod mesh;
+pub mod nesting;
 pub mod npy;
 pub mod params;
 pub mod range;

@@ -116,6 +116,41 @@ pub enum NpyError {
     },
 }
 
+/// Where a `.npy` file's values are and how they are laid out, from its header, checked
+/// against the file's size: what a reader needs to read values in place without decoding them
+/// all (an occupancy map of a million voxels is a million bytes, not eight million).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Info {
+    /// Dimensions.
+    pub shape: Vec<usize>,
+    /// Whether the first index varies fastest (Fortran order) rather than the last (C order).
+    pub fortran: bool,
+    /// Where the values start: the bytes `data_start..data_start + count * size` hold them,
+    /// whatever follows.
+    pub data_start: usize,
+    /// Values (the shape's product).
+    pub count: usize,
+    /// `b'u'`, `b'i'`, `b'b'` (bool) or `b'f'`.
+    pub kind: u8,
+    /// Bytes per value.
+    pub size: usize,
+    /// Whether multi-byte values are big-endian.
+    pub big_endian: bool,
+}
+
+/// The header of a `.npy` file, checked as [`decode`] checks it, without reading any value.
+pub fn info(bytes: &[u8]) -> Result<Info, NpyError> {
+    header(bytes).map(|h| Info {
+        shape: h.shape,
+        fortran: h.fortran,
+        data_start: h.data_start,
+        count: h.count,
+        kind: h.kind,
+        size: h.size,
+        big_endian: h.endian == b'>',
+    })
+}
+
 /// The shape a `.npy` file declares, read from its header alone (no values decoded; the dtype
 /// and that the file holds the bytes the shape needs are checked), so a caller can size the
 /// work before decoding. Errors as [`decode`]'s.

@@ -112,9 +112,12 @@ impl Params {
 
     /// An error about `key` (or about the whole section when `key` is not present).
     pub fn error(&self, key: &str, message: impl Into<String>) -> ConfigError {
+        // A key inside a value (`pillars[0]`, `shape.depth`) is where its top-level key is.
+        let top = key.split(['.', '[']).next().unwrap_or(key);
         let location = self
             .locations
             .get(key)
+            .or_else(|| self.locations.get(top))
             .or(self.section.as_ref())
             .cloned()
             .unwrap_or_else(|| Location {
@@ -145,7 +148,9 @@ impl Params {
     pub fn deserialize<T: DeserializeOwned>(&self) -> Result<T, ConfigError> {
         let value = toml::Value::Table(self.to_table());
         serde_path_to_error::deserialize(value).map_err(|e| {
-            let message = e.inner().to_string().trim().to_owned();
+            // The reader's message alone: its `Display` adds "in `key`" on a line of its own,
+            // which the key in front of the message already says.
+            let message = e.inner().message().trim().to_owned();
             let mut key: Vec<String> = Vec::new();
             for segment in e.path().iter() {
                 match segment {
@@ -312,6 +317,8 @@ mod tests {
             .deserialize::<Wave>()
             .unwrap_err();
         assert_eq!(err.key, "route.shape.depth", "{err}");
+        assert_eq!(err.location.line, 4, "where `shape` is: {err}");
+        assert!(!err.message.contains('\n'), "one line: {err}");
         let err = route("[route]\ntype = \"m\"\nwavelength = 6.0\nshape = {}\n")
             .deserialize::<Wave>()
             .unwrap_err();

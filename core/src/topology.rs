@@ -21,12 +21,12 @@
 //! assert!(!view.has_fused_block());
 //! ```
 
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 use crate::grid::Occupancy;
 
 /// Topology counts of one level.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 pub struct Counts {
     /// Tiles with three openings.
     pub t_junctions: u32,

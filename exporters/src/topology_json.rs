@@ -1,37 +1,16 @@
 //! `topology.json`: the topological graph in the world frame (metres, x east, y north, z up),
 //! with the requested, expected and achieved counts of every level.
 
-use serde::Serialize;
+use std::borrow::Cow;
+
 use subtgraph_core::World;
 use subtgraph_core::export::{ExportError, Exporter, WorldWriter};
-use subtgraph_core::graph::{Edge, Node};
 use subtgraph_core::survey::Survey;
-use subtgraph_core::world::{LevelReport, Shaft};
+use subtgraph_schema::{Document as _, Topology};
 
 /// Writes `topology.json`.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct TopologyJson;
-
-#[derive(Serialize)]
-struct Document<'a> {
-    format: &'static str,
-    frame: &'static str,
-    seed: u64,
-    levels: usize,
-    rows: usize,
-    cols: usize,
-    tile_pitch_m: f64,
-    level_height_m: f64,
-    occupied_cells: usize,
-    total_length_m: f64,
-    reachable_cells: usize,
-    connected: bool,
-    start: Option<usize>,
-    per_level: &'a [LevelReport],
-    shafts: &'a [Shaft],
-    nodes: &'a [Node],
-    edges: &'a [Edge],
-}
 
 impl Exporter for TopologyJson {
     fn export(
@@ -45,9 +24,9 @@ impl Exporter for TopologyJson {
         let start = world
             .start
             .and_then(|s| world.graph.nodes.iter().find(|n| n.cell == s).map(|n| n.id));
-        let doc = Document {
-            format: "subtgraph-topology/1",
-            frame: "metres; x east (+col), y north (-row), z up (+level); positions are cell centres on the floor",
+        let doc = Topology {
+            format: Topology::FORMAT,
+            frame: Topology::<&str>::FRAME,
             seed: world.resolved.seed,
             levels: world.resolved.levels,
             rows: world.resolved.rows,
@@ -59,12 +38,12 @@ impl Exporter for TopologyJson {
             reachable_cells: reachable,
             connected: occupied == reachable,
             start,
-            per_level: &world.levels,
-            shafts: &world.shafts,
-            nodes: &world.graph.nodes,
-            edges: &world.graph.edges,
+            per_level: Cow::Borrowed(&world.levels),
+            shafts: Cow::Borrowed(&world.shafts),
+            nodes: Cow::Borrowed(&world.graph.nodes),
+            edges: Cow::Borrowed(&world.graph.edges),
         };
-        crate::write_json(out, "topology.json", &doc)
+        crate::write_json(out, Topology::PATH, &doc)
     }
 }
 

@@ -368,21 +368,33 @@ fn direction(s: &str) -> Result<Direction, String> {
     }
 }
 
+/// The most cells a Python shape's footprint may have (its 4-connectivity check compares
+/// every pair of cells).
+const MAX_FOOTPRINT: usize = 4096;
+
 fn shape_from(py: Python<'_>, o: &Bound<'_, PyAny>) -> Result<DataShape, String> {
     let py_err = |e: PyErr| describe(py, &e);
-    let footprint: Vec<(i32, i32)> = value(o, "footprint")
+    let footprint = value(o, "footprint")
         .map_err(py_err)?
-        .ok_or("it has no `footprint`: give a list of (d_row, d_col) cells")?
-        .extract()
-        .map_err(|e: PyErr| {
-            format!(
-                "`footprint` must be a list of (d_row, d_col) integer pairs: {}",
-                describe(py, &e)
-            )
-        })?;
-    if footprint.is_empty() || footprint.len() > 4096 {
+        .ok_or("it has no `footprint`: give a list of (d_row, d_col) cells")?;
+    // Its length before its items: a list of a hundred million cells is refused without
+    // being copied.
+    if let Ok(n) = footprint.len() {
+        if n > MAX_FOOTPRINT {
+            return Err(format!(
+                "`footprint` has {n} cells: give between 1 and {MAX_FOOTPRINT}"
+            ));
+        }
+    }
+    let footprint: Vec<(i32, i32)> = footprint.extract().map_err(|e: PyErr| {
+        format!(
+            "`footprint` must be a list of (d_row, d_col) integer pairs: {}",
+            describe(py, &e)
+        )
+    })?;
+    if footprint.is_empty() || footprint.len() > MAX_FOOTPRINT {
         return Err(format!(
-            "`footprint` has {} cells: give between 1 and 4096",
+            "`footprint` has {} cells: give between 1 and {MAX_FOOTPRINT}",
             footprint.len()
         ));
     }
@@ -443,7 +455,7 @@ fn shape_from(py: Python<'_>, o: &Bound<'_, PyAny>) -> Result<DataShape, String>
         Some(v) => v
             .extract::<u8>()
             .ok()
-            .filter(|r| (1..=4).contains(r))
+            .filter(|r| matches!(r, 1 | 2 | 4))
             .ok_or("`rotations` must be 1, 2 or 4 (distinct quarter turns)")?,
         None => 4,
     };
@@ -451,8 +463,11 @@ fn shape_from(py: Python<'_>, o: &Bound<'_, PyAny>) -> Result<DataShape, String>
         Some(v) => v
             .extract::<i32>()
             .ok()
-            .filter(|c| (1..=16).contains(c))
-            .ok_or("`clearance` must be a whole number of cells from 1 to 16")?,
+            .filter(|c| (1..=subtgraph_core::generate::MAX_CLEARANCE).contains(c))
+            .ok_or(format!(
+                "`clearance` must be a whole number of cells from 1 to {}",
+                subtgraph_core::generate::MAX_CLEARANCE
+            ))?,
         None => 2,
     };
     Ok(DataShape {
@@ -484,8 +499,8 @@ impl subtgraph_core::export::Exporter for Gate {
 }
 
 /// An exporter that fails, so the world folder is not written, once `failures` has one.
-pub fn gate(failures: &Arc<Failures>) -> subtgraph::make::NamedExporter {
-    subtgraph::make::NamedExporter {
+pub fn gate(failures: &Arc<Failures>) -> subtgraph_app::pipeline::NamedExporter {
+    subtgraph_app::pipeline::NamedExporter {
         name: "python callbacks".into(),
         exporter: Box::new(Gate(failures.clone())),
     }

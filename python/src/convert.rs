@@ -4,9 +4,18 @@
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyDict, PyFloat, PyInt, PyList, PyString, PyTuple};
 
+/// How deep dicts and lists may nest in a pipeline given as a dict.
+///
+/// The walk below recurses once per level, so without a bound a dict nested 20,000 deep
+/// (or one that contains itself) overflowed the stack and killed the interpreter. No
+/// pipeline key is more than four deep (`topology.structure[0].pillars[0]`), and the TOML
+/// reader the dict is handed to stops at 80; 64 leaves plugins' own tables room while
+/// refusing, with the key, long before either limit.
+pub const MAX_DEPTH: usize = 64;
+
 /// A Python value as TOML, or the dotted `key` at fault and a message saying what it accepts.
 pub fn py_to_toml(v: &Bound<'_, PyAny>, key: &str) -> Result<toml::Value, (String, String)> {
-    convert(v, key).map_err(|m| (key_of(&m), m))
+    convert(v, key, 0).map_err(|m| (key_of(&m), m))
 }
 
 /// The key a message of [`convert`] starts with.
@@ -14,7 +23,19 @@ fn key_of(message: &str) -> String {
     message.split(": ").next().unwrap_or_default().to_owned()
 }
 
-fn convert(v: &Bound<'_, PyAny>, key: &str) -> Result<toml::Value, String> {
+/// `v` at `key`, `depth` dicts and lists down from the pipeline: the depth is checked before
+/// anything inside `v` is looked at.
+fn convert(v: &Bound<'_, PyAny>, key: &str, depth: usize) -> Result<toml::Value, String> {
+    let container = v.is_instance_of::<PyDict>()
+        || v.is_instance_of::<PyList>()
+        || v.is_instance_of::<PyTuple>();
+    if container && depth >= MAX_DEPTH {
+        return Err(format!(
+            "{key}: dicts and lists nest more than {MAX_DEPTH} deep here (a dict that contains \
+             itself does too); no pipeline key is more than a few deep \
+             (topology.structure[0].pillars): write the value this key takes"
+        ));
+    }
     if v.is_instance_of::<PyBool>() {
         return Ok(toml::Value::Boolean(v.extract().unwrap_or(false)));
     }
@@ -40,7 +61,7 @@ fn convert(v: &Bound<'_, PyAny>, key: &str) -> Result<toml::Value, String> {
             } else {
                 format!("{key}.{k}")
             };
-            t.insert(k, convert(&item, &dotted)?);
+            t.insert(k, convert(&item, &dotted, depth + 1)?);
         }
         return Ok(toml::Value::Table(t));
     }
@@ -48,7 +69,7 @@ fn convert(v: &Bound<'_, PyAny>, key: &str) -> Result<toml::Value, String> {
         let mut out = Vec::new();
         for (i, item) in v.try_iter().map_err(|e| format!("{key}: {e}"))?.enumerate() {
             let item = item.map_err(|e| format!("{key}: {e}"))?;
-            out.push(convert(&item, &format!("{key}[{i}]"))?);
+            out.push(convert(&item, &format!("{key}[{i}]"), depth + 1)?);
         }
         return Ok(toml::Value::Array(out));
     }

@@ -5,9 +5,9 @@
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
-use subtgraph::folder::FolderError;
-use subtgraph_core::error::{ConfigError, Error, shorten};
-use subtgraph_plugins::PluginError;
+use subtgraph_app::Error;
+use subtgraph_app::folder::FolderError;
+use subtgraph_core::error::{ConfigError, shorten};
 
 /// Where an error points in a pipeline file.
 #[derive(Default)]
@@ -29,35 +29,45 @@ impl From<&ConfigError> for Place {
     }
 }
 
-/// The exception class of an error and where it points.
-fn classify(e: &anyhow::Error) -> (&'static str, Place) {
-    for cause in e.chain() {
-        if let Some(c) = cause.downcast_ref::<ConfigError>() {
-            return ("ConfigError", c.into());
+/// The exception class of an error and where it points: by the variant of the application
+/// library's error (the one inside a folder's failure, when writing it failed).
+fn classify(e: &Error) -> (&'static str, Place) {
+    match e {
+        Error::Config(c) => ("ConfigError", c.into()),
+        Error::Core(core) => classify_core(core),
+        Error::Unmakeable { source, .. } => classify_core(source),
+        Error::Usage(_) | Error::UnknownPreset { .. } | Error::NoTileset { .. } => {
+            ("ConfigError", Place::default())
         }
-        if let Some(core) = cause.downcast_ref::<Error>() {
-            return match core {
-                Error::Config(c) => ("ConfigError", c.into()),
-                Error::Unsatisfiable { .. } => ("GenerationError", Place::default()),
-                Error::TooLarge(_) => ("TooLargeError", Place::default()),
-                Error::Import { source_name, .. } => (
-                    "OccupancyError",
-                    Place {
-                        file: Some(source_name.clone()),
-                        ..Place::default()
-                    },
-                ),
-                _ => ("ComponentError", Place::default()),
-            };
+        Error::TooLarge(_) => ("TooLargeError", Place::default()),
+        Error::TileSet { .. } | Error::Export { .. } | Error::WorldFiles(_) | Error::Survey(_) => {
+            ("ComponentError", Place::default())
         }
-        if cause.downcast_ref::<FolderError>().is_some() {
-            return ("FolderError", Place::default());
-        }
-        if cause.downcast_ref::<PluginError>().is_some() {
-            return ("PluginError", Place::default());
-        }
+        Error::Plugin(_) | Error::PluginFailed(_) => ("PluginError", Place::default()),
+        Error::Folder(FolderError::Content(inner)) => match inner.downcast_ref::<Error>() {
+            Some(inner) => classify(inner),
+            None => ("FolderError", Place::default()),
+        },
+        Error::Folder(_) => ("FolderError", Place::default()),
+        _ => ("Error", Place::default()),
     }
-    ("Error", Place::default())
+}
+
+/// The exception class of a generation error and where it points.
+fn classify_core(core: &subtgraph_core::Error) -> (&'static str, Place) {
+    match core {
+        subtgraph_core::Error::Config(c) => ("ConfigError", c.into()),
+        subtgraph_core::Error::Unsatisfiable { .. } => ("GenerationError", Place::default()),
+        subtgraph_core::Error::TooLarge(_) => ("TooLargeError", Place::default()),
+        subtgraph_core::Error::Import { source_name, .. } => (
+            "OccupancyError",
+            Place {
+                file: Some(source_name.clone()),
+                ..Place::default()
+            },
+        ),
+        _ => ("ComponentError", Place::default()),
+    }
 }
 
 /// An instance of `subtgraph.errors.NAME` with this message and place.
@@ -99,8 +109,8 @@ pub fn raise_at(py: Python<'_>, class: &str, message: &str, file: &str, key: &st
 
 /// The Python exception for an error of the library: the message the command line prints
 /// (every cause once, long values cut), as the subclass of `subtgraph.Error` it belongs to.
-pub fn to_py(py: Python<'_>, e: &anyhow::Error) -> PyErr {
-    let message = shorten(&subtgraph::make::message(e)).into_owned();
+pub fn to_py(py: Python<'_>, e: &Error) -> PyErr {
+    let message = shorten(&subtgraph_app::message(e)).into_owned();
     let (class, place) = classify(e);
     match exception(py, class, &message, place) {
         Ok(e) => PyErr::from_value(e),
@@ -114,7 +124,7 @@ pub trait OrRaise<T> {
     fn or_raise(self, py: Python<'_>) -> PyResult<T>;
 }
 
-impl<T, E: Into<anyhow::Error>> OrRaise<T> for Result<T, E> {
+impl<T, E: Into<Error>> OrRaise<T> for Result<T, E> {
     fn or_raise(self, py: Python<'_>) -> PyResult<T> {
         self.map_err(|e| to_py(py, &e.into()))
     }

@@ -1,9 +1,10 @@
 //! Python bindings of subtgraph (the `subtgraph._native` extension module; the package's
 //! Python half, `python/subtgraph/`, wraps it with the documented API).
 //!
-//! Generation reuses the command line's steps ([`subtgraph::make`]): the same pipeline
-//! loading, registry, components, world and atomic folder, so a world made from Python is
-//! byte for byte the one `subtgraph generate` makes, and an error carries the same message.
+//! Every command runs through the application library (`subtgraph-app`), as the command line
+//! does: the same requests (`GenerateRequest`, `DatasetRequest`, `StatsRequest`), registry,
+//! components, world and atomic folder, so a world made from Python is byte for byte the one
+//! `subtgraph generate` makes, and an error carries the same message.
 //! The GIL is released while a world is generated or exported.
 #![allow(unsafe_code)]
 
@@ -12,13 +13,15 @@ mod convert;
 mod errors;
 mod world;
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::sync::{Arc, Mutex};
 
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyType};
 
-use subtgraph::make;
+use subtgraph_app::pipeline::{Adjustments, PipelineSource};
+use subtgraph_app::presets as preset_files;
+use subtgraph_app::{DatasetRequest, Error, Frontend, GenerateRequest, StatsRequest};
 use subtgraph_core::Pipeline;
 
 use callbacks::{Failures, Kind, REGISTERED, Registered};
@@ -34,26 +37,14 @@ fn plugins_with(extra: Option<Vec<PathBuf>>) -> Vec<PathBuf> {
     all
 }
 
-/// The pipeline from `preset=` or `pipeline=` (a path, TOML text or a dict), and where it
-/// came from.
+/// The pipeline from `preset=` or `pipeline=` (a path, TOML text or a dict).
 fn load(
     py: Python<'_>,
     preset: Option<&str>,
     pipeline: Option<&Bound<'_, PyAny>>,
-) -> PyResult<(Pipeline, String)> {
+) -> PyResult<PipelineSource> {
     let Some(pipeline) = pipeline else {
-        let name = preset.unwrap_or("cave");
-        if subtgraph::presets::text(name).is_none() {
-            return Err(raise(
-                py,
-                "ConfigError",
-                &format!(
-                    "unknown preset '{name}'; the presets are: {}",
-                    subtgraph::presets::names()
-                ),
-            ));
-        }
-        return make::load_pipeline(None, Some(name)).or_raise(py);
+        return Ok(PipelineSource::Preset(preset.unwrap_or("cave").to_owned()));
     };
     if preset.is_some() {
         return Err(raise(
@@ -62,17 +53,21 @@ fn load(
             "give preset= or pipeline=, not both (a pipeline that starts from a preset's values can be written out from subtgraph.preset_text(NAME))",
         ));
     }
+    let given = |p: Pipeline, description: &str| PipelineSource::Given {
+        pipeline: Box::new(p),
+        description: description.into(),
+    };
     if let Ok(d) = pipeline.cast::<PyDict>() {
         let table = convert::py_to_toml(d.as_any(), "")
             .map_err(|(key, m)| errors::raise_at(py, "ConfigError", &m, "<dict>", &key))?;
         let text = toml::to_string(&table).map_err(|e| raise(py, "ConfigError", &e.to_string()))?;
         let p = Pipeline::parse(&text, "<dict>").or_raise(py)?;
-        return Ok((p, "a dict from Python".into()));
+        return Ok(given(p, "a dict from Python"));
     }
     if let Ok(text) = pipeline.extract::<String>() {
         if text.contains('\n') || text.contains('=') {
             let p = Pipeline::parse(&text, "<string>").or_raise(py)?;
-            return Ok((p, "TOML text from Python".into()));
+            return Ok(given(p, "TOML text from Python"));
         }
     }
     let path: PathBuf = pipeline.extract().map_err(|_| {
@@ -88,7 +83,7 @@ fn load(
             ),
         )
     })?;
-    make::load_pipeline(Some(&path), None).or_raise(py)
+    Ok(PipelineSource::File(path))
 }
 
 /// Builds and generates; see `subtgraph.generate` in `python/subtgraph/__init__.py`.
@@ -106,39 +101,29 @@ fn generate(
     plugins: Option<Vec<PathBuf>>,
     max_memory: Option<&str>,
 ) -> PyResult<PyWorld> {
-    let budget = subtgraph::memory::budget(max_memory)
-        .map_err(|e| raise(py, "ConfigError", &make::message(&e)))?;
-    let (mut p, source) = load(py, preset, pipeline)?;
-    if let Some(name) = tileset {
-        p.tileset = Some(subtgraph_core::params::ComponentSpec::named(name));
-    }
-    if !mesh {
-        p.tileset = None;
-    }
-    if let Some(seed) = seed {
-        if seed > i64::MAX as u64 {
-            return Err(raise(
-                py,
-                "ConfigError",
-                "seed must be at most 2^63 - 1 (9223372036854775807)",
-            ));
-        }
-        p.world.seed = seed;
-    }
-    make::add_formats(&mut p, formats.as_deref().unwrap_or_default()).or_raise(py)?;
-    let plugins = plugins_with(plugins);
+    let request = GenerateRequest {
+        source: load(py, preset, pipeline)?,
+        seed,
+        adjust: Adjustments {
+            tileset: tileset.map(str::to_owned),
+            no_mesh: !mesh,
+            formats: formats.unwrap_or_default(),
+        },
+        plugins: plugins_with(plugins),
+        occupancy: None,
+        max_memory: max_memory.map(str::to_owned),
+        frontend: Frontend::Python,
+    };
     let failures = Arc::new(Failures::default());
-    let built = (|| -> anyhow::Result<_> {
-        let mut registry = make::registry_with(&p, &plugins)?;
-        callbacks::register_all(py, &mut registry, &failures)?;
-        let (components, skipped) = make::build_and_skipped(&p, &registry, !mesh)?;
-        Ok((components, skipped))
-    })();
+    let prepared = request.prepare(&mut |registry| {
+        callbacks::register_all(py, registry, &failures)?;
+        Ok(())
+    });
     if let Some(e) = failures.take(py) {
         return Err(e);
     }
-    let (components, skipped) = built.or_raise(py)?;
-    for name in skipped {
+    let prepared = prepared.or_raise(py)?;
+    for name in &prepared.skipped {
         warn(
             py,
             &format!(
@@ -146,12 +131,12 @@ fn generate(
             ),
         )?;
     }
-    let made = py.detach(|| make::generate(&p, &components, &source, &budget));
+    let made = py.detach(|| request.make(prepared));
     if let Some(e) = failures.take(py) {
         return Err(e);
     }
-    let world = made.or_raise(py)?;
-    Ok(PyWorld::new(world, components.exporters, plugins))
+    let made = made.or_raise(py)?;
+    Ok(PyWorld::new(made.world, made.exporters, request.plugins))
 }
 
 fn warn(py: Python<'_>, message: &str) -> PyResult<()> {
@@ -162,27 +147,24 @@ fn warn(py: Python<'_>, message: &str) -> PyResult<()> {
 /// `[(name, summary)]` of the presets.
 #[pyfunction]
 fn presets() -> Vec<(String, String)> {
-    subtgraph::presets::PRESETS
+    preset_files::PRESETS
         .iter()
-        .map(|(n, _)| (n.to_string(), subtgraph::presets::summary(n).to_owned()))
+        .map(|(n, _)| (n.to_string(), preset_files::summary(n).to_owned()))
         .collect()
 }
 
 /// A preset's pipeline text.
 #[pyfunction]
 fn preset_text(py: Python<'_>, name: &str) -> PyResult<String> {
-    subtgraph::presets::text(name)
-        .map(str::to_owned)
-        .ok_or_else(|| {
-            raise(
-                py,
-                "ConfigError",
-                &format!(
-                    "unknown preset '{name}'; the presets are: {}",
-                    subtgraph::presets::names()
-                ),
-            )
-        })
+    preset_files::text(name).map(str::to_owned).ok_or_else(|| {
+        errors::to_py(
+            py,
+            &Error::UnknownPreset {
+                name: subtgraph_core::error::excerpt(name).into_owned(),
+                known: preset_files::names(),
+            },
+        )
+    })
 }
 
 /// `[(kind, name, origin, summary)]` of every component the registry has, as
@@ -190,34 +172,19 @@ fn preset_text(py: Python<'_>, name: &str) -> PyResult<String> {
 #[pyfunction]
 fn components(py: Python<'_>) -> PyResult<Vec<(String, String, String, String)>> {
     let mut registry =
-        make::registry_with(&Pipeline::default(), &plugins_with(None)).or_raise(py)?;
+        subtgraph_app::registry_with(&Pipeline::default(), &plugins_with(None)).or_raise(py)?;
     callbacks::register_all(py, &mut registry, &Arc::new(Failures::default())).or_raise(py)?;
-    let mut out = Vec::new();
-    fn rows<T: ?Sized>(
-        c: &subtgraph_core::registry::Catalogue<T>,
-        out: &mut Vec<(String, String, String, String)>,
-    ) {
-        for (name, e) in c.entries() {
-            out.push((
-                c.kind().into(),
-                name.into(),
-                e.origin.clone(),
-                e.summary.clone(),
-            ));
-        }
-    }
-    rows(&registry.route_descriptors, &mut out);
-    rows(&registry.constraint_shapes, &mut out);
-    rows(&registry.tilesets, &mut out);
-    rows(&registry.exporters, &mut out);
-    Ok(out)
+    Ok(subtgraph_app::plugins::components(&registry)
+        .into_iter()
+        .map(|c| (c.kind, c.name, c.origin, c.summary))
+        .collect())
 }
 
 /// Loads a plugin library for every later run; returns the names it adds.
 #[pyfunction]
 fn load_plugin(py: Python<'_>, path: PathBuf) -> PyResult<Vec<String>> {
-    let before = subtgraph::registry();
-    let mut after = subtgraph::registry();
+    let before = subtgraph_app::registry();
+    let mut after = subtgraph_app::registry();
     subtgraph_plugins::load(&path, &mut after).or_raise(py)?;
     let names = |r: &subtgraph_core::Registry| -> Vec<String> {
         let mut v: Vec<String> = Vec::new();
@@ -279,7 +246,7 @@ fn register(py: Python<'_>, kind: &str, name: &str, object: Bound<'_, PyAny>) ->
     // A taken name is an error, never an override: check against the built-ins, the loaded
     // plugins and the Python components so far.
     let mut registry =
-        make::registry_with(&Pipeline::default(), &plugins_with(None)).or_raise(py)?;
+        subtgraph_app::registry_with(&Pipeline::default(), &plugins_with(None)).or_raise(py)?;
     callbacks::register_all(py, &mut registry, &Arc::new(Failures::default())).or_raise(py)?;
     let (taken, what) = match kind {
         Kind::Route => (
@@ -347,63 +314,41 @@ fn dataset<'py>(
     plugins: Option<Vec<PathBuf>>,
     max_memory: Option<&str>,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let plugins = plugins_with(plugins);
-    let failures = Arc::new(Failures::default());
-    let mut skipped: Vec<String> = Vec::new();
-    let sources = (|| -> anyhow::Result<Vec<subtgraph::dataset::Source>> {
-        if seed > i64::MAX as u64 {
-            anyhow::bail!("seed must be at most 2^63 - 1 (9223372036854775807)");
-        }
-        if count == 0 {
-            anyhow::bail!("count must be at least 1 (worlds per source)");
-        }
-        if jobs == Some(0) {
-            anyhow::bail!("jobs must be at least 1");
-        }
-        let files = pipelines.unwrap_or_default();
-        let names = presets.unwrap_or_default();
-        if files.is_empty() && names.is_empty() {
-            anyhow::bail!(
-                "name at least one source: pipelines=[...] or presets=[...] ({})",
-                subtgraph::presets::names()
-            );
-        }
-        let chosen = files
-            .iter()
-            .map(|f| (Some(f.as_path()), None))
-            .chain(names.iter().map(|n| (None::<&Path>, Some(n.as_str()))));
-        let mut sources = Vec::new();
-        let opts = make::SourceOptions {
-            tileset: tileset.as_deref(),
+    let request = DatasetRequest {
+        pipelines: pipelines.unwrap_or_default(),
+        presets: presets.unwrap_or_default(),
+        count,
+        seed,
+        out,
+        jobs,
+        adjust: Adjustments {
+            tileset,
             no_mesh: !mesh,
-            formats: formats.as_deref().unwrap_or_default(),
-            plugins: &plugins,
-        };
-        for (file, preset) in chosen {
-            let (mut source, left_out) =
-                make::dataset_source(file, preset, &opts, &mut |registry| {
-                    callbacks::register_all(py, registry, &failures)?;
-                    Ok(())
-                })?;
-            // Runs first in every world folder: a world made after a Python callback failed
-            // is not written.
-            source
-                .components
-                .exporters
-                .insert(0, callbacks::gate(&failures));
-            sources.push(source);
-            for name in left_out {
-                if !skipped.contains(&name) {
-                    skipped.push(name);
-                }
-            }
-        }
-        Ok(sources)
-    })();
+            formats: formats.unwrap_or_default(),
+        },
+        plugins: plugins_with(plugins),
+        max_memory: max_memory.map(str::to_owned),
+        frontend: Frontend::Python,
+        ..DatasetRequest::default()
+    };
+    let opts = request.options().or_raise(py)?;
+    let failures = Arc::new(Failures::default());
+    let sources = request.sources(&mut |registry| {
+        callbacks::register_all(py, registry, &failures)?;
+        Ok(())
+    });
     if let Some(e) = failures.take(py) {
         return Err(e);
     }
-    let sources = sources.or_raise(py)?;
+    let (mut sources, skipped) = sources.or_raise(py)?;
+    for source in &mut sources {
+        // Runs first in every world folder: a world made after a Python callback failed is
+        // not written.
+        source
+            .components
+            .exporters
+            .insert(0, callbacks::gate(&failures));
+    }
     for name in skipped {
         warn(
             py,
@@ -412,18 +357,7 @@ fn dataset<'py>(
             ),
         )?;
     }
-    let opts = subtgraph::dataset::Options {
-        count,
-        seed,
-        out,
-        jobs: jobs.unwrap_or_else(|| {
-            std::thread::available_parallelism().map_or(1, std::num::NonZero::get)
-        }),
-        shard: subtgraph::dataset::Shard::ALL,
-        max_memory: subtgraph::memory::budget(max_memory)
-            .map_err(|e| raise(py, "ConfigError", &make::message(&e)))?,
-    };
-    let summary = py.detach(|| subtgraph::dataset::run(&sources, &opts));
+    let summary = py.detach(|| subtgraph_app::dataset::run(&sources, &opts));
     if let Some(e) = failures.take(py) {
         return Err(e);
     }
@@ -439,11 +373,12 @@ fn dataset<'py>(
 #[pyfunction]
 #[pyo3(signature = (inputs, out, crop="common"))]
 fn stats(py: Python<'_>, inputs: Vec<PathBuf>, out: PathBuf, crop: &str) -> PyResult<String> {
-    let crop: subtgraph::stats::Crop = crop
-        .parse()
-        .map_err(|m: String| raise(py, "ConfigError", &m))?;
-    py.detach(|| subtgraph::stats::run(&inputs, &out, crop))
-        .or_raise(py)
+    let request = StatsRequest {
+        inputs,
+        out,
+        crop: crop.parse().or_raise(py)?,
+    };
+    py.detach(|| request.run()).map(|r| r.summary).or_raise(py)
 }
 
 /// The extension module.

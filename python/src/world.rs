@@ -14,10 +14,10 @@ use numpy::{Element, PyArray, PyArrayDyn};
 use pyo3::prelude::*;
 use pyo3::types::{PyBytes, PyDict};
 
-use subtgraph::folder;
-use subtgraph::make::NamedExporter;
+use subtgraph_app::pipeline::NamedExporter;
+use subtgraph_app::{Error, folder, pipeline};
 use subtgraph_core::World;
-use subtgraph_core::export::{MemoryWriter, WorldWriter};
+use subtgraph_core::export::MemoryWriter;
 use subtgraph_core::grid::Cell;
 use subtgraph_core::mesh::Mesh;
 use subtgraph_core::params::{ComponentSpec, Params};
@@ -95,45 +95,14 @@ fn mesh_of<'a>(w: &'a World, which: &str) -> PyResult<&'a Mesh> {
     }
 }
 
-/// Writes into another writer, giving `world.toml` the text of a pipeline that records every
-/// exporter written (so the folder's `world.toml` makes the same files again).
-struct WithWorldToml<'a> {
-    inner: &'a mut dyn WorldWriter,
-    world_toml: &'a str,
-}
-
-impl WorldWriter for WithWorldToml<'_> {
-    fn write(&mut self, path: &str, bytes: &[u8]) -> std::io::Result<()> {
-        if path == "world.toml" {
-            self.inner.write(path, self.world_toml.as_bytes())
-        } else {
-            self.inner.write(path, bytes)
-        }
-    }
-    fn contains(&self, path: &str) -> bool {
-        self.inner.contains(path)
-    }
-    fn stream(
-        &mut self,
-        path: &str,
-        fill: &mut dyn FnMut(&mut dyn std::io::Write) -> std::io::Result<()>,
-    ) -> std::io::Result<()> {
-        if path == "world.toml" {
-            self.inner.write(path, self.world_toml.as_bytes())
-        } else {
-            self.inner.stream(path, fill)
-        }
-    }
-}
-
 impl PyWorld {
     /// The exporters for `formats` (names, like the command line's `--format`), each checked
     /// against the world's geometry.
-    fn exporters_for(&self, formats: &[String]) -> anyhow::Result<Vec<NamedExporter>> {
-        let registry = subtgraph::make::registry_with(&self.world.pipeline, &self.plugins)?;
+    fn exporters_for(&self, formats: &[String]) -> Result<Vec<NamedExporter>, Error> {
+        let registry = subtgraph_app::registry_with(&self.world.pipeline, &self.plugins)?;
         let mut p = self.world.pipeline.clone();
         p.export.clear();
-        subtgraph::make::add_formats(&mut p, formats)?;
+        pipeline::add_formats(&mut p, formats)?;
         self.rebuild(&registry, &p.export)
     }
 
@@ -141,15 +110,12 @@ impl PyWorld {
         &self,
         registry: &subtgraph_core::Registry,
         specs: &[ComponentSpec],
-    ) -> anyhow::Result<Vec<NamedExporter>> {
+    ) -> Result<Vec<NamedExporter>, Error> {
         let mut out = Vec::new();
         for spec in specs {
             let exporter = registry.exporters.build(spec)?;
             if exporter.needs_geometry() && self.world.mesh().is_none() {
-                anyhow::bail!(
-                    "exporter '{}' writes geometry, but this world has no mesh: generate it with mesh=True and a pipeline with a [tileset]",
-                    spec.type_name
-                );
+                return Err(no_mesh(&spec.type_name));
             }
             out.push(NamedExporter {
                 name: spec.type_name.clone(),
@@ -160,17 +126,27 @@ impl PyWorld {
     }
 
     /// Runs exporters into memory.
-    fn run(&self, exporters: &[NamedExporter]) -> anyhow::Result<MemoryWriter> {
+    fn run(&self, exporters: &[NamedExporter]) -> Result<MemoryWriter, Error> {
         let mut out = MemoryWriter::default();
-        let survey = subtgraph::survey::WorldSurvey::new(&self.world)?;
+        let survey = subtgraph_survey::WorldSurvey::new(&self.world)?;
         for e in exporters {
             e.exporter
                 .export(&self.world, &survey, &mut out)
-                .map_err(|err| anyhow::anyhow!("exporter '{}': {err}", e.name))?;
+                .map_err(|source| Error::Export {
+                    exporter: e.name.clone(),
+                    source,
+                })?;
         }
-        subtgraph_plugins::check_failures().map_err(|e| anyhow::anyhow!(e))?;
+        pipeline::check_plugins()?;
         Ok(out)
     }
+}
+
+/// An exporter that writes geometry asked of a world without a mesh.
+fn no_mesh(exporter: &str) -> Error {
+    Error::Usage(format!(
+        "exporter '{exporter}' writes geometry, but this world has no mesh: generate it with mesh=True and a pipeline with a [tileset]"
+    ))
 }
 
 fn files_dict<'py>(py: Python<'py>, files: &MemoryWriter) -> PyResult<Bound<'py, PyDict>> {
@@ -184,12 +160,13 @@ fn files_dict<'py>(py: Python<'py>, files: &MemoryWriter) -> PyResult<Bound<'py,
 /// One MJCF document from the main file and its included part files: each `<include>` line
 /// replaced by the part's assets and bodies (MJCF allows repeated sections), so MuJoCo loads
 /// it from a string with no files.
-fn inline_includes(files: &MemoryWriter) -> anyhow::Result<String> {
-    let text = |path: &str| -> anyhow::Result<&str> {
+fn inline_includes(files: &MemoryWriter) -> Result<String, Error> {
+    let text = |path: &str| -> Result<&str, Error> {
         let bytes = files
             .get(path)
-            .ok_or_else(|| anyhow::anyhow!("exporter 'mjcf' wrote no {path}"))?;
-        Ok(std::str::from_utf8(bytes)?)
+            .ok_or_else(|| Error::Input(format!("exporter 'mjcf' wrote no {path}")))?;
+        std::str::from_utf8(bytes)
+            .map_err(|_| Error::Input(format!("exporter 'mjcf' wrote {path} not as UTF-8")))
     };
     let mut out = String::new();
     for line in text("mujoco/world.xml")?.lines() {
@@ -386,9 +363,9 @@ impl PyWorld {
     #[pyo3(signature = (visual=false))]
     fn mjcf<'py>(&self, py: Python<'py>, visual: bool) -> PyResult<(String, Bound<'py, PyDict>)> {
         let (xml, files) = py
-            .detach(|| -> anyhow::Result<_> {
+            .detach(|| -> Result<_, Error> {
                 if self.world.mesh().is_none() {
-                    anyhow::bail!("exporter 'mjcf' writes geometry, but this world has no mesh: generate it with mesh=True and a pipeline with a [tileset]");
+                    return Err(no_mesh("mjcf"));
                 }
                 let mut table = toml::Table::new();
                 if !visual {
@@ -398,7 +375,7 @@ impl PyWorld {
                     type_name: "mjcf".into(),
                     params: Params::from_table("export", table),
                 };
-                let exporter = subtgraph::registry().exporters.build(&spec)?;
+                let exporter = subtgraph_app::registry().exporters.build(&spec)?;
                 let files = self.run(&[NamedExporter {
                     name: "mjcf".into(),
                     exporter,
@@ -428,7 +405,7 @@ impl PyWorld {
         formats: Option<Vec<String>>,
         force: bool,
     ) -> PyResult<()> {
-        py.detach(|| -> anyhow::Result<()> {
+        py.detach(|| -> Result<(), Error> {
             let built;
             let (exporters, world_toml) = match &formats {
                 None => (&self.exporters, None),
@@ -436,34 +413,18 @@ impl PyWorld {
                     built = self.exporters_for(f)?;
                     let mut p = self.world.pipeline.clone();
                     p.export.clear();
-                    subtgraph::make::add_formats(&mut p, f)?;
+                    pipeline::add_formats(&mut p, f)?;
                     (&built, Some(subtgraph_exporters::world_toml_text(&p)))
                 }
             };
             folder::sweep_stale_beside(&folder);
-            let default_obj = !exporters.iter().any(|e| e.exporter.needs_geometry());
-            folder::write_atomically(&folder, force, |w| {
-                let mut wrapped;
-                let out: &mut dyn WorldWriter = match &world_toml {
-                    Some(text) => {
-                        wrapped = WithWorldToml {
-                            inner: w,
-                            world_toml: text,
-                        };
-                        &mut wrapped
-                    }
-                    None => w,
-                };
-                let survey = subtgraph::survey::WorldSurvey::new(&self.world)?;
-                subtgraph_exporters::write_world_files(&self.world, &survey, out, default_obj)?;
-                for e in exporters {
-                    e.exporter
-                        .export(&self.world, &survey, out)
-                        .map_err(|err| anyhow::anyhow!("exporter '{}': {err}", e.name))?;
-                }
-                subtgraph_plugins::check_failures().map_err(|e| anyhow::anyhow!(e))?;
-                Ok(())
-            })?;
+            let out = folder::Out {
+                path: &folder,
+                kind: folder::Kind::World,
+                force,
+                reading: &[],
+            };
+            pipeline::write_folder_recording(&self.world, exporters, &out, world_toml.as_deref())?;
             Ok(())
         })
         .or_raise(py)

@@ -414,8 +414,13 @@ def route_descriptor(name: str) -> Callable[[F], F]:
 
 
 def constraint_shape(name: str) -> Callable[[F], F]:
-    """Registers a constraint shape written in Python under ``name``
-    (``[[topology.structure]] type = NAME``, or ``[topology] NAME = count``).
+    """Registers a constraint shape written in Python under ``name``.
+
+    A pipeline asks for it by name in a ``[[topology.structure]]`` table, with its count and
+    its own keys (``topology.structure = [{ type = "NAME", count = 2 }]``), or fixes its
+    count on each level in ``[topology] per_level`` (``topology.per_level = [{ NAME = 2 }]``,
+    one table per level). ``[topology]`` takes no other names: its keys are the built-in
+    counts, so a misspelt one is an error rather than a request for a shape of that name.
 
     Decorate a class whose ``__init__`` takes the structure's keys (other than ``count``),
     or a function of no arguments, whose result has (as attributes, methods or dict keys)

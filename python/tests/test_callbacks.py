@@ -141,6 +141,11 @@ def test_a_python_constraint_shape_is_placed_with_its_arms():
         ({"footprint": [(0, 0)], "arms": [((0, 0), ("east", "west"))]}, "perpendicular"),
         ({"arms": []}, "no `footprint`"),
         ({"footprint": [(0, 0)], "arms": [], "rotations": 7}, "rotations"),
+        # Issue 21 item 14: 3 was accepted though the message says 1, 2 or 4.
+        ({"footprint": [(0, 0)], "arms": [], "rotations": 3}, "rotations` must be 1, 2 or 4"),
+        ({"footprint": [(0, 0)], "arms": [], "rotations": 0}, "rotations` must be 1, 2 or 4"),
+        ({"footprint": [(0, 0)], "arms": [], "clearance": 17}, "clearance` must be .* 1 to 16"),
+        ({"footprint": [(0, i) for i in range(5000)], "arms": []}, "5000 cells"),
     ],
 )
 def test_bad_shapes_are_config_errors_naming_them(shape, message):
@@ -149,6 +154,34 @@ def test_bad_shapes_are_config_errors_naming_them(shape, message):
     p["topology"] = {"structure": [{"type": "odd", "count": 1}]}
     with pytest.raises(subtgraph.ConfigError, match=f"constraint shape 'odd' \\(Python\\): .*{message}"):
         subtgraph.generate(pipeline=p, mesh=False)
+
+
+def test_every_way_the_docstring_names_a_shape_works():
+    """Issue 21 item 14: the docstring offered ``[topology] NAME = count``, which the
+    pipeline refuses; each form it gives now is run here."""
+    import re
+    import tomllib
+
+    @subtgraph.constraint_shape("l-bend")
+    class LBend:
+        footprint = [(0, 0), (0, 1), (1, 0)]
+        arms = [((0, 1), "east"), ((1, 0), "south")]
+
+    forms = re.findall(r"``(topology\.[a-z_]+ = [^`]+)``", subtgraph.constraint_shape.__doc__)
+    assert len(forms) >= 2, forms
+    for form in forms:
+        p = cave({"type": "linear"}, levels=1)
+        p["topology"] = {"t_junctions": 1, **tomllib.loads(form.replace("NAME", "l-bend"))["topology"]}
+        world = subtgraph.generate(pipeline=p, mesh=False)
+        assert world.levels[0]["requested"]["l-bend"] == 2, form
+        assert world.levels[0]["components"] == 1, form
+    # `[topology]` itself takes only the built-in counts: a shape's name there is refused,
+    # naming the key, as a misspelt count is.
+    p = cave({"type": "linear"}, levels=1)
+    p["topology"]["l-bend"] = 2
+    with pytest.raises(subtgraph.ConfigError) as e:
+        subtgraph.generate(pipeline=p, mesh=False)
+    assert e.value.key == "topology.l-bend", e.value
 
 
 def test_a_taken_name_is_refused():

@@ -10,7 +10,7 @@ import pytest
 
 import subtgraph
 
-from conftest import ROOT
+from conftest import BUILD, ROOT
 
 
 def tree(folder):
@@ -46,6 +46,46 @@ def test_pipelines_from_a_file_a_string_and_a_dict_make_the_same_world(tmp_path)
     assert from_file.seed == 42 and from_file.shape == (2, 48, 48)
     again = subtgraph.generate(pipeline=from_file.pipeline, mesh=False)
     assert np.array_equal(again.occupancy, from_file.occupancy)
+
+
+DEEP = r"""
+import subtgraph, sys
+def nest(n, make):
+    v = 1
+    for _ in range(n):
+        v = make(v)
+    return v
+loop = {}
+loop["again"] = loop
+for case in [
+    {"world": {"seed": 1}, "extra": nest(20_000, lambda v: {"a": v})},
+    {"world": {"seed": 1}, "route": {"type": "sine", "x": nest(20_000, lambda v: [v])}},
+    {"world": {"seed": 1}, "extra": loop},
+    {"world": {"seed": 1}, "extra": nest(5_000, lambda v: {"a": v})},
+]:
+    try:
+        subtgraph.generate(pipeline=case, mesh=False)
+    except subtgraph.ConfigError as e:
+        print(e.key[:40], "|", "nest more than 64 deep" in str(e), "|", str(e)[-120:].replace("\n", " "))
+    else:
+        sys.exit("accepted")
+"""
+
+
+def test_a_deeply_nested_dict_is_refused_not_a_crash():
+    """Issue 21 item 6: a pipeline dict nested 20,000 deep overflowed the stack (exit 139,
+    the interpreter gone); one that contains itself too. The depth is refused before the
+    walk goes down, naming the key."""
+    import subprocess
+    import sys
+
+    run = subprocess.run([sys.executable, "-c", DEEP], capture_output=True, text=True)
+    assert run.returncode == 0, (run.returncode, run.stderr[-2000:])
+    lines = run.stdout.strip().splitlines()
+    assert len(lines) == 4, run.stdout
+    for line, key in zip(lines, ["extra.a.a.a", "route.x[0][0]", "extra.again.again", "extra.a.a"]):
+        assert line.startswith(key), line
+        assert "| True |" in line, line
 
 
 def test_arrays_are_read_only_views_that_keep_the_world_alive():
@@ -167,6 +207,20 @@ def test_export_never_touches_a_users_files(tmp_path):
     assert "seed = 8" in (tmp_path / "ours" / "world.toml").read_text()
 
 
+def test_stats_never_replaces_a_world_or_what_it_reads(tmp_path):
+    # Issue 21 item 1: stats([w], w2) replaced the world w2 with a report.
+    for name, seed in (("a", 1), ("b", 2)):
+        subtgraph.generate(preset="cave", seed=seed, mesh=False).export(tmp_path / name)
+    before = tree(tmp_path / "b")
+    with pytest.raises(subtgraph.FolderError, match="world folder"):
+        subtgraph.stats([tmp_path / "a"], tmp_path / "b")
+    with pytest.raises(subtgraph.FolderError, match="reads"):
+        subtgraph.stats([tmp_path / "a"], tmp_path / "a")
+    assert tree(tmp_path / "b") == before
+    assert "worlds" in subtgraph.stats([tmp_path / "a", tmp_path / "b"], tmp_path / "report")
+    subtgraph.stats([tmp_path / "a"], tmp_path / "report")
+
+
 def test_export_formats_are_recorded_in_world_toml(cli, tmp_path):
     world = subtgraph.generate(preset="cave", seed=7)
     world.export(tmp_path / "w", formats=["urdf", "graph"])
@@ -205,9 +259,9 @@ def test_presets_and_components():
 
 
 def test_plugins_load_from_python():
-    lib = ROOT / "target" / "debug" / "libsubtgraph_plugin_meander.so"
+    lib = BUILD / "libsubtgraph_plugin_meander.so"
     if not lib.exists():
-        pytest.skip(f"{lib} is missing: build it with `cargo build --workspace` (scripts/test does)")
+        pytest.skip(f"{lib} is missing: build it with `scripts/build` (scripts/test does)")
     added = subtgraph.load_plugin(lib)
     assert "meander" in added
     world = subtgraph.generate(pipeline={"world": {"seed": 4}, "route": {"type": "meander", "wavelength": 6}},

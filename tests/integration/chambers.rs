@@ -100,9 +100,13 @@ impl<'a> Rays<'a> {
     }
 }
 
+/// A preset's pipeline with one level and `table`'s keys over its `[tileset]`: chambers and
+/// squeezes are drawn tile by tile, so the mine's and the lava tube's further levels would
+/// only repeat the checks at their cost.
 fn with_tileset(preset: &str, seed: u64, table: &str) -> Pipeline {
     let mut p = subtgraph::presets::load(preset).unwrap();
     p.world.seed = seed;
+    p.world.levels = subtgraph::core::range::IntRange::Fixed(1);
     let spec = p.tileset.as_mut().unwrap();
     let mut t = spec.params.to_table();
     for (k, v) in toml::from_str::<toml::Table>(table).unwrap() {

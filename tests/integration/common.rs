@@ -5,13 +5,62 @@
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
+/// The binary the tests run: this build's, or the one `SUBTGRAPH_BIN` names, to show that a
+/// test fails on a build from before its fix
+/// (`SUBTGRAPH_BIN=old/subtgraph cargo test --test integration reliability::`).
+pub fn binary() -> PathBuf {
+    std::env::var_os("SUBTGRAPH_BIN").map_or_else(
+        || PathBuf::from(env!("CARGO_BIN_EXE_subtgraph")),
+        PathBuf::from,
+    )
+}
+
 /// Runs `subtgraph` with arguments, from the repository root.
 pub fn subtgraph(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_subtgraph"))
+    Command::new(binary())
         .args(args)
         .current_dir(env!("CARGO_MANIFEST_DIR"))
         .output()
         .expect("the binary runs")
+}
+
+/// Runs `subtgraph` as [`subtgraph`] does, failing the test if it has not ended after `limit`
+/// (it is killed): a guard against a hang, far above what the run needs, not a timing.
+pub fn subtgraph_within(args: &[&str], limit: std::time::Duration) -> Output {
+    let mut child = Command::new(binary())
+        .args(args)
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .expect("the binary runs");
+    // Read as it comes, so a full pipe never stops the child.
+    let drain = |mut r: Box<dyn std::io::Read + Send>| {
+        std::thread::spawn(move || {
+            let mut v = Vec::new();
+            let _ = r.read_to_end(&mut v);
+            v
+        })
+    };
+    let out = drain(Box::new(child.stdout.take().expect("piped")));
+    let err = drain(Box::new(child.stderr.take().expect("piped")));
+    let started = std::time::Instant::now();
+    let status = loop {
+        if let Some(status) = child.try_wait().expect("waiting works") {
+            break status;
+        }
+        if started.elapsed() > limit {
+            let _ = child.kill();
+            let _ = child.wait();
+            panic!("subtgraph {args:?} did not end within {limit:?}: it hangs");
+        }
+        std::thread::sleep(std::time::Duration::from_millis(50));
+    };
+    Output {
+        status,
+        stdout: out.join().expect("read"),
+        stderr: err.join().expect("read"),
+    }
 }
 
 /// Runs `subtgraph`, asserting success; returns standard output.
@@ -198,23 +247,41 @@ pub fn assert_same_on_one_and_three_threads(
 /// list of written files (`.subtgraph-files`, which holds every file's size) is compared only
 /// when no file is excepted.
 pub fn assert_same_files(a: &Path, b: &Path, except: &[&str]) {
-    let keep = |v: Vec<(String, Vec<u8>)>| -> Vec<(String, Vec<u8>)> {
-        v.into_iter()
-            .filter(|(n, _)| {
+    let names = |dir: &Path| -> Vec<String> {
+        folder_files(dir)
+            .into_iter()
+            .filter(|n| {
                 !except.contains(&n.as_str()) && (except.is_empty() || n != ".subtgraph-files")
             })
             .collect()
     };
-    let (fa, fb) = (keep(folder_bytes(a)), keep(folder_bytes(b)));
-    let names = |v: &[(String, Vec<u8>)]| v.iter().map(|(n, _)| n.clone()).collect::<Vec<_>>();
-    assert_eq!(names(&fa), names(&fb), "the same files");
-    let differ: Vec<&str> = fa
+    let (na, nb) = (names(a), names(b));
+    assert_eq!(na, nb, "the same files");
+    // A file at a time: a meshed world's folder is hundreds of megabytes.
+    let differ: Vec<&str> = na
         .iter()
-        .zip(&fb)
-        .filter(|(x, y)| x.1 != y.1)
-        .map(|(x, _)| x.0.as_str())
+        .filter(|n| std::fs::read(a.join(n)).unwrap() != std::fs::read(b.join(n)).unwrap())
+        .map(String::as_str)
         .collect();
     assert!(differ.is_empty(), "these files differ: {differ:?}");
+}
+
+/// The files under `dir`, as paths relative to it, sorted.
+pub fn folder_files(dir: &Path) -> Vec<String> {
+    let mut out = Vec::new();
+    let mut stack = vec![dir.to_owned()];
+    while let Some(d) = stack.pop() {
+        for e in std::fs::read_dir(&d).unwrap() {
+            let p = e.unwrap().path();
+            if p.is_dir() {
+                stack.push(p);
+            } else {
+                out.push(p.strip_prefix(dir).unwrap().to_string_lossy().into_owned());
+            }
+        }
+    }
+    out.sort();
+    out
 }
 
 /// A small pipeline with a coarse cave tile set: quick to mesh and to load in a simulator.

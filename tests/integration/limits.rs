@@ -159,7 +159,7 @@ fn library(crate_name: &str) -> PathBuf {
     ));
     assert!(
         p.is_file(),
-        "{} is missing: build the example plugins first with `cargo build --workspace` (scripts/test does)",
+        "{} is missing: build the example plugins first with `scripts/build` (scripts/test does)",
         p.display()
     );
     p

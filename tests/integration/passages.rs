@@ -15,9 +15,12 @@ use subtgraph::core::tile::TileKind;
 /// true centreline). A 90-degree kink still turns 90 / 3.5 = 25.7 degrees per metre.
 const CHORD: f64 = 3.5;
 
+/// A preset's world with one level: bends and grades are laid level by level, each level on
+/// its own, so further levels would only repeat the checks at their cost (the lava tube has 5).
 fn world(preset: &str, seed: u64, extra: &str) -> World {
     let mut p = subtgraph::presets::load(preset).unwrap();
     p.world.seed = seed;
+    p.world.levels = subtgraph::core::range::IntRange::Fixed(1);
     if !extra.is_empty() {
         // Extra `[tileset]` keys over the preset's.
         let spec = p.tileset.as_mut().unwrap();
@@ -224,7 +227,7 @@ fn floors_slope_within_the_grade_range_over_many_seeds() {
     // Lava tubes and mines have no floor rubble: their centrelines show the grade alone. The
     // cave's rubble and rocks add a few degrees over a couple of metres.
     for (preset, seeds, [low, high], rubble) in [
-        ("lava-tube", 0..2, [3.0, 6.0], 1.5),
+        ("lava-tube", 0..4, [3.0, 6.0], 1.5),
         ("mine", 0..4, [1.0, 3.0], 1.5),
         ("cave", 0..6, [6.0, 12.0], 4.0),
     ] {

@@ -1,6 +1,6 @@
 //! Plugins: the example plugins (a route descriptor, a constraint shape, a tile set and an
 //! exporter) build and generate a world end to end through the command line, and every
-//! refusal of the loader has its test. The libraries are built by `cargo build --workspace`,
+//! refusal of the loader has its test. The libraries are built by `scripts/build`,
 //! which `scripts/test` runs first.
 
 use std::path::{Path, PathBuf};
@@ -26,7 +26,7 @@ fn library(crate_name: &str) -> PathBuf {
     let p = dir.join(file);
     assert!(
         p.is_file(),
-        "{} is missing: build the example plugins first with `cargo build --workspace` (scripts/test does)",
+        "{} is missing: build the example plugins first with `scripts/build` (scripts/test does)",
         p.display()
     );
     p

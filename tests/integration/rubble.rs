@@ -233,3 +233,71 @@ fn mesh_file_tile_sets_refuse_rubble_naming_the_key() {
         "{err}"
     );
 }
+
+/// Issue 21 item 16: drops on a two-level world of 12 m tiles (levels 9.6 m apart by
+/// default) were refused with "passages up to 4.8 m high do not fit between levels
+/// 9.600000000000001 m apart": no key, an unrounded float, and a check that counted a pit's
+/// depth twice (once under the floor it sinks into, once again above the ceiling of the
+/// level below). A pit needs its depth and two lattice cells of rock under the floor of its
+/// own level; the ceiling below keeps the rock it has without drops. Now a world that has
+/// that room is made, closed, with its pits where the ground truth says; one that does not
+/// is refused naming `hazards.drops`, with rounded numbers and a level height that fits,
+/// which is then made.
+#[test]
+fn drops_between_close_levels_get_the_room_a_pit_needs() {
+    let dir = tempfile::tempdir().unwrap();
+    let pipeline = |name: &str, resolution: &str, level_height: &str| {
+        let p = dir.path().join(name);
+        std::fs::write(
+            &p,
+            format!(
+                "[world]\nseed = 3\nlevels = 2\nrows = 20\ncols = 20\ntile_pitch = 12.0\n\
+                 {level_height}\n[topology]\nloops = 0\nt_junctions = 1\nintersections = 1\n\n\
+                 [tileset]\ntype = \"cave\"\nresolution = {resolution}\n\n\
+                 [hazards]\ndrops = 0.4\n"
+            ),
+        )
+        .unwrap();
+        p
+    };
+    // A 0.75 m lattice: a 1.1 m pit and 1.5 m of rock under it, passages up to 4.8 m high
+    // and 1.5 m of rock above them: 8.9 m, within 9.6. (The collision lattice as fine as the
+    // visual one: on a coarser one a pit this narrow is flattened to a dip, which
+    // rubble_check.py would rightly refuse, with one level as with two.)
+    let fits = pipeline("fits.toml", "16\ncollision_resolution = 16", "");
+    let w = generate(dir.path(), "fits", &fits, "obj,gltf,ground-truth");
+    let doc = json(&w.join("ground_truth/hazards.json"));
+    let pits = doc["regions"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|r| r["kind"] == "drop")
+        .count();
+    assert!(pits >= 3, "{pits} drops: {doc}");
+    if let Some(out) = read_with_python(&["numpy", "trimesh"], "trimesh_check.py", &[arg(&w)]) {
+        assert!(!out.contains("FAIL"), "{out}");
+    }
+    if let Some(out) = read_with_python(&["numpy", "trimesh"], "rubble_check.py", &[arg(&w)]) {
+        assert!(
+            out.contains("pits below it"),
+            "the pits were checked: {out}"
+        );
+    }
+    // A 1 m lattice: 1.1 + 2 m under the floor, 4.8 + 2 above: 9.9 m are needed.
+    let tight = pipeline("tight.toml", "12", "");
+    let err = fails(&["validate", arg(&tight)]);
+    for says in [
+        "hazards.drops",
+        "1.1 m deep",
+        "9.6 m apart",
+        "at least 9.9 m apart",
+    ] {
+        assert!(err.contains(says), "want '{says}' in: {err}");
+    }
+    assert!(!err.contains("00000"), "rounded: {err}");
+    let spaced = pipeline("spaced.toml", "12", "level_height = 9.9\n");
+    let w = generate(dir.path(), "spaced", &spaced, "obj,gltf");
+    if let Some(out) = read_with_python(&["numpy", "trimesh"], "trimesh_check.py", &[arg(&w)]) {
+        assert!(!out.contains("FAIL"), "{out}");
+    }
+}

@@ -47,6 +47,7 @@ fn reports_and_maps_with_known_answers_score_exactly() {
         ("reports.json", "map-ascii.ply"),
         ("reports.csv", "map-binary.pcd"),
         ("reports.csv", "map-ascii.pcd"),
+        ("reports.csv", "map-compressed.pcd"),
         ("reports.csv", "map.npy"),
     ]
     .into_iter()

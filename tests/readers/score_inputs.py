@@ -13,8 +13,10 @@ Writes into OUT_DIR:
 - expected.json: the score, the outcome counts, and which artifacts are found;
 - map files: a cloud with one point at the centre of every free voxel (numpy's unpackbits of
   ground_truth/free_space.npy) of every other corridor edge of the graph (by id), as PLY
-  binary and ASCII, PCD binary and ASCII, and an occupancy .npy; expected.json lists those
-  edges (coverage 1) and the rest (coverage 0), and each level's share.
+  binary and ASCII, PCD binary, ASCII and binary_compressed (compressed here by `lzf` below,
+  written from the LZF format's description, not from subtgraph's reader), and an occupancy
+  .npy; expected.json lists those edges (coverage 1) and the rest (coverage 0), and each
+  level's share.
 A voxel belongs to the level whose floor is below it by a quarter level height (or the one
 under it when that level has rock there), and to the cell of that level holding its centre.
 """
@@ -35,6 +37,45 @@ topo = json.loads((world / "topology.json").read_text())
 
 CLASSES = ["survivor", "backpack", "cell-phone", "drill", "fire-extinguisher", "gas", "vent",
            "helmet", "rope", "cube"]
+
+
+def lzf(data: bytes) -> bytes:
+    """LZF compression (liblzf's format, PCL's binary_compressed): runs of up to 32 literal
+    bytes (a control byte of run length - 1), and back-references of 3 to 264 bytes up to
+    8192 back (length - 2 in the control byte's top 3 bits, 7 meaning a further byte, then
+    the distance - 1 in 13 bits), found greedily through the last place each 3 bytes were."""
+    out, literal, last, i, n = bytearray(), bytearray(), {}, 0, len(data)
+
+    def flush():
+        nonlocal literal
+        while literal:
+            run, literal = literal[:32], literal[32:]
+            out.append(len(run) - 1)
+            out.extend(run)
+
+    while i < n:
+        key = data[i:i + 3]
+        j = last.get(key) if len(key) == 3 else None
+        if len(key) == 3:
+            last[key] = i
+        if j is not None and i - j - 1 < 8192:
+            length = 3
+            while i + length < n and length < 264 and data[j + length] == data[i + length]:
+                length += 1
+            flush()
+            back, code = i - j - 1, length - 2
+            if code < 7:
+                out.append((code << 5) | (back >> 8))
+            else:
+                out.append((7 << 5) | (back >> 8))
+                out.append(code - 7)
+            out.append(back & 0xFF)
+            i += length
+        else:
+            literal.append(data[i])
+            i += 1
+    flush()
+    return bytes(out)
 
 
 def offset(p, d):
@@ -138,6 +179,12 @@ pcd = (f"VERSION .7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\nWIDTH {l
        f"HEIGHT 1\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS {len(pts)}\n")
 (out / "map-binary.pcd").write_bytes((pcd + "DATA binary\n").encode() + pts.tobytes())
 (out / "map-ascii.pcd").write_text(pcd + "DATA ascii\n" + ascii_pts)
+# binary_compressed: every x, then every y, then every z, LZF-compressed after the two sizes.
+fields = np.ascontiguousarray(pts.T).tobytes()
+packed = lzf(fields)
+(out / "map-compressed.pcd").write_bytes(
+    (pcd + "DATA binary_compressed\n").encode()
+    + np.array([len(packed), len(fields)], dtype="<u4").tobytes() + packed)
 occ = np.zeros((nz, ny, nx), dtype=np.uint8)
 occ[z[pick], y[pick], x[pick]] = 1
 np.save(out / "map.npy", occ)

@@ -173,6 +173,7 @@ mod tests {
         let levels = Levels {
             height: world.resolved.level_height,
             below_floor: 0.0,
+            above_ceiling: 0.0,
             coarse: 1.0,
         };
         let corner = Cell::new(0, 1, 0);

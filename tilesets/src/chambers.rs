@@ -58,10 +58,7 @@ pub fn of_cell(
         Room {
             half: 0.5 * pitch - 2.0 * lattice,
             // Floors rise by up to the slope's amplitude (`tilesets/src/slope.rs`).
-            head: levels.height
-                - 2.0 * levels.below_floor
-                - passage.floor_roughness
-                - passage.slope.amp,
+            head: levels.head() - passage.floor_roughness - passage.slope.amp,
         },
     );
     (chamber, rooms.squeeze(seed, c, kind, pitch))

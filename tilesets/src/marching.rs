@@ -12,6 +12,8 @@
 
 use subtgraph_core::mesh::Mesh;
 
+pub use crate::lattice::Block;
+
 /// Corner bits: x = 1, y = 2, z = 4.
 const TETS: [[u8; 4]; 6] = [
     [0, 1, 3, 7],
@@ -39,33 +41,27 @@ fn det(a: u8, b: u8, c: u8, d: u8) -> i64 {
         + u[2] * (v[0] * w[1] - v[1] * w[0])
 }
 
-/// A block of the world lattice: `cubes` cubes from integer lattice point `origin`, spacing
-/// `h` metres.
-#[derive(Clone, Copy, Debug)]
-pub struct Block {
-    /// Lattice index of the block's lowest corner.
-    pub origin: [i64; 3],
-    /// Cubes along x, y, z.
-    pub cubes: [usize; 3],
-    /// Lattice spacing in metres.
-    pub h: f64,
-}
-
 /// Meshes the zero level set of `field` (negative inside the void) over a block. `field`
 /// returns the value and a material index; a triangle takes the material of a solid corner
 /// marked `solid_material` if it has one (rocks), else that of its first void corner.
 pub fn polygonise(block: Block, solid_material: u8, field: impl Fn([f64; 3]) -> (f64, u8)) -> Mesh {
-    polygonise_columns(block, solid_material, |_, _| (), |p, _: &()| field(p)).0
+    let at = |p: [i64; 3]| field(p.map(|i| i as f64 * block.h)).0;
+    polygonise_columns(block, solid_material, |_, _| (), |p, _: &()| field(p), at).0
 }
 
 /// Like [`polygonise`], for a field with a part that depends only on `(x, y)`: `column` is
 /// evaluated once per lattice column and handed to `field` for every point of it. Also returns
 /// the vertices on the block's faces (the only ones a neighbouring block can share).
+///
+/// Small separate pieces of either sign are removed first ([`crate::islands`]); `outside`
+/// gives the field at a global lattice point outside the block, as the block that owns the
+/// point computes it (for a piece across a face).
 pub fn polygonise_columns<C>(
     block: Block,
     solid_material: u8,
     column: impl Fn(f64, f64) -> C,
     field: impl Fn([f64; 3], &C) -> (f64, u8),
+    outside: impl Fn([i64; 3]) -> f64,
 ) -> (Mesh, Vec<u32>) {
     let [nx, ny, nz] = block.cubes;
     let (px, py, pz) = (nx + 1, ny + 1, nz + 1);
@@ -99,6 +95,7 @@ pub fn polygonise_columns<C>(
     if !(any_in && any_out) {
         return (mesh, seam);
     }
+    crate::islands::remove(&mut values, block, outside);
     let mut edge_vertex = vec![u32::MAX; points * 7];
     let point_of = |i: usize, j: usize, k: usize, bits: u8| {
         index(

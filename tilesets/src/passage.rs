@@ -103,14 +103,26 @@ impl Default for Passage {
 pub struct Levels {
     /// Metres between levels.
     pub height: f64,
-    /// How far below its floor a level's block starts.
+    /// How far below its floor a level's block starts: the rock under the floor, or under a
+    /// drop's pit (`[hazards] drops`) when the world has drops.
     pub below_floor: f64,
+    /// The rock kept between a passage's highest ceiling and the top of its level's block
+    /// (the next level's `below_floor` starts there): the floor's rock without drops. A pit
+    /// sinks into the block of its own level, not into the ceiling of the level below.
+    pub above_ceiling: f64,
     /// Metres between the collision lattice's points (ramps keep two of them of rock
     /// between their turns).
     pub coarse: f64,
 }
 
 impl Levels {
+    /// The height a level's passage may take from its floor to its highest ceiling (floors
+    /// lifted by slopes included): the spacing of levels less the rock under the next level's
+    /// floor (or pit) and the rock above this level's ceiling.
+    pub fn head(&self) -> f64 {
+        self.height - (self.below_floor + self.above_ceiling)
+    }
+
     /// The z range `[lo, hi]` of level `l`'s block.
     pub fn block_z(&self, l: usize) -> (f64, f64) {
         let f = l as f64 * self.height;

@@ -6,7 +6,7 @@ use serde::Deserialize;
 use subtgraph_core::Layout;
 use subtgraph_core::budget::TileTriangles;
 use subtgraph_core::config::Connections;
-use subtgraph_core::error::ConfigError;
+use subtgraph_core::error::{ConfigError, number};
 use subtgraph_core::grid::Shaft;
 use subtgraph_core::mesh::Material;
 use subtgraph_core::params::Params;
@@ -18,6 +18,7 @@ use subtgraph_core::tileset::{
 use crate::chambers::{ChamberSettings, SqueezeSettings, least_factors};
 use crate::field::{Column, LocalField};
 use crate::marching::{Block, polygonise_columns};
+use crate::owner::Owners;
 use crate::passage::{Levels, Passage, Profile, material};
 use crate::ramp::{self, Helix, Sizing, Unfit};
 use crate::slope::Slope;
@@ -210,9 +211,8 @@ impl Procedural {
     /// ceiling leaves below the next level's block (on one level, the same margin below the top
     /// of its own block, so the ceiling stays a closed surface inside the tile).
     fn lift_room(&self, world: &Layout, p: &Passage) -> f64 {
-        let levels = self.levels(world);
         let top = p.height * (1.0 + p.height_variation) + p.roughness + p.floor_roughness;
-        world.resolved.level_height - 2.0 * levels.below_floor - top
+        self.levels(world).head() - top
     }
 
     /// The floors' waves: as long as a few tiles (at least one pitch, at most three), shorter
@@ -249,22 +249,101 @@ impl Procedural {
             rooms.squeeze_factor = q.factor.unwrap_or(rooms.squeeze_factor);
         }
         rooms.min_clearance = s.min_clearance.unwrap_or(rooms.min_clearance);
+        rooms.least_factor = self.least_factors(world, width, rooms.min_clearance);
+        rooms
+    }
+
+    /// The least squeeze factors that keep a `clearance` box clear in passages `width` wide
+    /// (more than 1 when even the unsqueezed passage cannot hold it).
+    fn least_factors(&self, world: &Layout, width: f64, clearance: [f64; 2]) -> [f64; 2] {
+        self.least_factors_within(world, width, clearance, true)
+    }
+
+    /// [`Self::least_factors`], with or without the `lattice` slack: half a collision lattice
+    /// cell, which the coarser collision surface may take from the passage.
+    fn least_factors_within(
+        &self,
+        world: &Layout,
+        width: f64,
+        clearance: [f64; 2],
+        lattice: bool,
+    ) -> [f64; 2] {
+        let pitch = world.resolved.tile_pitch;
+        let s = &self.settings;
+        let base = &self.style.shape;
         let height = s.height.unwrap_or(self.style.height * pitch);
         let relief = s.roughness.unwrap_or(base.roughness * width);
         // Half a collision lattice cell, and what a sloping floor (`tilesets/src/slope.rs`)
         // rises across the box: slopes run any way, so the floor tilts across passages too.
         let steepest = s.grade.map_or(base.grade[1], |g| g[1]).max(0.0);
-        let slack = 0.5 * pitch / f64::from(self.resolution().1)
-            + steepest.to_radians().tan() * rooms.min_clearance[0];
-        rooms.least_factor = least_factors(
+        let cell = if lattice {
+            0.5 * pitch / f64::from(self.resolution().1)
+        } else {
+            0.0
+        };
+        let slack = cell + steepest.to_radians().tan() * clearance[0];
+        least_factors(
             self.style.profile.as_ref(),
             width * (1.0 - base.width_variation),
             height * (1.0 - base.height_variation),
-            rooms.min_clearance,
+            clearance,
             relief,
             slack,
-        );
-        rooms
+        )
+    }
+
+    /// Why the robot's box `min_clearance` does not fit even the unsqueezed passage, with the
+    /// largest box of the same proportions that does. The same for a written value and the
+    /// default (a small ground robot): the same value gives the same answer.
+    fn clearance_unfit(&self, world: &Layout, p: &Passage) -> TileSetError {
+        let name = self.style.name;
+        let [cw, ch] = p.rooms.min_clearance;
+        let holds = |k: f64| {
+            self.least_factors_within(world, p.width, [k * cw, k * ch], false)
+                .iter()
+                .all(|&f| f <= 1.0)
+        };
+        let (mut lo, mut hi) = (0.0, 1.0);
+        for _ in 0..40 {
+            let mid = 0.5 * (lo + hi);
+            if holds(mid) {
+                lo = mid;
+            } else {
+                hi = mid;
+            }
+        }
+        // Rounded down to 5 cm, so the value suggested fits as written.
+        let down = |x: f64| number((x * 20.0).floor() / 20.0);
+        let default = match self.settings.min_clearance {
+            Some(_) => "",
+            None => " (its default: a small ground robot)",
+        };
+        let smaller = if (lo * cw * 20.0).floor() > 0.0 && (lo * ch * 20.0).floor() > 0.0 {
+            format!(
+                "set [tileset] min_clearance = [{}, {}] or less (the largest robot of these \
+                 proportions the passage holds), or widen the passage ([tileset] width, \
+                 height)",
+                down(lo * cw),
+                down(lo * ch)
+            )
+        } else {
+            "widen the passage ([tileset] width, height), or give a smaller [tileset] \
+             min_clearance"
+                .to_owned()
+        };
+        TileSetError::Unsuited {
+            what: format!(
+                "{name}: [tileset] min_clearance = [{}, {}]{default} does not fit even the \
+                 unsqueezed passage ({:.1} m \
+                 wide, {:.1} m high at its narrowest, less {:.2} m of wall relief)",
+                number(cw),
+                number(ch),
+                p.width * (1.0 - p.width_variation),
+                p.height * (1.0 - p.height_variation),
+                p.roughness
+            ),
+            fix: smaller,
+        }
     }
 
     fn resolution(&self) -> (u32, u32) {
@@ -273,22 +352,87 @@ impl Procedural {
     }
 
     fn levels(&self, world: &Layout) -> Levels {
+        self.levels_apart(world, world.resolved.level_height)
+    }
+
+    /// The levels' vertical layout were they `height` metres apart.
+    fn levels_apart(&self, world: &Layout, height: f64) -> Levels {
         let h = world.resolved.tile_pitch / f64::from(self.resolution().0);
-        let mut below_floor = (0.12 * world.resolved.level_height).max(2.0 * h);
+        let rock = (0.12 * height).max(2.0 * h);
+        let mut below_floor = rock;
         if crate::rubble::has_drops(world) {
-            // A drop's pit, and two lattice cells of rock under it. The pit's depth comes from
-            // the nominal height alone: `passage()` needs the levels (through the slopes' room
-            // and the chambers' fit), so calling it here would recurse.
-            let height = self
-                .settings
-                .height
-                .unwrap_or(self.style.height * world.resolved.tile_pitch);
-            below_floor = below_floor.max(crate::rubble::pit_depth(height) + 2.0 * h);
+            below_floor = below_floor.max(self.pit_depth(world) + 2.0 * h);
         }
         Levels {
-            height: world.resolved.level_height,
+            height,
             below_floor,
+            above_ceiling: rock,
             coarse: world.resolved.tile_pitch / f64::from(self.resolution().1),
+        }
+    }
+
+    /// How deep a drop's pit is. It comes from the nominal height alone: `passage()` needs
+    /// the levels (through the slopes' room and the chambers' fit), so calling it here would
+    /// recurse.
+    fn pit_depth(&self, world: &Layout) -> f64 {
+        let height = self
+            .settings
+            .height
+            .unwrap_or(self.style.height * world.resolved.tile_pitch);
+        crate::rubble::pit_depth(height)
+    }
+
+    /// Why passages up to `top` metres high do not fit between the levels: what the rock
+    /// under the next level's floor (a drop's pit and the rock under it, in a world with
+    /// drops) and above this level's ceiling leave, and the level spacing that would fit.
+    fn levels_too_close(&self, world: &Layout, levels: &Levels, top: f64) -> TileSetError {
+        let name = self.style.name;
+        let apart = number(levels.height);
+        // The spacing that fits, rounded up to the decimetre shown. The rock grows with the
+        // spacing (an eighth of it), so the spacing is found as the fixed point of
+        // `top + rock(spacing)`, which a few rounds reach (each step is at most a quarter of
+        // the last).
+        let mut need = levels.height;
+        for _ in 0..64 {
+            let l = self.levels_apart(world, need);
+            need = top + l.below_floor + l.above_ceiling;
+        }
+        let need = (need * 10.0).ceil() / 10.0;
+        let rock = levels.above_ceiling;
+        let pit = self.pit_depth(world);
+        if crate::rubble::has_drops(world) && levels.below_floor > rock {
+            let under = levels.below_floor - pit;
+            if top <= levels.height - 2.0 * rock {
+                return TileSetError::Unsuited {
+                    what: format!(
+                        "{name}: hazards.drops: a drop's pit is {pit:.1} m deep with {under:.1} m \
+                         of rock under it, so with passages up to {top:.1} m high and {rock:.1} m \
+                         of rock above them levels must be at least {need:.1} m apart; they are \
+                         {apart} m apart (without drops they would fit)"
+                    ),
+                    fix: format!(
+                        "raise world.level_height to {need:.1} or more, lower [tileset] height \
+                         (a pit is 0.3 of it deep), use a finer [tileset] resolution (the rock \
+                         under a pit is two lattice cells), or leave out hazards.drops"
+                    ),
+                };
+            }
+        }
+        let below = levels.below_floor;
+        let pits = if levels.below_floor > rock {
+            " (a drop's pit and the rock under it: hazards.drops)"
+        } else {
+            ""
+        };
+        TileSetError::Unsuited {
+            what: format!(
+                "{name}: passages up to {top:.1} m high, with {rock:.1} m of rock above their \
+                 ceiling and {below:.1} m under the next level's floor{pits}, need levels at \
+                 least {need:.1} m apart; they are {apart} m apart"
+            ),
+            fix: format!(
+                "raise world.level_height to {need:.1} or more, or lower [tileset] height"
+            ),
         }
     }
 
@@ -314,7 +458,8 @@ impl Procedural {
             Unfit::Narrow { width, room } => TileSetError::Unsuited {
                 what: format!(
                     "{name}: a ramp of passages {width:.1} m wide leaves no rock pillar in tiles \
-                     {pitch} m apart (the spiral must stay within {room:.1} m of its centre)"
+                     {} m apart (the spiral must stay within {room:.1} m of its centre)",
+                    number(pitch)
                 ),
                 fix: "use a smaller [tileset] width, a larger world.tile_pitch, a finer [tileset] \
                       resolution or collision_resolution (the pillar must hold collision lattice \
@@ -323,11 +468,12 @@ impl Procedural {
             },
             Unfit::Steep { grade } => TileSetError::Unsuited {
                 what: format!(
-                    "{name}: the gentlest ramp between levels {} m apart in tiles {pitch} m apart \
+                    "{name}: the gentlest ramp between levels {} m apart in tiles {} m apart \
                      climbs at {grade:.1} degrees, steeper than world.ramp_grade = {} (each turn \
                      must hold the {:.1} m high spiral passage and rock above it)",
-                    world.resolved.level_height,
-                    world.resolved.ramp_grade,
+                    number(world.resolved.level_height),
+                    number(pitch),
+                    number(world.resolved.ramp_grade),
                     sizing.height
                 ),
                 fix: "raise world.ramp_grade, use a larger world.tile_pitch or a lower [tileset] \
@@ -452,10 +598,37 @@ impl TileSet for Procedural {
         };
         let column = |x: f64, y: f64| field.column(x, y);
         let block = |n| Self::block(world, ctx.cell, n, levels);
+        // Points beyond the block, for a small piece across a face (`crate::islands`).
+        let blocks_of = |n: u32| move |cell| Self::block(world, cell, n, levels);
+        let (visual_blocks, collision_blocks) = (blocks_of(visual_n), blocks_of(collision_n));
+        let profile = self.style.profile.as_ref();
+        let visual_owners = Owners::new(
+            world,
+            &passage,
+            profile,
+            levels,
+            fine,
+            &visual_blocks,
+            &field,
+        );
+        let collision_owners = Owners::new(
+            world,
+            &passage,
+            profile,
+            levels,
+            fine,
+            &collision_blocks,
+            &field,
+        );
+        let h = |n: u32| world.resolved.tile_pitch / f64::from(n);
         let (visual, visual_seam) =
-            polygonise_columns(block(visual_n), material::ROCK, column, paint);
+            polygonise_columns(block(visual_n), material::ROCK, column, paint, |p| {
+                visual_owners.value(p, h(visual_n))
+            });
         let (mut collision, collision_seam) =
-            polygonise_columns(block(collision_n), material::ROCK, column, paint);
+            polygonise_columns(block(collision_n), material::ROCK, column, paint, |p| {
+                collision_owners.value(p, h(collision_n))
+            });
         collision.materials.clear();
         let (chamber, squeeze) =
             crate::chambers::of_cell(world, ctx.cell, ctx.tile.kind, &passage, levels, fine);
@@ -495,23 +668,18 @@ impl TileSet for Procedural {
 
         let levels = self.levels(world);
         let name = self.style.name;
-        if let Some([cw, ch]) = self.settings.min_clearance {
-            let least = p.rooms.least_factor;
-            if least[0] > 1.0 || least[1] > 1.0 {
-                return Err(TileSetError::Unsuited {
-                    what: format!(
-                        "{name}: [tileset] min_clearance = [{cw}, {ch}] does not fit even the \
-                         unsqueezed passage ({:.1} m wide, {:.1} m high at its narrowest, less \
-                         {:.2} m of wall relief and half a collision lattice cell)",
-                        p.width * (1.0 - p.width_variation),
-                        p.height * (1.0 - p.height_variation),
-                        p.roughness
-                    ),
-                    fix: "lower [tileset] min_clearance (a robot's width and height, metres), \
-                          or widen the passage ([tileset] width, height)"
-                        .into(),
-                });
-            }
+        // The robot's box must fit the unsqueezed passage, whether `min_clearance` was
+        // written or left to its default (the same value gives the same answer). The
+        // collision lattice's slack is left out here: it bounds how far a squeeze may close
+        // (with it, no squeeze is made where the box would not stay clear), but a passage
+        // that holds the box only without it is what any coarse lattice makes, default robot
+        // or not, and is made.
+        if self
+            .least_factors_within(world, p.width, p.rooms.min_clearance, false)
+            .iter()
+            .any(|&f| f > 1.0)
+        {
+            return Err(self.clearance_unfit(world, &p));
         }
         let half_width = 0.5 * p.width * (1.0 + p.width_variation) + p.roughness;
         let room = 0.5 * pitch - 2.0 * pitch / f64::from(self.resolution().0);
@@ -519,9 +687,10 @@ impl TileSet for Procedural {
             return Err(TileSetError::Unsuited {
                 what: format!(
                     "{name}: passages up to {:.1} m wide (width {:.1} m with its variation and relief) \
-                     do not fit tiles {pitch} m apart",
+                     do not fit tiles {} m apart",
                     2.0 * half_width,
-                    p.width
+                    p.width,
+                    number(pitch)
                 ),
                 fix: "use a smaller [tileset] width or roughness, or a larger world.tile_pitch"
                     .into(),
@@ -537,7 +706,6 @@ impl TileSet for Procedural {
             self.ramp_plan(world, s)?;
         }
         let top = p.height * (1.0 + p.height_variation) + p.roughness + p.floor_roughness;
-        let head = world.resolved.level_height - 2.0 * levels.below_floor;
         let [low, high] = self.grade(world, &p);
         let room = self.lift_room(world, &p);
         if high > 0.0 {
@@ -545,27 +713,24 @@ impl TileSet for Procedural {
             if most > room {
                 return Err(TileSetError::Unsuited {
                     what: format!(
-                        "{name}: [tileset] grade = [{low}, {high}] makes floors rise {most:.1} m \
+                        "{name}: [tileset] grade = [{}, {}] makes floors rise {most:.1} m \
                          within one tile pitch, but passages up to {top:.1} m high leave only \
                          {:.1} m below the next level (levels {} m apart)",
+                        number(low),
+                        number(high),
                         room.max(0.0),
-                        world.resolved.level_height
+                        number(world.resolved.level_height)
                     ),
                     fix: format!(
-                        "lower the high end of [tileset] grade (now {high} degrees), lower \
-                         [tileset] height, or raise world.level_height"
+                        "lower the high end of [tileset] grade (now {} degrees), lower \
+                         [tileset] height, or raise world.level_height",
+                        number(high)
                     ),
                 });
             }
         }
-        if world.resolved.levels > 1 && top > head {
-            return Err(TileSetError::Unsuited {
-                what: format!(
-                    "{name}: passages up to {top:.1} m high do not fit between levels {} m apart",
-                    world.resolved.level_height
-                ),
-                fix: "raise world.level_height or lower [tileset] height".into(),
-            });
+        if world.resolved.levels > 1 && top > levels.head() {
+            return Err(self.levels_too_close(world, &levels, top));
         }
         Ok(())
     }

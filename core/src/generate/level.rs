@@ -3,7 +3,7 @@
 
 use crate::rng::WorldRng;
 use crate::route::{RouteDescriptor, Segment};
-use crate::shape::{ConstraintShape, Heading, rotate_offset};
+use crate::shape::{ConstraintShape, Heading, Offset, rotate_offset};
 use crate::topology::{self, Counts, GridView};
 
 use super::search::Search;
@@ -132,18 +132,26 @@ impl Level {
 
 /// The junction tiles and cycles a structure brings by itself: a footprint cell with three
 /// neighbours-or-arms is a T-junction, with four an intersection.
+///
+/// Neighbours and arms are looked up in sorted copies (binary search), so the cost is
+/// `n log n` in the footprint's cells: a room-and-pillar block of 1000 x 1000 pillars has
+/// three million, where a linear search per neighbour took hours.
 pub fn structure_counts(shape: &dyn ConstraintShape) -> Counts {
-    let cells = shape.footprint();
-    let arms = shape.arms();
+    let mut cells = shape.footprint();
+    cells.sort_unstable();
+    let mut arm_cells: Vec<Offset> = shape.arms().iter().map(|a| a.from).collect();
+    arm_cells.sort_unstable();
     let mut c = Counts::default();
     let mut edges = 0;
     for &(r, k) in &cells {
         let inner = [(0, 1), (-1, 0), (0, -1), (1, 0)]
             .iter()
-            .filter(|(dr, dc)| cells.contains(&(r + dr, k + dc)))
+            .filter(|(dr, dc)| cells.binary_search(&(r + dr, k + dc)).is_ok())
             .count();
         edges += inner;
-        match inner + arms.iter().filter(|a| a.from == (r, k)).count() {
+        let arms = arm_cells.partition_point(|&a| a <= (r, k))
+            - arm_cells.partition_point(|&a| a < (r, k));
+        match inner + arms {
             3 => c.t_junctions += 1,
             4 => c.intersections += 1,
             _ => {}
@@ -421,9 +429,16 @@ fn place<'a>(
     let footprint = shape.footprint();
     let clearance = shape.clearance().max(1);
     let (rmax, cmax) = ((lvl.rows as i64 - 4).max(3), (lvl.cols as i64 - 4).max(3));
+    // The footprint's extent, so a centre that puts it across the border is rejected without
+    // listing its cells: a large block (a room-and-pillar panel of millions of cells) fits
+    // only a few of the drawn centres.
+    let extent = Extent::of(&footprint);
     for _ in 0..200 {
         let rotation = rng.below(u64::from(shape.rotations().clamp(1, 4))) as u8;
         let centre = (rng.int_in(3, rmax) as i32, rng.int_in(3, cmax) as i32);
+        if !extent.inside(centre, rotation, lvl.rows, lvl.cols) {
+            continue;
+        }
         let cells: Vec<(i32, i32)> = footprint
             .iter()
             .map(|&o| {
@@ -431,12 +446,6 @@ fn place<'a>(
                 (centre.0 + dr, centre.1 + dc)
             })
             .collect();
-        let inside = cells.iter().all(|&(r, c)| {
-            r >= 1 && c >= 1 && (r as usize) < lvl.rows - 1 && (c as usize) < lvl.cols - 1
-        });
-        if !inside {
-            continue;
-        }
         let free = cells.iter().all(|&(r, c)| {
             (-clearance..=clearance).all(|dr| {
                 (-clearance..=clearance).all(|dc| {
@@ -488,6 +497,38 @@ fn place<'a>(
     None
 }
 
+/// The bounding box of a footprint, `None` for an empty one.
+struct Extent(Option<(Offset, Offset)>);
+
+impl Extent {
+    fn of(cells: &[Offset]) -> Self {
+        Self(cells.iter().fold(None, |b, &(r, c)| {
+            Some(b.map_or(((r, c), (r, c)), |((r0, c0), (r1, c1))| {
+                ((r0.min(r), c0.min(c)), (r1.max(r), c1.max(c)))
+            }))
+        }))
+    }
+
+    /// Whether every cell of the footprint, turned by `rotation` and centred on `centre`,
+    /// lies inside the level away from its border row and column (what [`place`] asks of
+    /// each cell).
+    fn inside(&self, centre: (i32, i32), rotation: u8, rows: usize, cols: usize) -> bool {
+        let Some(((r0, c0), (r1, c1))) = self.0 else {
+            return true;
+        };
+        [(r0, c0), (r0, c1), (r1, c0), (r1, c1)]
+            .into_iter()
+            .all(|corner| {
+                let (dr, dc) = rotate_offset(corner, rotation);
+                let (r, c) = (
+                    i64::from(centre.0) + i64::from(dr),
+                    i64::from(centre.1) + i64::from(dc),
+                );
+                r >= 1 && c >= 1 && r < rows as i64 - 1 && c < cols as i64 - 1
+            })
+    }
+}
+
 fn segment(lvl: &Level, a: (i32, i32), b: (i32, i32), rng: &mut WorldRng) -> Segment {
     Segment {
         start: [f64::from(a.0), f64::from(a.1)],
@@ -528,8 +569,9 @@ fn link_structures(
     }
     let manhattan = |a: (i32, i32), b: (i32, i32)| (a.0 - b.0).abs() + (a.1 - b.1).abs();
     while linked.iter().any(|l| !l) {
-        // Candidate links: (distance, from-cell, from-arm or landing, to-arm).
-        let mut pairs: Vec<(i32, Option<usize>, usize)> = Vec::new();
+        // Candidate links: (distance, from-cell, from-arm or landing, to-arm), the 16
+        // nearest.
+        let mut pairs: Nearest<(i32, Option<usize>, usize)> = Nearest::new(16);
         for (j, b) in arms.iter().enumerate() {
             if b.used || linked[b.structure as usize] {
                 continue;
@@ -543,9 +585,8 @@ fn link_structures(
                 }
             }
         }
-        pairs.sort_unstable();
         let mut done = false;
-        for &(_, a, b) in pairs.iter().take(16) {
+        for &(_, a, b) in &pairs.sorted() {
             let (s, owner_a) = match a {
                 Some(i) => (
                     lvl.index(arms[i].from.0, arms[i].from.1).expect("inside"),
@@ -683,12 +724,9 @@ fn join_candidate(lvl: &Level, target: (i32, i32), s: usize) -> Option<usize> {
         .find(|&i| lvl.occ[i] && lvl.owner[i] == CORRIDOR && lvl.degree(i) <= 2 && i != s)
 }
 
-/// Links every piece of the level to the piece holding the landing (or the first structure),
-/// nearest piece first, always between free ends so no junction is made. Without `exact`, a
-/// piece with no free end may also be joined onto a corridor.
-/// Pairs of cells `(distance, inside, outside)` that may be linked: free ends (the landing,
-/// or an arm's dead end) inside the linked piece `root` and outside it, nearest first. With
-/// `joins`, plain corridor cells count too.
+/// The 24 nearest pairs of cells `(distance, inside, outside)` that may be linked, nearest
+/// first: free ends (the landing, or an arm's dead end) inside the linked piece `root` and
+/// outside it. With `joins`, plain corridor cells count too.
 fn candidate_links(lvl: &Level, label: &[u32], root: u32, joins: bool) -> Vec<(i32, usize, usize)> {
     let usable = |i: usize| {
         lvl.occ[i]
@@ -704,7 +742,7 @@ fn candidate_links(lvl: &Level, label: &[u32], root: u32, joins: bool) -> Vec<(i
             .collect()
     };
     let (a_ends, b_ends) = (ends(true), ends(false));
-    let mut pairs = Vec::with_capacity(a_ends.len() * b_ends.len());
+    let mut pairs = Nearest::new(24);
     for &a in &a_ends {
         let (ar, ac) = lvl.rc(a);
         for &b in &b_ends {
@@ -712,10 +750,47 @@ fn candidate_links(lvl: &Level, label: &[u32], root: u32, joins: bool) -> Vec<(i
             pairs.push(((ar - br).abs() + (ac - bc).abs(), a, b));
         }
     }
-    pairs.sort_unstable();
-    pairs
+    pairs.sorted()
 }
 
+/// The `k` smallest of the values pushed, kept as they come: the candidate links are every
+/// pair of free ends (or arms), which on a large level with many pieces runs to billions, of
+/// which only the nearest few are tried. Memory stays at `k`, and the result is what sorting
+/// them all and taking the first `k` gives (the pairs are distinct, so the order is total).
+struct Nearest<T> {
+    k: usize,
+    heap: std::collections::BinaryHeap<T>,
+}
+
+impl<T: Ord> Nearest<T> {
+    fn new(k: usize) -> Self {
+        Self {
+            k,
+            heap: std::collections::BinaryHeap::with_capacity(k + 1),
+        }
+    }
+
+    fn push(&mut self, value: T) {
+        if self.heap.len() == self.k {
+            match self.heap.peek() {
+                Some(top) if value < *top => {
+                    self.heap.pop();
+                }
+                _ => return,
+            }
+        }
+        self.heap.push(value);
+    }
+
+    /// The values kept, smallest first.
+    fn sorted(self) -> Vec<T> {
+        self.heap.into_sorted_vec()
+    }
+}
+
+/// Links every piece of the level to the piece holding the landing (or the first structure),
+/// nearest piece first, always between free ends so no junction is made. Without `exact`, a
+/// piece with no free end may also be joined onto a corridor.
 fn link_components(
     lvl: &mut Level,
     search: &mut Search,
@@ -737,7 +812,7 @@ fn link_components(
                 break;
             }
             let pairs = candidate_links(lvl, &label, root, pass == 1);
-            for &(_, a, b) in pairs.iter().take(24) {
+            for &(_, a, b) in &pairs {
                 let seg = segment(lvl, lvl.rc(a), lvl.rc(b), rng);
                 let guide = descriptor.guide(&seg);
                 if let Some(path) = search.route(

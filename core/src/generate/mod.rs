@@ -78,6 +78,38 @@ pub fn mesh_with(
     })
 }
 
+/// The most empty cells a shape may keep around its footprint ([`ConstraintShape::clearance`]):
+/// placing a structure checks a square of `2 c + 1` cells on each side around every footprint
+/// cell, so a plugin's clearance of a million cells would never finish.
+pub const MAX_CLEARANCE: i32 = 16;
+
+/// Refuses a shape whose rotations or clearance the generator cannot use as given: distinct
+/// quarter turns are 1, 2 or 4 (3 would draw three of the four turns, favouring some
+/// headings), and a clearance is from 1 to [`MAX_CLEARANCE`] cells. Built-in and Python
+/// shapes are checked where they are made; this catches a plugin's.
+fn check_shape(name: &str, shape: &dyn ConstraintShape) -> Result<(), Error> {
+    let fail = |message: String| Error::Component {
+        component: "constraint shape",
+        name: name.to_owned(),
+        message,
+    };
+    let r = shape.rotations();
+    if !matches!(r, 1 | 2 | 4) {
+        return Err(fail(format!(
+            "rotations() is {r}; it must be 1, 2 or 4 (the distinct quarter turns of the \
+             footprint: 1 for a shape that looks the same turned by 90 degrees, 2 for one that \
+             looks the same turned by 180, else 4)"
+        )));
+    }
+    let c = shape.clearance();
+    if !(1..=MAX_CLEARANCE).contains(&c) {
+        return Err(fail(format!(
+            "clearance() is {c}; it must be a whole number of cells from 1 to {MAX_CLEARANCE}"
+        )));
+    }
+    Ok(())
+}
+
 /// Generates a world's layout only: occupancy, tiles, shafts, graph and report, without
 /// geometry (what `--no-mesh` runs). No memory budget: see [`layout_within`].
 pub fn layout(pipeline: &Pipeline, registry: &Registry) -> Result<Layout, Error> {
@@ -123,6 +155,7 @@ pub fn layout_with(
             .iter()
             .any(|l| l.iter().any(|(n, c)| n == name && *c > 0))
         {
+            check_shape(name, shape.as_ref())?;
             shape.fits(rows, cols)?;
         }
     }

@@ -124,17 +124,32 @@ impl RoomAndPillar {
     /// The structure from its `[[topology.structure]]` table (without `count`): `pillars`, two
     /// entries of at least 1, each a number or `[low, high]`.
     pub fn from_params(params: &Params) -> Result<Self, ConfigError> {
+        let at_least_one = || {
+            params.error(
+                "pillars",
+                "rows and columns of pillars must each be at least 1 (a block of 1 x 1 pillars \
+                 is a ring of drifts round one pillar), e.g. pillars = [3, 4]",
+            )
+        };
+        // A negative count gets the message zero gets (the range reader would say ">= 0",
+        // as if zero were allowed).
+        let negative = |v: &toml::Value| v.as_integer().is_some_and(|i| i < 0);
+        if let Some(toml::Value::Array(p)) = params.raw("pillars") {
+            let mut numbers = p.iter().flat_map(|v| match v {
+                toml::Value::Array(range) => range.iter().collect::<Vec<_>>(),
+                v => vec![v],
+            });
+            if numbers.any(negative) {
+                return Err(at_least_one());
+            }
+        }
         let keys: Keys = params.deserialize()?;
         if let Some(p) = keys.pillars {
             let low = |r: IntRange| match r {
                 IntRange::Fixed(v) | IntRange::Between(v, _) => v,
             };
             if p.iter().any(|&r| low(r) == 0) {
-                return Err(params.error(
-                    "pillars",
-                    "rows and columns of pillars must each be at least 1 (a block of 1 x 1 \
-                     pillars is a ring of drifts round one pillar), e.g. pillars = [3, 4]",
-                ));
+                return Err(at_least_one());
             }
         }
         Ok(Self {
@@ -258,6 +273,21 @@ mod tests {
                 }
             }
         }
+    }
+
+    /// Issue 21 item 8: counting a block's crossings and loops cost the square of its cells
+    /// (a linear search per neighbour), hours for the largest block a 2048-cell level holds.
+    #[test]
+    fn the_largest_block_is_counted_in_near_linear_time() {
+        let b = PillarBlock {
+            rows: 1000,
+            cols: 999,
+        };
+        let c = structure_counts(&b);
+        assert_eq!(
+            (c.intersections, c.t_junctions, c.loops),
+            (1001 * 1000, 0, 1000 * 999)
+        );
     }
 
     #[test]

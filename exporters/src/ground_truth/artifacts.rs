@@ -13,48 +13,18 @@
 
 use std::fmt::Write as _;
 
-use serde::Serialize;
+use std::borrow::Cow;
+
 use subtgraph_core::World;
 use subtgraph_core::export::{ExportError, WorldWriter, write_file};
 
-use subtgraph_core::artifacts::{Artifact, GraphPlace, PlacedArtifacts};
+use subtgraph_core::artifacts::{GraphPlace, PlacedArtifacts};
 
 use super::FRAME;
-#[derive(Serialize)]
-struct Entry<'a> {
-    #[serde(flatten)]
-    artifact: &'a Artifact,
-    quaternion_xyzw: [f64; 4],
-    centre: [f64; 3],
-    mass_kg: f64,
-    colour_rgb: [f32; 3],
-    visible_from_axis: bool,
-    /// The eye the line of sight starts from.
-    sight_from: [f64; 3],
-}
 
-#[derive(Serialize)]
-struct Document<'a> {
-    format: &'static str,
-    seed: u64,
-    frame: &'static str,
-    units: &'static str,
-    position: &'static str,
-    count: usize,
-    /// With `[artifacts] hidden`: how many were asked to be out of the axis's sight, and how
-    /// many are (fewer when the world has too few hidden spots; absent without the key).
-    #[serde(skip_serializing_if = "Option::is_none")]
-    hidden: Option<Hidden>,
-    artifacts: Vec<Entry<'a>>,
-}
-
-#[derive(Serialize)]
-struct Hidden {
-    share_requested: f64,
-    requested: usize,
-    placed: usize,
-    share_placed: f64,
-}
+type Entry<'a> = subtgraph_schema::ArtifactEntry<'a>;
+type Document<'a> = subtgraph_schema::Artifacts<'a, &'static str>;
+use subtgraph_schema::Hidden;
 
 /// The CSV's header.
 pub const CSV_HEADER: &str = "id,name,class,x,y,z,yaw,level,row,col,tile_kind,graph_node,graph_edge,along_m,distance_from_start_m,placement,visible_from_axis";
@@ -90,7 +60,22 @@ pub(crate) fn write(
             .iter()
             .zip(&visible)
             .map(|(a, &(visible_from_axis, sight_from))| Entry {
-                artifact: a,
+                id: a.id,
+                name: Cow::Borrowed(&a.name),
+                class: a.class,
+                position: a.position,
+                yaw: a.yaw,
+                size: a.size,
+                cell: a.cell,
+                tile_kind: a.tile_kind,
+                placement: a.placement,
+                graph: match a.graph {
+                    GraphPlace::Node { node } => subtgraph_schema::GraphPlace::Node { node },
+                    GraphPlace::Edge { edge, along_m } => {
+                        subtgraph_schema::GraphPlace::Edge { edge, along_m }
+                    }
+                },
+                distance_from_start_m: a.distance_from_start_m,
                 quaternion_xyzw: a.quaternion_xyzw(),
                 centre: a.centre(),
                 mass_kg: a.class.mass(),

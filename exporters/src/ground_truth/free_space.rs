@@ -16,7 +16,6 @@
 //! The file is streamed a few z slices at a time, made in parallel.
 
 use rayon::prelude::*;
-use serde::Serialize;
 use subtgraph_core::World;
 use subtgraph_core::export::{ExportError, Exporter, WorldWriter, stream_file};
 use subtgraph_core::survey::{Columns, Source, Survey, grid_clear_height};
@@ -64,27 +63,7 @@ impl Voxels {
     }
 }
 
-#[derive(Serialize)]
-struct Document {
-    format: &'static str,
-    seed: u64,
-    frame: &'static str,
-    units: &'static str,
-    file: &'static str,
-    source: &'static str,
-    source_note: String,
-    dtype: &'static str,
-    axes: [&'static str; 3],
-    shape: [usize; 3],
-    packed_shape: [usize; 3],
-    encoding: &'static str,
-    read_with: String,
-    voxel_m: f64,
-    origin: [f64; 3],
-    voxel_centre: &'static str,
-    free_voxels: u64,
-    open_lines: usize,
-}
+type Document = subtgraph_schema::FreeSpace<&'static str>;
 
 impl FreeSpace {
     /// The keys it takes.

@@ -3,13 +3,12 @@
 //! Nodes are the junctions, intersections, dead ends and shaft ends (kind, cell, level, world
 //! position on the floor of the tile's own passage); edges are corridors and shafts with their
 //! length in metres (along the grid), the corridor's centreline along the middle of its
-//! passage, in the world frame (the survey's, `survey/src/centrelines.rs`; without a mesh,
+//! passage, in the world frame (the survey's, `survey/src/centrelines/`; without a mesh,
 //! through the cell centres), and its least width and height measured on the collision
 //! surface (`min_width_m`, `min_height_m`, `survey/src/sections.rs`; `null` without a mesh). The GraphML declares a
 //! typed `<key>` for every attribute, so `networkx.read_graphml` gives numbers as numbers; it is
 //! an undirected graph, and a multigraph when two corridors join the same two nodes.
 
-use serde::Serialize;
 use subtgraph_core::World;
 use subtgraph_core::export::{ExportError, Exporter, WorldWriter, write_file};
 use subtgraph_core::graph::EdgeKind;
@@ -22,40 +21,9 @@ use crate::text::{push_fixed, push_uint};
 #[derive(Clone, Copy, Debug, Default)]
 pub struct GraphFiles;
 
-#[derive(Serialize)]
-struct Document {
-    format: &'static str,
-    seed: u64,
-    frame: &'static str,
-    units: &'static str,
-    positions: &'static str,
-    start: Option<usize>,
-    nodes: Vec<NodeOut>,
-    edges: Vec<EdgeOut>,
-}
-
-#[derive(Serialize)]
-struct NodeOut {
-    id: usize,
-    kind: &'static str,
-    level: usize,
-    row: usize,
-    col: usize,
-    position: [f64; 3],
-}
-
-#[derive(Serialize)]
-struct EdgeOut {
-    id: usize,
-    kind: &'static str,
-    from: usize,
-    to: usize,
-    length_m: f64,
-    length_cells: usize,
-    polyline: Vec<[f64; 3]>,
-    min_width_m: Option<f64>,
-    min_height_m: Option<f64>,
-}
+type Document = subtgraph_schema::Graph<&'static str>;
+type NodeOut = subtgraph_schema::GraphNode<&'static str>;
+type EdgeOut = subtgraph_schema::GraphEdge<&'static str>;
 
 fn edge_kind(k: EdgeKind) -> &'static str {
     match k {

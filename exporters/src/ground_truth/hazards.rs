@@ -4,22 +4,16 @@
 //! box in the plane, floor and height range, a rubble field's rocks and lane), as the tile set
 //! made them in the geometry every format exports (`WorldMesh::hazards`).
 
-use serde::Serialize;
+use std::borrow::Cow;
+
 use subtgraph_core::World;
 use subtgraph_core::export::{ExportError, WorldWriter};
-use subtgraph_core::hazards::{HazardRegion, Patch};
+use subtgraph_core::hazards::Patch;
+use subtgraph_schema::HazardPatch;
 
 use super::FRAME;
 
-#[derive(Serialize)]
-struct Document<'a> {
-    format: &'static str,
-    seed: u64,
-    frame: &'static str,
-    note: &'static str,
-    patches: &'a [Patch],
-    regions: &'a [HazardRegion],
-}
+type Document<'a> = subtgraph_schema::Hazards<'a, &'static str>;
 
 /// Writes `ground_truth/hazards.json`.
 pub(crate) fn write(
@@ -32,8 +26,18 @@ pub(crate) fn write(
         seed: world.resolved.seed,
         frame: FRAME,
         note: "floor patches: the whole floor of each tile has the material's friction (MuJoCo: the tile's floor height field); regions: rubble fields (rocks as x, y, z, radius; gap: the lane kept free) and drops (z: the pit's bottom and the floor), part of every format's collision and visual meshes",
-        patches,
-        regions: world.mesh().map_or(&[], |m| m.hazards.as_slice()),
+        patches: patches
+            .iter()
+            .map(|p| HazardPatch {
+                cell: p.cell,
+                tile_kind: p.tile_kind,
+                material: p.material,
+                friction: p.friction,
+                bounds: p.bounds,
+                floor_z: p.floor_z,
+            })
+            .collect(),
+        regions: Cow::Borrowed(world.mesh().map_or(&[], |m| m.hazards.as_slice())),
     };
     crate::write_json(out, "ground_truth/hazards.json", &doc)
 }

@@ -19,7 +19,6 @@
 //! `[tileset] grade`). The CSV holds the same rows; its metadata (seed, frame) is in the JSON,
 //! as CSV has no place for it.
 
-use serde::Serialize;
 use subtgraph_core::World;
 use subtgraph_core::export::{ExportError, Exporter, WorldWriter, write_file};
 use subtgraph_core::grid::Direction;
@@ -32,45 +31,13 @@ use crate::text::{push_fixed, push_uint};
 #[derive(Clone, Copy, Debug, Default)]
 pub struct SemanticLabels;
 
-#[derive(Serialize)]
-struct Label {
-    level: usize,
-    row: usize,
-    col: usize,
-    kind: &'static str,
-    code: u8,
-    rotation: u8,
-    openings: Vec<&'static str>,
-    position: [f64; 3],
-    start: bool,
-    /// What the tile set made of the tile beyond its kind (`chamber`, `squeeze`), if anything.
-    #[serde(skip_serializing_if = "Vec::is_empty")]
-    features: Vec<&'static str>,
-    /// The floor patch's material (`[hazards] friction`) and `rubble` or `drop`, on those
-    /// tiles only.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    hazard: Option<String>,
-    /// The steepest grade along the tile's passage axis, degrees (absent without a mesh).
-    #[serde(skip_serializing_if = "Option::is_none")]
-    grade_deg: Option<f64>,
-    /// Whether that grade is over [`SLOPE_DEG`]: a `slope` a robot climbs or descends.
-    slope: bool,
-}
+/// A tile's label (`slope`: whether its grade is over [`SLOPE_DEG`]).
+type Label = subtgraph_schema::TileLabel<&'static str>;
 
 /// Grade in degrees above which a tile is labelled a `slope`.
 pub const SLOPE_DEG: f64 = 5.0;
 
-#[derive(Serialize)]
-struct Document {
-    format: &'static str,
-    seed: u64,
-    frame: &'static str,
-    units: &'static str,
-    tile_pitch_m: f64,
-    level_height_m: f64,
-    kinds: [&'static str; 8],
-    tiles: Vec<Label>,
-}
+type Document = subtgraph_schema::SemanticLabels<&'static str>;
 
 fn direction_name(d: Direction) -> &'static str {
     match d {

@@ -18,7 +18,6 @@
 use std::cmp::Reverse;
 use std::collections::BinaryHeap;
 
-use serde::Serialize;
 use subtgraph_core::World;
 use subtgraph_core::export::{ExportError, Exporter, WorldWriter};
 use subtgraph_core::grid::{Cell, Direction};
@@ -55,54 +54,10 @@ impl Default for SpawnPoses {
     }
 }
 
-#[derive(Serialize)]
-struct Pose {
-    position: [f64; 3],
-    yaw: f64,
-    quaternion_xyzw: [f64; 4],
-}
-
-impl Pose {
-    fn new(position: [f64; 3], yaw: f64) -> Pose {
-        Pose {
-            position,
-            yaw,
-            quaternion_xyzw: [0.0, 0.0, (0.5 * yaw).sin(), (0.5 * yaw).cos()],
-        }
-    }
-}
-
-#[derive(Serialize)]
-struct Goal {
-    node: usize,
-    kind: &'static str,
-    cell: Cell,
-    path_length_m: f64,
-    pose: Pose,
-}
-
-#[derive(Serialize)]
-struct Robot {
-    name: String,
-    spawn: Pose,
-    goal: Goal,
-}
-
-#[derive(Serialize)]
-struct Document {
-    format: &'static str,
-    seed: u64,
-    frame: &'static str,
-    units: &'static str,
-    source: &'static str,
-    start: Cell,
-    robots_requested: u32,
-    clearance_m: f64,
-    spacing_m: f64,
-    body_m: [f64; 2],
-    goals_distinct: bool,
-    robots: Vec<Robot>,
-}
+use subtgraph_schema::Pose;
+type Goal = subtgraph_schema::Goal<&'static str>;
+type Robot = subtgraph_schema::Robot<&'static str>;
+type Document = subtgraph_schema::SpawnPoses<&'static str>;
 
 fn yaw_of(d: Direction) -> f64 {
     use std::f64::consts::{FRAC_PI_2, PI};

@@ -163,7 +163,15 @@ fn read_manifest(path: &Path) -> Result<Manifest, ManifestError> {
     })?;
     let manifest: Manifest = toml::from_str(&text).map_err(|e| ManifestError::Syntax {
         path: path.to_owned(),
-        message: e.to_string().trim().to_owned(),
+        message: match e.span() {
+            Some(_) => e.to_string().trim().to_owned(),
+            // A key nested past the reader's limit, which it does not place.
+            None => {
+                let (at, message) = subtgraph_core::nesting::explain(&text, None, e.message());
+                let line = text[..at].matches('\n').count() + 1;
+                format!("line {line}: {message}")
+            }
+        },
     })?;
     let value = |problem: String| ManifestError::Value {
         path: path.to_owned(),

@@ -1,0 +1,145 @@
+//! A world is one surface (issue 21 item 15): over 30 seeds of each preset, the visual and the
+//! collision mesh are each one connected piece. A lava tube of seed 11 had a second closed
+//! surface, 24 triangles round a single lattice point 0.7 m across, floating in the passage.
+//!
+//! The pieces are counted here, independently of the tile sets' code: vertices are welded by
+//! their exact coordinates (bit for bit, as the OBJ writes them), and triangles sharing a
+//! vertex are joined by a union-find.
+
+use std::collections::HashMap;
+
+use subtgraph::core::mesh::Mesh;
+
+/// One connected piece of a mesh: its triangles and bounding box.
+#[derive(Debug)]
+struct Piece {
+    triangles: usize,
+    lo: [f32; 3],
+    hi: [f32; 3],
+}
+
+fn find(parent: &mut [u32], mut i: u32) -> u32 {
+    while parent[i as usize] != i {
+        let up = parent[parent[i as usize] as usize];
+        parent[i as usize] = up;
+        i = up;
+    }
+    i
+}
+
+/// The connected pieces of `mesh`, largest first.
+fn pieces(mesh: &Mesh) -> Vec<Piece> {
+    // Welded vertex ids by exact position.
+    let mut ids: HashMap<[u32; 3], u32> = HashMap::new();
+    let welded: Vec<u32> = mesh
+        .positions
+        .iter()
+        .map(|p| {
+            let key = p.map(f32::to_bits);
+            let next = ids.len() as u32;
+            *ids.entry(key).or_insert(next)
+        })
+        .collect();
+    let mut parent: Vec<u32> = (0..ids.len() as u32).collect();
+    for t in &mesh.triangles {
+        let [a, b, c] = t.map(|v| welded[v as usize]);
+        for (x, y) in [(a, b), (b, c)] {
+            let (rx, ry) = (find(&mut parent, x), find(&mut parent, y));
+            if rx != ry {
+                parent[rx.max(ry) as usize] = rx.min(ry);
+            }
+        }
+    }
+    let mut by_root: HashMap<u32, Piece> = HashMap::new();
+    for t in &mesh.triangles {
+        let root = find(&mut parent, welded[t[0] as usize]);
+        let piece = by_root.entry(root).or_insert(Piece {
+            triangles: 0,
+            lo: [f32::MAX; 3],
+            hi: [f32::MIN; 3],
+        });
+        piece.triangles += 1;
+        for &v in t {
+            let p = mesh.positions[v as usize];
+            for (k, x) in p.into_iter().enumerate() {
+                piece.lo[k] = piece.lo[k].min(x);
+                piece.hi[k] = piece.hi[k].max(x);
+            }
+        }
+    }
+    let mut out: Vec<Piece> = by_root.into_values().collect();
+    out.sort_by_key(|p| std::cmp::Reverse(p.triangles));
+    out
+}
+
+/// Generates `preset` with meshes on seeds `1..=30` and lists every mesh that is not one
+/// piece, with its extra pieces.
+fn extra_pieces(preset: &str) -> Vec<String> {
+    let registry = subtgraph::registry();
+    let mut found = Vec::new();
+    for seed in 1..=30 {
+        let mut p = subtgraph::presets::load(preset).unwrap();
+        p.world.seed = seed;
+        let world = subtgraph::core::generate(&p, &registry).unwrap();
+        let mesh = world.mesh().expect("the presets have a tile set");
+        for (name, m) in [("visual", &mesh.visual), ("collision", &mesh.collision)] {
+            let all = pieces(m);
+            assert!(!all.is_empty(), "{preset} seed {seed}: empty {name} mesh");
+            if all.len() > 1 {
+                found.push(format!(
+                    "{preset} seed {seed} {name}: {} pieces besides one of {} triangles: {:?}",
+                    all.len() - 1,
+                    all[0].triangles,
+                    &all[1..]
+                ));
+            }
+        }
+    }
+    found
+}
+
+#[test]
+fn union_find_counts_pieces() {
+    // Two tetrahedra apart, one of them written with its vertices duplicated per triangle
+    // (as tiles bring their own copies): two pieces.
+    let tet = |o: f32| -> Vec<[f32; 3]> {
+        vec![
+            [o, 0.0, 0.0],
+            [o + 1.0, 0.0, 0.0],
+            [o, 1.0, 0.0],
+            [o, 0.0, 1.0],
+        ]
+    };
+    let mut m = Mesh::default();
+    m.positions.extend(tet(0.0));
+    m.triangles
+        .extend([[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]]);
+    let faces = [[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]];
+    for f in faces {
+        let base = m.positions.len() as u32;
+        let t = tet(5.0);
+        m.positions.extend(f.map(|i| t[i as usize]));
+        m.triangles.push([base, base + 1, base + 2]);
+    }
+    let p = pieces(&m);
+    assert_eq!(p.len(), 2, "{p:?}");
+    assert_eq!((p[0].triangles, p[1].triangles), (4, 4));
+}
+
+#[test]
+fn every_cave_is_one_surface() {
+    let found = extra_pieces("cave");
+    assert!(found.is_empty(), "{found:#?}");
+}
+
+#[test]
+fn every_mine_is_one_surface() {
+    let found = extra_pieces("mine");
+    assert!(found.is_empty(), "{found:#?}");
+}
+
+#[test]
+fn every_lava_tube_is_one_surface() {
+    let found = extra_pieces("lava-tube");
+    assert!(found.is_empty(), "{found:#?}");
+}
