@@ -19,7 +19,9 @@ fn presets(c: &mut Criterion) {
         c.bench_function(&format!("world-folder/{name}"), |b| {
             b.iter(|| {
                 let mut out = MemoryWriter::default();
-                subtgraph::exporters::write_world_folder(black_box(&world), &mut out)
+                let survey =
+                    subtgraph::survey::WorldSurvey::new(black_box(&world)).expect("surveys");
+                subtgraph::exporters::write_world_folder(&world, &survey, &mut out)
                     .expect("writes");
                 out
             })

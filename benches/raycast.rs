@@ -6,37 +6,21 @@
 use std::hint::black_box;
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
-use subtgraph::core::export::{Exporter, MemoryWriter};
 use subtgraph::core::raycast::{Ray, RayCaster};
+use subtgraph::core::survey::Survey;
 use subtgraph::core::{World, generate};
+use subtgraph::survey::WorldSurvey;
 
-/// Scan origins: every 25th point of the graph's polylines, 0.6 m above the floor.
+/// Scan origins: every 25th point of the survey's edge centrelines (the ground truth's
+/// polylines), 0.6 m above the floor.
 fn origins(world: &World) -> Vec<[f64; 3]> {
-    let mut files = MemoryWriter::default();
-    subtgraph::exporters::GraphFiles
-        .export(world, &mut files)
-        .expect("graph");
-    let graph: serde_json::Value =
-        serde_json::from_slice(files.get("ground_truth/graph.json").expect("graph.json"))
-            .expect("json");
-    let mut out = Vec::new();
-    for e in graph["edges"].as_array().expect("edges") {
-        for p in e["polyline"]
-            .as_array()
-            .expect("polyline")
-            .iter()
-            .step_by(25)
-        {
-            let p: Vec<f64> = p
-                .as_array()
-                .expect("point")
-                .iter()
-                .map(|x| x.as_f64().expect("number"))
-                .collect();
-            out.push([p[0], p[1], p[2] + 0.6]);
-        }
-    }
-    out
+    let survey = WorldSurvey::new(world).expect("survey");
+    survey
+        .edges()
+        .iter()
+        .flat_map(|edge| edge.points.iter().step_by(25))
+        .map(|p| [p[0], p[1], p[2] + 0.6])
+        .collect()
 }
 
 /// The rays of an OS1-32-like scan from `o`.

@@ -26,6 +26,7 @@ pub use subtgraph_core as core;
 pub use subtgraph_descriptors as descriptors;
 pub use subtgraph_exporters as exporters;
 pub use subtgraph_schema as schema;
+pub use subtgraph_survey as survey;
 pub use subtgraph_tilesets as tilesets;
 
 pub use subtgraph_app::{folder, presets, registry};

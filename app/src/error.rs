@@ -63,6 +63,10 @@ pub enum Error {
         /// What it said.
         source: Box<dyn std::error::Error + Send + Sync>,
     },
+    /// The world's survey failed: its artifacts found no room (the message says which key
+    /// to relax).
+    #[error(transparent)]
+    Survey(Box<subtgraph_survey::SurveyError>),
     /// Writing the files every world folder has failed.
     #[error(transparent)]
     WorldFiles(subtgraph_core::export::ExportError),
@@ -79,8 +83,8 @@ pub enum Error {
     Unmakeable {
         /// The pipeline file.
         pipeline: PathBuf,
-        /// Why not.
-        source: subtgraph_core::Error,
+        /// Why not (boxed: the core's errors are large, and this one is rare).
+        source: Box<subtgraph_core::Error>,
     },
     /// The work would need more memory than `--max-memory` allows: the estimate and what to
     /// change.
@@ -158,4 +162,10 @@ pub fn message(e: &(dyn std::error::Error + 'static)) -> String {
         cause = c.source();
     }
     text
+}
+
+impl From<subtgraph_survey::SurveyError> for Error {
+    fn from(e: subtgraph_survey::SurveyError) -> Self {
+        Error::Survey(Box::new(e))
+    }
 }

@@ -146,10 +146,13 @@ pub fn write_folder_recording(
             }
             None => w,
         };
-        subtgraph_exporters::write_world_files(world, w, default_obj).map_err(Error::WorldFiles)?;
+        // The world's survey, once for every exporter (and the artifacts placed by it).
+        let survey = subtgraph_survey::WorldSurvey::new(world)?;
+        subtgraph_exporters::write_world_files(world, &survey, w, default_obj)
+            .map_err(Error::WorldFiles)?;
         for e in exporters {
             e.exporter
-                .export(world, w)
+                .export(world, &survey, w)
                 .map_err(|source| Error::Export {
                     exporter: e.name.clone(),
                     source,

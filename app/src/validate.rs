@@ -37,7 +37,7 @@ impl ValidateRequest {
             Err(source) => {
                 return Err(Error::Unmakeable {
                     pipeline: self.pipeline.clone(),
-                    source,
+                    source: Box::new(source),
                 });
             }
         };

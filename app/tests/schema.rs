@@ -22,9 +22,10 @@ fn world_files() -> MemoryWriter {
         subtgraph_core::generate_with(&p, &components, &subtgraph_core::Budget::unlimited())
             .unwrap();
     let mut out = MemoryWriter::default();
-    subtgraph_exporters::write_world_files(&world, &mut out, false).unwrap();
+    let survey = subtgraph_survey::WorldSurvey::new(&world).unwrap();
+    subtgraph_exporters::write_world_files(&world, &survey, &mut out, false).unwrap();
     for e in &components.exporters {
-        e.exporter.export(&world, &mut out).unwrap();
+        e.exporter.export(&world, &survey, &mut out).unwrap();
     }
     out
 }

@@ -1,6 +1,7 @@
 //! `[artifacts]`: objects a robot should find and report, as in the DARPA Subterranean
-//! Challenge, placed by seeded rules (where they go is computed by the exporters, against the
-//! collision surface: `exporters/src/artifacts.rs`).
+//! Challenge, placed by seeded rules (where they go is found by the survey, against the
+//! collision surface: `survey/src/artifacts.rs`), and the placed [`Artifact`]s every format
+//! and the ground truth write.
 //!
 //! ```toml
 //! [artifacts]
@@ -23,8 +24,10 @@
 
 use serde::{Deserialize, Serialize};
 
+use crate::grid::Cell;
 use crate::range::IntRange;
 use crate::rng::WorldRng;
+use crate::tile::TileKind;
 
 /// The DARPA SubT artifact classes.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize)]
@@ -323,6 +326,115 @@ impl ArtifactsSection {
         let mut rng = WorldRng::new(seed, "artifacts", 0);
         self.count = IntRange::Fixed(self.count.draw(&mut rng));
     }
+}
+
+/// How much wider than an artifact's footprint its pad is on each side, and half its
+/// thickness, metres ([`Artifact::pad`]).
+pub const PAD: f64 = 0.05;
+
+/// Where an artifact is on the graph.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum GraphPlace {
+    /// In the tile of a node.
+    Node {
+        /// Node id in `topology.json`.
+        node: usize,
+    },
+    /// In a corridor tile between two nodes.
+    Edge {
+        /// Edge id in `topology.json`.
+        edge: usize,
+        /// Metres along the edge from its `from` node to the tile's centre.
+        along_m: f64,
+    },
+}
+
+/// One placed artifact.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Artifact {
+    /// Index, 0 up.
+    pub id: usize,
+    /// `class-id`, unique in the world (`survivor-0`): the name in every format.
+    pub name: String,
+    /// What it is.
+    pub class: ArtifactClass,
+    /// The centre of its base, on the floor (world frame, metres).
+    pub position: [f64; 3],
+    /// Heading of its length (x before the yaw) about z, radians counter-clockwise from east.
+    pub yaw: f64,
+    /// Its box, `[length, width, height]` metres.
+    pub size: [f64; 3],
+    /// Its tile.
+    pub cell: Cell,
+    /// The tile's kind.
+    pub tile_kind: TileKind,
+    /// The rule it was placed by.
+    pub placement: Placement,
+    /// Node or edge of its tile.
+    pub graph: GraphPlace,
+    /// From the start tile's centre to its tile's centre along the graph, metres.
+    pub distance_from_start_m: f64,
+    /// Whether it is seen from its tile's lookout (`survey/src/sight.rs`): the ground truth's
+    /// `visible_from_axis`.
+    #[serde(skip)]
+    pub visible_from_axis: bool,
+    /// The eye it is looked at from: the ground truth's `sight_from`.
+    #[serde(skip)]
+    pub sight_from: [f64; 3],
+}
+
+impl Artifact {
+    /// The centre of its box.
+    pub fn centre(&self) -> [f64; 3] {
+        let p = self.position;
+        [p[0], p[1], p[2] + 0.5 * self.size[2]]
+    }
+
+    /// Its pad, `(centre, size)`: a static box under it in the physics formats, [`PAD`] wider
+    /// than its footprint on every side, its top at the artifact's base, `2 PAD` thick (so it
+    /// reaches into the floor: the base is at most 0.1 m above the floor under the
+    /// footprint), turned by the same yaw. Simulators collide a small box with a rough
+    /// triangle mesh or height field through contact sets that change from step to step:
+    /// without pads, artifacts dropped from 0.5 m in our tests bounced and slid up to 1.6 m
+    /// (MuJoCo) and 1.3 m (PyBullet) from their poses; on pads they rest within centimetres
+    /// (box on box is solved exactly), and a robot still finds each where the ground truth
+    /// says.
+    pub fn pad(&self) -> ([f64; 3], [f64; 3]) {
+        let p = self.position;
+        (
+            [p[0], p[1], p[2] - PAD],
+            [
+                self.size[0] + 2.0 * PAD,
+                self.size[1] + 2.0 * PAD,
+                2.0 * PAD,
+            ],
+        )
+    }
+
+    /// Its orientation as a quaternion `[x, y, z, w]`.
+    pub fn quaternion_xyzw(&self) -> [f64; 4] {
+        [0.0, 0.0, (0.5 * self.yaw).sin(), (0.5 * self.yaw).cos()]
+    }
+}
+
+/// A world's artifacts as the survey placed them.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct PlacedArtifacts {
+    /// Every artifact, by id.
+    pub artifacts: Vec<Artifact>,
+    /// With `[artifacts] hidden`: how many were asked to be out of sight (fewer may be, when
+    /// the world has too few hidden spots); `None` without the key.
+    pub hidden: Option<HiddenAsked>,
+}
+
+/// What `[artifacts] hidden` asked for.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct HiddenAsked {
+    /// The share, 0 to 1.
+    pub share: f64,
+    /// How many artifacts that is ([`ArtifactsSection::hidden_count`]).
+    pub count: usize,
 }
 
 #[cfg(test)]

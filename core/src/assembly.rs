@@ -35,6 +35,8 @@ pub struct PlacedTile {
     /// How far its floor stands above its level's floor, metres, lowest and highest
     /// ([`TileSet::floor_lift`]).
     pub floor_lift: [f64; 2],
+    /// Its passage axis as the tile set laid it ([`TileGeometry::axis`]), if it knows one.
+    pub axis: Option<crate::tileset::PassageAxis>,
 }
 
 /// The assembled world.
@@ -59,9 +61,15 @@ impl WorldMesh {
     /// How far the floor of the tile at `cell` stands above its level's floor, metres, lowest
     /// and highest ([`PlacedTile::floor_lift`]; `[0, 0]` for a cell without a tile).
     pub fn floor_lift(&self, cell: Cell) -> [f64; 2] {
+        self.tile(cell).map_or([0.0, 0.0], |t| t.floor_lift)
+    }
+
+    /// The placed tile at `cell`, if it has one.
+    pub fn tile(&self, cell: Cell) -> Option<&PlacedTile> {
         self.tiles
             .binary_search_by_key(&cell, |t| t.cell)
-            .map_or([0.0, 0.0], |i| self.tiles[i].floor_lift)
+            .ok()
+            .map(|i| &self.tiles[i])
     }
 }
 
@@ -79,50 +87,6 @@ pub fn assemble(layout: &Layout, tileset: &dyn TileSet) -> Result<WorldMesh, Til
     assemble_within(layout, tileset, &Budget::unlimited())
 }
 
-/// Everything about a layout a tile set refuses before any tile is meshed: the tile set's own
-/// [`TileSet::check`], hazards it cannot make (`hazards.rubble`, `hazards.drops`) and ramps
-/// it cannot make (`world.connections = "ramp"`). [`assemble_within`] starts with it, and
-/// `validate` runs it without meshing, so the two refuse the same pipelines. Returns each
-/// shaft's ramp line for a world joined by ramps (empty otherwise).
-pub fn check(layout: &Layout, tileset: &dyn TileSet) -> Result<Vec<Vec<[f64; 3]>>, TileSetError> {
-    tileset.check(layout)?;
-    if let Some(h) = layout
-        .pipeline
-        .hazards
-        .as_ref()
-        .filter(|h| h.has_geometry())
-    {
-        if !tileset.makes_hazards() {
-            let key = if h.rubble > 0.0 {
-                "hazards.rubble"
-            } else {
-                "hazards.drops"
-            };
-            return Err(TileSetError::Unsuited {
-                what: format!(
-                    "{key}: this tile set does not make rubble fields or drops (only the \
-                     procedural ones do: cave, mine, lava-tube)"
-                ),
-                fix: "remove hazards.rubble and hazards.drops, or use a procedural tile set".into(),
-            });
-        }
-    }
-    let mut ramps = Vec::new();
-    if layout.resolved.connections == crate::config::Connections::Ramp {
-        for s in &layout.shafts {
-            ramps.push(tileset.ramp(layout, s).ok_or_else(|| {
-                TileSetError::Unsuited {
-                    what: "this tile set makes no ramps between levels".into(),
-                    fix: "set world.connections = \"shaft\", or use a procedural tile set \
-                      (mine, cave, lava-tube)"
-                        .into(),
-                }
-            })?);
-        }
-    }
-    Ok(ramps)
-}
-
 /// Makes every tile of a layout and joins them, refusing first a world whose meshes would need
 /// more memory than `budget`: by the tile set's estimate before any tile is made, and for tile
 /// sets without one, by the first chunk of tiles extrapolated to the world.
@@ -132,31 +96,9 @@ pub fn assemble_within(
     budget: &Budget,
 ) -> Result<WorldMesh, TileSetError> {
     let ramps = check(layout, tileset)?;
-    let advice = match tileset.detail_advice() {
-        Some(a) => format!(
-            "{a}, make a smaller world (world.min_length, or world.rows and world.cols, and \
-             world.levels), or make no mesh (--no-mesh)"
-        ),
-        None => "make a smaller world (world.min_length, or world.rows and world.cols, and \
-                 world.levels), or make no mesh (--no-mesh)"
-            .to_owned(),
-    };
-    let grid = crate::budget::layout_bytes(
-        layout.occupancy.levels(),
-        layout.occupancy.rows(),
-        layout.occupancy.cols(),
-    );
-    let too_large = |estimate: MeshEstimate, how: &str| {
-        budget
-            .check(
-                estimate.bytes.saturating_add(grid),
-                &format!("this world's meshes ({}, {how})", estimate.describe()),
-                &advice,
-            )
-            .map_err(TileSetError::TooLarge)
-    };
+    let memory = MemoryCheck::new(layout, tileset, budget);
     if let Some(e) = crate::budget::mesh_estimate(layout, |k| tileset.estimate(layout, k)) {
-        too_large(e, "estimated")?;
+        memory.check(e, "estimated")?;
     }
     let cells: Vec<Cell> = layout
         .occupancy
@@ -193,53 +135,169 @@ pub fn assemble_within(
             .map(|&c| make(c))
             .collect::<Result<_, _>>()?;
         if out.visual.triangles.is_empty() {
-            // Size the world from the first chunk, so appending rarely reallocates.
-            let factor = cells.len() as f64 / group.len() as f64 * 1.05;
-            let count = |f: fn(&TileGeometry) -> (usize, usize)| {
-                let (v, t) = geometry
-                    .iter()
-                    .map(f)
-                    .fold((0, 0), |a, b| (a.0 + b.0, a.1 + b.1));
-                ((v as f64 * factor) as usize, (t as f64 * factor) as usize)
-            };
-            let (vv, vt) = count(|g| (g.visual.positions.len(), g.visual.triangles.len()));
-            let (cv, ct) = count(|g| (g.collision.positions.len(), g.collision.triangles.len()));
-            too_large(
-                MeshEstimate::of(cells.len() as u64, (vt + ct) as f64 / 1.05),
-                &format!("measured on its first {} tiles", group.len()),
-            )?;
-            reserve(&mut out.visual, vv, vt);
-            reserve(&mut out.collision, cv, ct);
+            reserve_from_first(&mut out, &geometry, cells.len(), &memory)?;
         }
-        for (cell, g) in group.iter().zip(&geometry) {
-            let tile = layout.tiles.get(*cell).expect("occupied");
-            let start = out.visual.triangle_count();
-            let collision_start = out.collision.triangle_count();
-            match (&mut seams, &g.seams) {
-                (Some((vs, cs)), Seams::Listed { visual, collision }) => {
-                    let vb = out.visual.positions.len() as u32;
-                    let cb = out.collision.positions.len() as u32;
-                    vs.extend(visual.iter().map(|i| i + vb));
-                    cs.extend(collision.iter().map(|i| i + cb));
-                }
-                (_, Seams::None) => {}
-                _ => seams = None,
-            }
-            out.visual.append(&g.visual);
-            out.collision.append(&g.collision);
-            out.hazards.extend(g.hazards.iter().cloned());
-            out.tiles.push(PlacedTile {
-                cell: *cell,
-                kind: tile.kind,
-                rotation: tile.rotation,
-                visual_triangles: start..out.visual.triangle_count(),
-                collision_triangles: collision_start..out.collision.triangle_count(),
-                labels: g.labels.clone(),
-                floor_lift: tileset.floor_lift(layout, *cell),
-            });
+        for (&cell, g) in group.iter().zip(&geometry) {
+            let floor_lift = tileset.floor_lift(layout, cell);
+            append_tile(&mut out, &mut seams, layout, cell, g, floor_lift);
         }
     }
-    let scale = tileset.texture_scale();
+    weld(&mut out, seams, tileset.texture_scale());
+    Ok(out)
+}
+
+/// Everything about a layout a tile set refuses before any tile is meshed: the tile set's own
+/// [`TileSet::check`], hazards it cannot make (`hazards.rubble`, `hazards.drops`, as resolved
+/// on [`Layout::floor_hazards`]) and ramps it cannot make (`world.connections = "ramp"`).
+/// [`assemble_within`] starts with it, and `validate` runs it without meshing, so the two
+/// refuse the same pipelines. Returns each shaft's ramp line for a world joined by ramps
+/// (empty otherwise).
+pub fn check(layout: &Layout, tileset: &dyn TileSet) -> Result<Vec<Vec<[f64; 3]>>, TileSetError> {
+    tileset.check(layout)?;
+    let h = &layout.floor_hazards;
+    if h.asked() && !tileset.makes_hazards() {
+        let key = if h.rubble {
+            "hazards.rubble"
+        } else {
+            "hazards.drops"
+        };
+        return Err(TileSetError::Unsuited {
+            what: format!(
+                "{key}: this tile set does not make rubble fields or drops (only the \
+                 procedural ones do: cave, mine, lava-tube)"
+            ),
+            fix: "remove hazards.rubble and hazards.drops, or use a procedural tile set".into(),
+        });
+    }
+    let mut ramps = Vec::new();
+    if layout.resolved.connections == crate::config::Connections::Ramp {
+        for s in &layout.shafts {
+            ramps.push(tileset.ramp(layout, s).ok_or_else(|| {
+                TileSetError::Unsuited {
+                    what: "this tile set makes no ramps between levels".into(),
+                    fix: "set world.connections = \"shaft\", or use a procedural tile set \
+                      (mine, cave, lava-tube)"
+                        .into(),
+                }
+            })?);
+        }
+    }
+    Ok(ramps)
+}
+
+/// The memory budget a world's meshes are checked against, with what to change when they do
+/// not fit.
+struct MemoryCheck<'a> {
+    budget: &'a Budget,
+    /// Bytes of the layout's own grids.
+    grid: u64,
+    advice: String,
+}
+
+impl<'a> MemoryCheck<'a> {
+    fn new(layout: &Layout, tileset: &dyn TileSet, budget: &'a Budget) -> Self {
+        let advice = match tileset.detail_advice() {
+            Some(a) => format!(
+                "{a}, make a smaller world (world.min_length, or world.rows and world.cols, and \
+                 world.levels), or make no mesh (--no-mesh)"
+            ),
+            None => "make a smaller world (world.min_length, or world.rows and world.cols, and \
+                     world.levels), or make no mesh (--no-mesh)"
+                .to_owned(),
+        };
+        let grid = crate::budget::layout_bytes(
+            layout.occupancy.levels(),
+            layout.occupancy.rows(),
+            layout.occupancy.cols(),
+        );
+        MemoryCheck {
+            budget,
+            grid,
+            advice,
+        }
+    }
+
+    /// Refuses meshes of `estimate` (found `how`) that do not fit the budget.
+    fn check(&self, estimate: MeshEstimate, how: &str) -> Result<(), TileSetError> {
+        self.budget
+            .check(
+                estimate.bytes.saturating_add(self.grid),
+                &format!("this world's meshes ({}, {how})", estimate.describe()),
+                &self.advice,
+            )
+            .map_err(TileSetError::TooLarge)
+    }
+}
+
+/// Sizes the world's meshes from its first chunk of tiles (`first`, of `cells` in all), so
+/// appending rarely reallocates, after checking that size against the memory budget.
+fn reserve_from_first(
+    out: &mut WorldMesh,
+    first: &[TileGeometry],
+    cells: usize,
+    memory: &MemoryCheck,
+) -> Result<(), TileSetError> {
+    let factor = cells as f64 / first.len() as f64 * 1.05;
+    let count = |f: fn(&TileGeometry) -> (usize, usize)| {
+        let (v, t) = first
+            .iter()
+            .map(f)
+            .fold((0, 0), |a, b| (a.0 + b.0, a.1 + b.1));
+        ((v as f64 * factor) as usize, (t as f64 * factor) as usize)
+    };
+    let (vv, vt) = count(|g| (g.visual.positions.len(), g.visual.triangles.len()));
+    let (cv, ct) = count(|g| (g.collision.positions.len(), g.collision.triangles.len()));
+    memory.check(
+        MeshEstimate::of(cells as u64, (vt + ct) as f64 / 1.05),
+        &format!("measured on its first {} tiles", first.len()),
+    )?;
+    reserve(&mut out.visual, vv, vt);
+    reserve(&mut out.collision, cv, ct);
+    Ok(())
+}
+
+/// Appends the geometry `g` of the tile at `cell` to the world's meshes, noting its seam
+/// vertices (`seams` becomes `None` once a tile does not list them: everything is welded).
+fn append_tile(
+    out: &mut WorldMesh,
+    seams: &mut Option<(Vec<u32>, Vec<u32>)>,
+    layout: &Layout,
+    cell: Cell,
+    g: &TileGeometry,
+    floor_lift: [f64; 2],
+) {
+    let tile = layout.tiles.get(cell).expect("occupied");
+    let start = out.visual.triangle_count();
+    let collision_start = out.collision.triangle_count();
+    match (&mut *seams, &g.seams) {
+        (Some((vs, cs)), Seams::Listed { visual, collision }) => {
+            let vb = out.visual.positions.len() as u32;
+            let cb = out.collision.positions.len() as u32;
+            vs.extend(visual.iter().map(|i| i + vb));
+            cs.extend(collision.iter().map(|i| i + cb));
+        }
+        (_, Seams::None) => {}
+        _ => *seams = None,
+    }
+    out.visual.append(&g.visual);
+    out.collision.append(&g.collision);
+    out.hazards.extend(g.hazards.iter().cloned());
+    out.tiles.push(PlacedTile {
+        cell,
+        kind: tile.kind,
+        rotation: tile.rotation,
+        visual_triangles: start..out.visual.triangle_count(),
+        collision_triangles: collision_start..out.collision.triangle_count(),
+        labels: g.labels.clone(),
+        floor_lift,
+        axis: g.axis.clone(),
+    });
+}
+
+/// Welds the world's meshes (only the listed seam vertices, when every tile listed them),
+/// moves the tiles' triangle ranges with the welding, and computes the normals and texture
+/// coordinates the tile set left out (`scale`: metres per texture repeat).
+fn weld(out: &mut WorldMesh, seams: Option<(Vec<u32>, Vec<u32>)>, scale: f32) {
     let (visual_seams, collision_seams) = match seams {
         Some((v, c)) => (Some(v), Some(c)),
         None => (None, None),
@@ -267,5 +325,4 @@ pub fn assemble_within(
             mesh.compute_box_uvs(scale);
         }
     }
-    Ok(out)
 }

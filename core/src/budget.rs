@@ -56,23 +56,48 @@ impl Budget {
     }
 
     /// Refuses `needed` bytes when they exceed the budget. `what` says what needs them,
-    /// `advice` what to change; the message adds the budget and its knob.
-    pub fn check(&self, needed: u64, what: &str, advice: &str) -> Result<(), String> {
+    /// `advice` what to change; the error adds the budget and its knob.
+    pub fn check(&self, needed: u64, what: &str, advice: &str) -> Result<(), OverBudget> {
         if needed <= self.bytes {
             return Ok(());
         }
-        let note = if self.note.is_empty() {
-            String::new()
-        } else {
-            format!(", {}", self.note)
-        };
-        Err(format!(
-            "{what} would need about {} of memory, more than {} allows ({}{note}); {advice}, or raise {}",
-            Bytes(needed),
-            self.knob,
-            Bytes(self.bytes),
-            self.knob
-        ))
+        Err(OverBudget {
+            what: what.to_owned(),
+            needed,
+            budget: self.clone(),
+            advice: advice.to_owned(),
+        })
+    }
+}
+
+/// Something would need more memory than the [`Budget`] allows: how much, and what to change
+/// (make it smaller as `advice` says, or raise the budget's knob).
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[error(
+    "{what} would need about {} of memory, more than {} allows ({}{}); {advice}, or raise {}",
+    Bytes(*.needed),
+    budget.knob,
+    Bytes(budget.bytes),
+    note(&budget.note),
+    budget.knob
+)]
+pub struct OverBudget {
+    /// What would need it (`a world of 2 level(s) of 400 x 400 cells`).
+    pub what: String,
+    /// Bytes it would need.
+    pub needed: u64,
+    /// The budget it exceeds.
+    pub budget: Budget,
+    /// What to make smaller.
+    pub advice: String,
+}
+
+/// `, {note}`, or nothing without a note.
+fn note(note: &str) -> String {
+    if note.is_empty() {
+        String::new()
+    } else {
+        format!(", {note}")
     }
 }
 
@@ -180,10 +205,22 @@ mod tests {
         let e = b
             .check(12_700_000_000, "this world", "use fewer levels")
             .unwrap_err();
+        assert_eq!(e.needed, 12_700_000_000);
         assert_eq!(
-            e,
+            e.to_string(),
             "this world would need about 12.7 GB of memory, more than --max-memory allows (2.0 GB); \
              use fewer levels, or raise --max-memory"
+        );
+        let noted = Budget {
+            note: "3/4 of this machine's 25 GB".into(),
+            ..b
+        };
+        assert!(
+            noted
+                .check(3_000_000_000, "x", "y")
+                .unwrap_err()
+                .to_string()
+                .contains("(2.0 GB, 3/4 of this machine's 25 GB); y")
         );
         assert!(Budget::unlimited().check(u64::MAX, "x", "y").is_ok());
         // 64 levels of 2048 x 2048 cannot overflow the arithmetic.

@@ -133,7 +133,12 @@ mod tests {
 
     struct Nothing;
     impl Exporter for Nothing {
-        fn export(&self, _w: &World, _o: &mut dyn WorldWriter) -> Result<(), ExportError> {
+        fn export(
+            &self,
+            _w: &World,
+            _s: &dyn crate::survey::Survey,
+            _o: &mut dyn WorldWriter,
+        ) -> Result<(), ExportError> {
             Ok(())
         }
     }

@@ -241,7 +241,7 @@ pub enum Error {
     /// The world would need more memory than the budget allows (see [`crate::budget`]): the
     /// message gives the estimate and what to change.
     #[error("{0}")]
-    TooLarge(String),
+    TooLarge(crate::budget::OverBudget),
 
     /// A component (route descriptor, shape, tile set, exporter) failed.
     #[error("{component} '{}': {}", excerpt(.name), shorten(.message))]

@@ -1,9 +1,15 @@
 //! Exporters write a world's files.
 //!
+//! An exporter formats a finished world: its [`World`] (layout and geometry) and what the
+//! world's survey found in it ([`Survey`]: passages, node positions, centrelines, artifacts,
+//! floor patches). It computes nothing a second exporter would need again, and reads the
+//! survey's answers rather than the pipeline's sections.
+//!
 //! The core does no file I/O: an exporter writes through a [`WorldWriter`], which the command
 //! line implements over a temporary folder that is renamed into place only when every exporter
 //! has succeeded, so a world folder is complete or absent.
 
+use crate::survey::Survey;
 use crate::world::World;
 
 /// Where an exporter puts its files: paths are relative to the world folder and use `/`.
@@ -73,6 +79,10 @@ pub enum ExportError {
     /// The exporter cannot represent this world; the message says what it needs.
     #[error("{0}")]
     Unsupported(String),
+    /// A plugin's exporter panicked, now or on an earlier call: the message names the plugin
+    /// and the call (fix or remove the plugin).
+    #[error("{0}")]
+    Plugin(String),
 }
 
 /// What to do about an I/O error a user can fix (a full disk, a file-size limit), as a
@@ -97,22 +107,35 @@ pub fn io_hint(e: &std::io::Error) -> &'static str {
 ///
 /// ```
 /// use subtgraph_core::export::{Exporter, ExportError, WorldWriter};
+/// use subtgraph_core::survey::Survey;
 /// use subtgraph_core::world::World;
 ///
-/// /// Writes the number of occupied cells.
+/// /// Writes the number of occupied cells, and how many artifacts the survey placed.
 /// struct CellCount;
 ///
 /// impl Exporter for CellCount {
-///     fn export(&self, world: &World, out: &mut dyn WorldWriter) -> Result<(), ExportError> {
-///         let text = world.occupancy.occupied_count().to_string();
+///     fn export(
+///         &self,
+///         world: &World,
+///         survey: &dyn Survey,
+///         out: &mut dyn WorldWriter,
+///     ) -> Result<(), ExportError> {
+///         let artifacts = survey.artifacts().map_or(0, |a| a.artifacts.len());
+///         let text = format!("{} {artifacts}", world.occupancy.occupied_count());
 ///         out.write("cells.txt", text.as_bytes())
 ///             .map_err(|source| ExportError::Io { path: "cells.txt".into(), source })
 ///     }
 /// }
 /// ```
 pub trait Exporter: Send + Sync {
-    /// Writes the files.
-    fn export(&self, world: &World, out: &mut dyn WorldWriter) -> Result<(), ExportError>;
+    /// Writes the files of `world`, from what its `survey` found where a format needs more
+    /// than the layout and the meshes.
+    fn export(
+        &self,
+        world: &World,
+        survey: &dyn Survey,
+        out: &mut dyn WorldWriter,
+    ) -> Result<(), ExportError>;
 
     /// Whether this exporter writes geometry and so needs the pipeline's `[tileset]`. The
     /// command line refuses such an exporter in a pipeline without one before generating

@@ -9,7 +9,7 @@
 //! drops = 0.05                            # share of corridor tiles with a pit in the floor
 //! ```
 //!
-//! Floor patches are placed by the exporters (`exporters/src/hazards.rs`). Rubble fields and
+//! Floor patches ([`Patch`]) are placed by the survey (`survey/src/hazards.rs`). Rubble fields and
 //! drops are geometry: which tiles get one is decided here ([`HazardsSection::floor_hazard`],
 //! per tile from the world's seed, so a tile set meshing one tile knows its neighbours'), and
 //! the tile set that makes the geometry describes it ([`HazardRegion`], gathered in
@@ -66,6 +66,23 @@ impl FloorMaterial {
             FloorMaterial::WetRock => 0.4,
         }
     }
+}
+
+/// A floor patch of `[hazards] friction`: a whole tile's floor of another material.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct Patch {
+    /// Its tile.
+    pub cell: Cell,
+    /// The tile's kind.
+    pub tile_kind: TileKind,
+    /// Its material.
+    pub material: FloorMaterial,
+    /// Its friction coefficient.
+    pub friction: f64,
+    /// The tile's square in the plane, `[x0, y0, x1, y1]`, metres.
+    pub bounds: [f64; 4],
+    /// The level's nominal floor, metres.
+    pub floor_z: f64,
 }
 
 /// `[hazards]`.
@@ -165,6 +182,61 @@ pub struct HazardRegion {
     /// Rubble: each rock as `[x, y, z, radius]` (a sphere, roughened by the wall relief).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub rocks: Vec<[f64; 4]>,
+}
+
+/// A layout's rubble fields and drops, resolved from `[hazards]` when the layout is made
+/// ([`crate::layout::Layout::floor_hazards`]): which corridor tiles get one and on which arm,
+/// and the knobs the tile set that makes them needs. Plain data: a tile set reads this, never
+/// the pipeline.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct FloorHazards {
+    /// Whether the pipeline asks for rubble fields (`hazards.rubble` above 0).
+    pub rubble: bool,
+    /// Whether it asks for drops (`hazards.drops` above 0): the levels' blocks then reach
+    /// deeper, whether or not a tile drew one.
+    pub drops: bool,
+    /// Whether a rubble field keeps a lane `rubble_gap` wide free of rocks.
+    pub rubble_passable: bool,
+    /// Width of that lane, metres.
+    pub rubble_gap: f64,
+    /// Each tile with a rubble field or a drop, and the arm (toward which opening) it lies on
+    /// ([`HazardsSection::floor_hazard`]).
+    pub tiles: BTreeMap<Cell, (FloorHazard, Direction)>,
+}
+
+impl FloorHazards {
+    /// The hazards `section` asks of the tiles in `cells` (with their tiles), `start` the
+    /// start tile; none without a section.
+    pub fn resolve(
+        section: Option<&HazardsSection>,
+        seed: u64,
+        cells: impl IntoIterator<Item = (Cell, Tile)>,
+        start: Option<Cell>,
+    ) -> FloorHazards {
+        let Some(h) = section else {
+            return FloorHazards::default();
+        };
+        FloorHazards {
+            rubble: h.rubble > 0.0,
+            drops: h.drops > 0.0,
+            rubble_passable: h.rubble_passable,
+            rubble_gap: h.rubble_gap,
+            tiles: cells
+                .into_iter()
+                .filter_map(|(c, t)| Some((c, h.floor_hazard(seed, c, &t, start == Some(c))?)))
+                .collect(),
+        }
+    }
+
+    /// Whether the pipeline asks for hazards a tile set must make (rubble, drops).
+    pub fn asked(&self) -> bool {
+        self.rubble || self.drops
+    }
+
+    /// The rubble field or drop of the tile at `cell`, and its arm.
+    pub fn at(&self, cell: Cell) -> Option<(FloorHazard, Direction)> {
+        self.tiles.get(&cell).copied()
+    }
 }
 
 impl HazardsSection {

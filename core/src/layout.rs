@@ -15,6 +15,7 @@ use crate::config::{Pipeline, Resolved};
 use crate::graph::TopologyGraph;
 pub use crate::grid::Shaft;
 use crate::grid::{Cell, Direction, Grid3, Occupancy};
+use crate::hazards::FloorHazards;
 use crate::tile::{Tile, TileKind, classify_cell};
 use crate::topology;
 
@@ -67,6 +68,9 @@ pub struct Layout {
     pub levels: Vec<LevelReport>,
     /// Nodes and corridors.
     pub graph: TopologyGraph,
+    /// The `[hazards]` rubble fields and drops: which tiles get one (empty without the
+    /// section). Tile sets read this, not the pipeline.
+    pub floor_hazards: FloorHazards,
 }
 
 impl Layout {
@@ -145,6 +149,14 @@ impl Layout {
                 }
             }
         }
+        let floor_hazards = FloorHazards::resolve(
+            pipeline.hazards.as_ref(),
+            resolved.seed,
+            occupancy
+                .cells()
+                .filter_map(|c| Some((c, (*tiles.get(c))?))),
+            start,
+        );
         Layout {
             pipeline,
             resolved,
@@ -155,6 +167,7 @@ impl Layout {
             level_offsets,
             levels,
             graph,
+            floor_hazards,
         }
     }
 
@@ -168,6 +181,18 @@ impl Layout {
             self.resolved.level_height,
             c,
         )
+    }
+
+    /// The cell of `level` whose square holds `(x, y)` (world frame, metres), if it is in the
+    /// grid: the inverse of [`cell_position`](Self::cell_position) in the plane.
+    pub fn cell_at(&self, level: usize, x: f64, y: f64) -> Option<Cell> {
+        let pitch = self.resolved.tile_pitch;
+        let off = self.level_offsets[level];
+        let rows = self.occupancy.rows() as i64;
+        let col = (x / pitch + 0.5).floor() as i64 - off[1];
+        let row = rows - 1 - (y / pitch + 0.5).floor() as i64 - off[0];
+        (col >= 0 && row >= 0 && row < rows && (col as usize) < self.occupancy.cols())
+            .then(|| Cell::new(level, row as usize, col as usize))
     }
 
     /// The cells reachable from the start through corridors and shafts.

@@ -11,7 +11,8 @@
 //! [`layout::Layout`], also carries its topological [`graph::TopologyGraph`] and a report of the
 //! requested against the achieved topology per level; it is made once and only read after.
 //! A [`tileset::TileSet`] turns a layout into geometry ([`assembly`]), and a [`world::World`]
-//! is a layout plus, optionally, that geometry: what exporters write.
+//! is a layout plus, optionally, that geometry. The survey (crate `subtgraph-survey`, through
+//! [`survey::Survey`]) finds what exporters need in a finished world; exporters write it.
 //!
 //! Components are found by the `type` names of the pipeline file through one
 //! [`registry::Registry`], which built-ins and dynamically loaded plugins fill alike.
@@ -44,6 +45,7 @@ pub mod rng;
 pub mod route;
 pub mod shape;
 pub mod shapes;
+pub mod survey;
 pub mod tile;
 pub mod tileset;
 pub mod topology;

@@ -73,6 +73,24 @@ pub struct TileGeometry {
     /// The rubble field or drop the tile set made in this tile (`[hazards]`; only tile sets
     /// whose [`TileSet::makes_hazards`] is true make them).
     pub hazards: Vec<crate::hazards::HazardRegion>,
+    /// The tile's passage axis as the tile set laid it, when it knows one (the procedural
+    /// sets do: their passages are swept along it); `None` for meshes whose passage is only
+    /// known from its surface. The ground truth's centrelines follow it.
+    pub axis: Option<PassageAxis>,
+}
+
+/// A tile's passage axis as its tile set laid it: the middle of the passage, on its floor
+/// (world frame, metres), from where the tile's node stands to the middle of each opening's
+/// face. A smooth line: a robot can follow it from point to point.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct PassageAxis {
+    /// Where the tile's node stands: where its passage meets its openings (a junction's
+    /// centre, a dead end's far end, the middle of a straight or corner's way through).
+    pub node: [f64; 3],
+    /// Per direction (`Direction as usize`): points from the node (excluded) to the middle of
+    /// that opening's face (included), at most a metre apart; empty for a side without an
+    /// opening. Two neighbouring tiles' paths meet at the same face point.
+    pub exits: [Vec<[f64; 3]>; 4],
 }
 
 /// Which vertices of a tile may coincide with a neighbour's, so that assembly welds them.
@@ -132,10 +150,10 @@ pub enum TileSetError {
         /// The kinds' names, in the order the layout first needs them.
         kinds: Vec<String>,
     },
-    /// The world's meshes would need more memory than the budget allows: the message (from
-    /// [`crate::budget::Budget::check`]) says how much, and what to make smaller or raise.
+    /// The world's meshes would need more memory than the budget allows
+    /// ([`crate::budget::Budget::check`]): how much, and what to make smaller or raise.
     #[error("{0}")]
-    TooLarge(String),
+    TooLarge(crate::budget::OverBudget),
     /// Making one tile failed: where, and why.
     #[error(
         "tile at level {}, row {}, column {} ({}): {source}",
@@ -185,7 +203,7 @@ pub enum TileSetError {
 ///             triangles: vec![[0, 1, 2], [0, 2, 3]],
 ///             ..Mesh::default()
 ///         };
-///         Ok(TileGeometry { visual: plate.clone(), collision: plate, seams: Seams::All, labels: vec![], hazards: Vec::new() })
+///         Ok(TileGeometry { visual: plate.clone(), collision: plate, ..TileGeometry::default() })
 ///     }
 /// }
 /// ```

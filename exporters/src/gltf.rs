@@ -25,16 +25,17 @@
 
 use std::io::Write;
 
-use crate::artifacts::Artifact;
 use gltf_json::accessor::{FLOAT, UNSIGNED_INT};
 use gltf_json::buffer::{ARRAY_BUFFER, ELEMENT_ARRAY_BUFFER};
 use gltf_json::mesh::TRIANGLES;
 use serde_json::{Value, json};
 use subtgraph_core::World;
+use subtgraph_core::artifacts::Artifact;
 use subtgraph_core::error::ConfigError;
 use subtgraph_core::export::{ExportError, Exporter, WorldWriter, stream_file};
 use subtgraph_core::mesh::Mesh;
 use subtgraph_core::params::Params;
+use subtgraph_core::survey::Survey;
 
 use crate::parts::{Part, Split, parts};
 
@@ -297,7 +298,12 @@ fn write_cube(w: &mut dyn Write) -> std::io::Result<()> {
 }
 
 impl Exporter for Gltf {
-    fn export(&self, world: &World, out: &mut dyn WorldWriter) -> Result<(), ExportError> {
+    fn export(
+        &self,
+        world: &World,
+        survey: &dyn Survey,
+        out: &mut dyn WorldWriter,
+    ) -> Result<(), ExportError> {
         let Some(mesh) = world.mesh() else {
             return Err(ExportError::Unsupported(
                 "the glTF exporter needs geometry: add a [tileset] to the pipeline (or drop --no-mesh)".into(),
@@ -321,8 +327,8 @@ impl Exporter for Gltf {
             })
             .collect();
         let refs: Vec<&Part> = ps.iter().collect();
-        let artifacts = crate::artifacts::place(world)?;
-        let (doc, bin_len) = document(&refs, &sized, &materials, &artifacts);
+        let artifacts = crate::artifacts_of(survey);
+        let (doc, bin_len) = document(&refs, &sized, &materials, artifacts);
         let mut text = serde_json::to_vec(&doc).expect("JSON of plain values");
         while text.len() % 4 != 0 {
             text.push(b' ');
@@ -370,7 +376,7 @@ mod tests {
         Gltf {
             split: Split::Level,
         }
-        .export(&world, &mut out)
+        .export(&world, &crate::survey_of(&world), &mut out)
         .unwrap();
         let glb = out.get("mesh/world.glb").unwrap();
         let u32_at = |i: usize| u32::from_le_bytes(glb[i..i + 4].try_into().unwrap()) as usize;

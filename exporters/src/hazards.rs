@@ -1,76 +1,18 @@
-//! Where a world's hazards are (`[hazards]`, see `core/src/hazards.rs`): floor patches with
-//! another friction, whole tiles (not shaft ends, not the start tile), chosen from the world's
-//! `"hazards"` stream. MuJoCo gets them as the friction of those tiles' floor height fields;
-//! SDF and USD as separate collision meshes holding those tiles' up-facing (floor) triangles,
-//! with the material's friction (`split_collision`; URDF as a fixed link per part and material,
-//! since PyBullet's friction is per link); the ground truth as regions in
-//! `ground_truth/hazards.json` and as labels in the semantic labels.
+//! Floor patches (`[hazards] friction`, found by the survey: `survey/src/hazards.rs`) in the
+//! formats that give each collision element its own friction: SDF and USD as separate
+//! collision meshes holding the patched tiles' up-facing (floor) triangles, with the
+//! material's friction (`split_collision`; URDF as a fixed link per part and material,
+//! since PyBullet's friction is per link).
 
 use std::collections::BTreeMap;
 use std::ops::Range;
 
-use serde::Serialize;
-use subtgraph_core::World;
 use subtgraph_core::assembly::WorldMesh;
 use subtgraph_core::export::{ExportError, WorldWriter, stream_file};
 use subtgraph_core::grid::Cell;
-use subtgraph_core::hazards::FloorMaterial;
-use subtgraph_core::tile::TileKind;
+use subtgraph_core::hazards::{FloorMaterial, Patch};
 
 use crate::parts::{Part, push_range};
-
-/// A floor patch.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
-pub struct Patch {
-    /// Its tile.
-    pub cell: Cell,
-    /// The tile's kind.
-    pub tile_kind: TileKind,
-    /// Its material.
-    pub material: FloorMaterial,
-    /// Its friction coefficient.
-    pub friction: f64,
-    /// The tile's square in the plane, `[x0, y0, x1, y1]`, metres.
-    pub bounds: [f64; 4],
-    /// The level's nominal floor, metres.
-    pub floor_z: f64,
-}
-
-/// The world's floor patches, in raster order of their cells; none without `[hazards]`.
-pub fn patches(world: &World) -> Vec<Patch> {
-    let Some(h) = &world.pipeline.hazards else {
-        return Vec::new();
-    };
-    let tiles: Vec<Cell> = world
-        .occupancy
-        .cells()
-        .filter(|&c| {
-            Some(c) != world.start
-                && world
-                    .tiles
-                    .get(c)
-                    .is_some_and(|t| !matches!(t.kind, TileKind::ShaftUp | TileKind::ShaftLanding))
-        })
-        .collect();
-    let half = 0.5 * world.resolved.tile_pitch;
-    let mut out: Vec<Patch> = h
-        .assign(world.resolved.seed, &tiles)
-        .into_iter()
-        .map(|(cell, material)| {
-            let [x, y, z] = world.cell_position(cell);
-            Patch {
-                cell,
-                tile_kind: world.tiles.get(cell).map_or(TileKind::Straight, |t| t.kind),
-                material,
-                friction: material.friction(),
-                bounds: [x - half, y - half, x + half, y + half],
-                floor_z: z,
-            }
-        })
-        .collect();
-    out.sort_by_key(|p| (p.cell.level, p.cell.row, p.cell.col));
-    out
-}
 
 /// A collision group: its floor material (`None`: rock) and its triangles in
 /// [`WorldMesh::collision`].

@@ -203,6 +203,7 @@ mod tests {
                 collision_triangles: 0..0,
                 labels: Vec::new(),
                 floor_lift: [0.0, 0.0],
+                axis: None,
             });
         }
         mesh

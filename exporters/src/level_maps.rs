@@ -5,6 +5,7 @@
 use subtgraph_core::World;
 use subtgraph_core::export::{ExportError, Exporter, WorldWriter, write_file};
 use subtgraph_core::grid::{Cell, Direction};
+use subtgraph_core::survey::Survey;
 use subtgraph_core::tile::TileKind;
 
 /// Writes one PNG per level.
@@ -53,7 +54,12 @@ fn palette() -> Vec<u8> {
 }
 
 impl Exporter for LevelMaps {
-    fn export(&self, world: &World, out: &mut dyn WorldWriter) -> Result<(), ExportError> {
+    fn export(
+        &self,
+        world: &World,
+        _survey: &dyn Survey,
+        out: &mut dyn WorldWriter,
+    ) -> Result<(), ExportError> {
         let (rows, cols) = (world.occupancy.rows(), world.occupancy.cols());
         // About 800 pixels on the long side, at least 6 per cell.
         let s = (800 / rows.max(cols)).clamp(6, 24);
@@ -126,7 +132,9 @@ mod tests {
     fn one_picture_per_level_with_each_tile_in_its_colour() {
         let world = crate::test_world();
         let mut out = MemoryWriter::default();
-        LevelMaps.export(&world, &mut out).unwrap();
+        LevelMaps
+            .export(&world, &crate::survey_of(&world), &mut out)
+            .unwrap();
         assert_eq!(out.files.len(), world.occupancy.levels());
         let png_bytes = out.get("maps/level-0.png").unwrap();
         let decoder = png::Decoder::new(std::io::Cursor::new(png_bytes));

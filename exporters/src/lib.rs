@@ -9,23 +9,26 @@
 //! | `topology.json` | the graph, and requested against achieved counts per level |
 //! | `maps/level-N.png` | a top-down picture per level, tile kinds in distinct colours |
 //! | `mesh/world.obj`, `mesh/world.mtl`, `mesh/collision.obj` | the geometry, when the pipeline has a `[tileset]` |
-//! | `ground_truth/artifacts.json`, `.csv` | the artifacts' classes and poses, when the pipeline has `[artifacts]` ([`artifacts`]) |
+//! | `ground_truth/artifacts.json`, `.csv` | the artifacts' classes and poses, when the pipeline has `[artifacts]` |
+//! | `ground_truth/hazards.json` | the floor patches and hazard regions, when the pipeline has `[hazards]` |
 //!
 //! The `[[export]]` exporters (one file each) register in [`register`]. Those that write
 //! geometry for simulators cut large worlds into [`parts`] and share per-part meshes.
+//!
+//! Exporters format; they find nothing themselves. What a format needs beyond the layout and
+//! the meshes (the passages, node positions and centrelines, artifact poses, floor patches,
+//! MuJoCo's height fields) comes from the world's survey (`subtgraph-survey`), made once per
+//! world and handed to every exporter as a [`Survey`].
 
 use subtgraph_core::World;
+use subtgraph_core::artifacts::Artifact;
 use subtgraph_core::export::{ExportError, Exporter, WorldWriter};
 use subtgraph_core::registry::{DuplicateName, Registry};
+use subtgraph_core::survey::Survey;
 
-pub mod artifacts;
-pub(crate) mod axis;
-pub mod convex_pieces;
 mod gltf;
 pub mod ground_truth;
 pub mod hazards;
-pub mod heightfields;
-pub(crate) mod inside;
 mod instances;
 mod level_maps;
 mod mjcf;
@@ -33,7 +36,6 @@ mod obj;
 mod occupancy_npy;
 pub mod parts;
 mod sdf;
-pub(crate) mod sight;
 mod text;
 mod topology_json;
 mod urdf;
@@ -149,33 +151,50 @@ pub(crate) fn write_json<T: serde::Serialize + ?Sized>(
 }
 
 /// Writes the files every world folder has, and the OBJ meshes when the world has geometry.
-pub fn write_world_folder(world: &World, out: &mut dyn WorldWriter) -> Result<(), ExportError> {
-    write_world_files(world, out, true)
+pub fn write_world_folder(
+    world: &World,
+    survey: &dyn Survey,
+    out: &mut dyn WorldWriter,
+) -> Result<(), ExportError> {
+    write_world_files(world, survey, out, true)
 }
 
 /// Writes the files every world folder has; with `obj`, also the OBJ meshes (`mesh/world.obj`,
 /// `.mtl`, `collision.obj`) when the world has geometry. The command line passes `obj` only
 /// when no exporter writes geometry: a world asked for in USD alone gets USD alone (the OBJ of
-/// a large world is gigabytes), and one asked for in no format keeps its mesh as OBJ.
+/// a large world is gigabytes), and one asked for in no format keeps its mesh as OBJ. The
+/// artifacts and hazards the `survey` found are always written with them.
 pub fn write_world_files(
     world: &World,
+    survey: &dyn Survey,
     out: &mut dyn WorldWriter,
     obj: bool,
 ) -> Result<(), ExportError> {
     let always: [&dyn Exporter; 4] = [&WorldToml, &OccupancyNpy, &TopologyJson, &LevelMaps];
     for e in always {
-        e.export(world, out)?;
+        e.export(world, survey, out)?;
     }
     if obj && world.mesh().is_some() {
-        Obj::default().export(world, out)?;
+        Obj::default().export(world, survey, out)?;
     }
-    if world.pipeline.artifacts.is_some() {
-        ground_truth::artifacts::write(world, &artifacts::place(world)?, out)?;
+    if let Some(placed) = survey.artifacts() {
+        ground_truth::artifacts::write(world, placed, out)?;
     }
-    if world.pipeline.hazards.is_some() {
-        ground_truth::hazards::write(world, out)?;
+    if let Some(patches) = survey.patches() {
+        ground_truth::hazards::write(world, patches, out)?;
     }
     Ok(())
+}
+
+/// The artifacts the survey placed (none without `[artifacts]`).
+pub(crate) fn artifacts_of(survey: &dyn Survey) -> &[Artifact] {
+    survey.artifacts().map_or(&[], |a| &a.artifacts)
+}
+
+/// The survey of a test world.
+#[cfg(test)]
+pub(crate) fn survey_of(world: &World) -> subtgraph_survey::WorldSurvey<'_> {
+    subtgraph_survey::WorldSurvey::new(world).unwrap()
 }
 
 /// A small two-level world with a coarse cave mesh, for the exporters' tests.

@@ -3,13 +3,13 @@
 //!
 //! MuJoCo collides every mesh geom as its convex hull, so the world's collision surface as one
 //! mesh would be a solid block. By default each tile gets two height fields instead
-//! ([`crate::heightfields`]): a floor, and a roof turned upside down, sampled `step` metres
+//! (`subtgraph_survey::heightfields`): a floor, and a roof turned upside down, sampled `step` metres
 //! apart on vertical lines through the closed collision surface; between them is the passage.
 //! That is two geoms per tile with no hull to build: MuJoCo 4.0 also spends time quadratic in
 //! the number of geoms while it reads a model (every geom added resets its lists of all
 //! geoms), so the 45,000 convex slabs of a cave took 10 s to load and the 170,000 of a lava
 //! tube 90 s. `collision = "slabs"` keeps the older export: the surface cut into thin convex
-//! slabs in the rock ([`crate::convex_pieces`]), each an inline `<mesh vertex>`, which follows
+//! slabs in the rock (`subtgraph_survey::convex_pieces`), each an inline `<mesh vertex>`, which follows
 //! overhangs a height field cannot, for small worlds.
 //!
 //! The visual mesh is a part's own `mujoco/meshes/<part>-<k>.msh` (MuJoCo's binary mesh format,
@@ -26,7 +26,7 @@
 //! visual mesh is written in pieces of 65,536 triangles (`<part>-<k>.msh`): every core
 //! works, and smaller hierarchies cost about 15 % less. Since the load grows with the face
 //! count, the default `visual = "coarse"` snaps the visual vertices to a `visual_cell` grid
-//! (0.5 m; [`coarsen`]) and drops the triangles that collapse: about half of a cave's
+//! (0.5 m; `Mesh::clustered`) and drops the triangles that collapse: about half of a cave's
 //! triangles, and half its load time, with the shape kept within 0.43 m (the collision height
 //! fields, sampled every 0.5 m, are no finer). Snapping to fixed grid points, not to averages,
 //! keeps neighbouring pieces and parts meeting exactly. `visual = "full"` writes every triangle,
@@ -35,7 +35,7 @@
 //!
 //! A ramp between levels (`world.connections = "ramp"`) is a spiral with several floors over
 //! one point, which no height field holds: its two tiles collide as convex slabs
-//! ([`convex_pieces`]), cut from those tiles' collision triangles alone, and the rest of the
+//! ([`convex_pieces`](subtgraph_survey::convex_pieces)), cut from those tiles' collision triangles alone, and the rest of the
 //! world keeps its fields.
 //!
 //! Every part file is a complete model (`<mujoco>` root, its own `<compiler meshdir="..">`,
@@ -61,23 +61,26 @@ use subtgraph_core::World;
 use subtgraph_core::assembly::WorldMesh;
 use subtgraph_core::error::ConfigError;
 use subtgraph_core::export::{ExportError, Exporter, WorldWriter, stream_file, write_file};
+use subtgraph_core::hazards::Patch;
+use subtgraph_core::mesh::{Clustering, Grid, Mesh};
 use subtgraph_core::params::Params;
+use subtgraph_core::survey::Survey;
 
-use crate::convex_pieces::{Piece, PieceSettings, convex_pieces};
-use crate::heightfields::{TileField, tile_fields};
 use crate::parts::{Part, Split, parts};
 use crate::text::{push_fixed, push_uint, write_lines, xml_escape};
+use subtgraph_survey::convex_pieces::{Piece, PieceSettings, convex_pieces};
+use subtgraph_survey::heightfields::{TileField, tile_fields};
 
 /// What MuJoCo collides with.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Collision {
-    /// A floor and a roof `hfield` per tile ([`crate::heightfields`]), samples `step` metres
+    /// A floor and a roof `hfield` per tile (`subtgraph_survey::heightfields`), samples `step` metres
     /// apart: a few geoms per tile, no hull to build, so large worlds load in seconds.
     Heightfields {
         /// Metres between samples (rounded so a whole number of them spans the pitch).
         step: f64,
     },
-    /// Thin convex slabs in the rock ([`crate::convex_pieces`]): follows overhangs and walls
+    /// Thin convex slabs in the rock (`subtgraph_survey::convex_pieces`): follows overhangs and walls
     /// within `tolerance`, but MuJoCo builds a hull per slab and its loader slows down with
     /// the geom count (tens of thousands per preset world).
     Slabs,
@@ -311,7 +314,7 @@ fn write_visual_meshes(
             let path = format!("mujoco/meshes/{}-{k}.msh", part.name);
             let piece = mesh.visual.extract(ranges);
             match cell {
-                Some(c) => write_msh(out, &path, &coarsen(&piece, c as f32))?,
+                Some(c) => write_msh(out, &path, &piece.clustered(&coarse(c)))?,
                 None => write_msh(out, &path, &piece)?,
             }
             paths.push(path);
@@ -321,66 +324,20 @@ fn write_visual_meshes(
     Ok(files)
 }
 
-/// `m` with every vertex snapped to the centre of its `cell`-sized cube (vertices in one cube
-/// become one, their normals averaged) and the triangles that collapse dropped: vertex
-/// clustering. Snapping to fixed points keeps the seams between pieces and parts closed;
-/// vertices are numbered in order of first use, so the result is deterministic.
-pub fn coarsen(m: &subtgraph_core::mesh::Mesh, cell: f32) -> subtgraph_core::mesh::Mesh {
-    use subtgraph_core::mesh::Mesh;
-    let mut index: rustc_hash::FxHashMap<[i32; 3], u32> = Default::default();
-    let mut out = Mesh::default();
-    let mut normal_sums: Vec<[f32; 3]> = Vec::new();
-    let has_normals = m.normals.len() == m.positions.len();
-    let has_uvs = m.uvs.len() == m.positions.len();
-    let mut map = Vec::with_capacity(m.positions.len());
-    for (i, p) in m.positions.iter().enumerate() {
-        let key = p.map(|v| (v / cell).floor() as i32);
-        let next = out.positions.len() as u32;
-        let k = *index.entry(key).or_insert(next);
-        if k == next {
-            out.positions.push(key.map(|c| (c as f32 + 0.5) * cell));
-            normal_sums.push([0.0; 3]);
-            if has_uvs {
-                out.uvs.push(m.uvs[i]);
-            }
-        }
-        if has_normals {
-            let s = &mut normal_sums[k as usize];
-            for (s, n) in s.iter_mut().zip(m.normals[i]) {
-                *s += n;
-            }
-        }
-        map.push(k);
+/// How `visual = "coarse"` simplifies a visual mesh: every vertex snapped to the centre of
+/// its `cell`-sized cube (vertices in one cube become one, their normals averaged) and the
+/// triangles that collapse dropped ([`Mesh::clustered`]). Snapping to fixed points keeps the
+/// seams between pieces and parts closed.
+fn coarse(cell: f64) -> Clustering {
+    Clustering {
+        grid: Grid::CubeCentres { cell: cell as f32 },
+        attributes: true,
+        distinct: false,
     }
-    if has_normals {
-        out.normals = normal_sums
-            .into_iter()
-            .map(|n| {
-                let l = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();
-                if l > 0.0 {
-                    n.map(|v| v / l)
-                } else {
-                    [0.0, 0.0, 1.0]
-                }
-            })
-            .collect();
-    }
-    for (t, tri) in m.triangles.iter().enumerate() {
-        let [a, b, c] = tri.map(|v| map[v as usize]);
-        if a != b && b != c && a != c {
-            out.triangles.push([a, b, c]);
-            out.materials.push(m.materials.get(t).copied().unwrap_or(0));
-        }
-    }
-    out
 }
 
 /// One mesh as MuJoCo's `.msh`.
-fn write_msh(
-    out: &mut dyn WorldWriter,
-    path: &str,
-    m: &subtgraph_core::mesh::Mesh,
-) -> Result<(), ExportError> {
+fn write_msh(out: &mut dyn WorldWriter, path: &str, m: &Mesh) -> Result<(), ExportError> {
     let nv = m.positions.len();
     let nn = if m.normals.len() == nv { nv } else { 0 };
     let nt = if m.uvs.len() == nv { nv } else { 0 };
@@ -534,8 +491,8 @@ fn ramp_tiles(world: &World, mesh: &WorldMesh) -> Vec<bool> {
 /// robot can push them, and `body` names them `artifact-<name>`. A contact margin of 1 cm
 /// softens its contact with the height fields.
 ///
-/// Each stands on its pad, `artifact-pad-<name>` ([`Artifact::pad`](crate::artifacts::Artifact::pad)).
-fn artifact_bodies(s: &mut String, artifacts: &[crate::artifacts::Artifact]) {
+/// Each stands on its pad, `artifact-pad-<name>` ([`Artifact::pad`](subtgraph_core::artifacts::Artifact::pad)).
+fn artifact_bodies(s: &mut String, artifacts: &[subtgraph_core::artifacts::Artifact]) {
     if artifacts.is_empty() {
         return;
     }
@@ -567,7 +524,12 @@ fn artifact_bodies(s: &mut String, artifacts: &[crate::artifacts::Artifact]) {
 }
 
 impl Exporter for Mjcf {
-    fn export(&self, world: &World, out: &mut dyn WorldWriter) -> Result<(), ExportError> {
+    fn export(
+        &self,
+        world: &World,
+        survey: &dyn Survey,
+        out: &mut dyn WorldWriter,
+    ) -> Result<(), ExportError> {
         let Some(mesh) = world.mesh() else {
             return Err(ExportError::Unsupported(
                 "the MJCF exporter needs geometry: add a [tileset] to the pipeline (or drop --no-mesh)".into(),
@@ -579,13 +541,70 @@ impl Exporter for Mjcf {
         } else {
             Vec::new()
         };
+        // The survey's height fields, found for this step when MuJoCo's writer asks.
         let fields = match self.collision {
-            Collision::Heightfields { step } => tile_fields(world, mesh, step),
+            Collision::Heightfields { step } => tile_fields(world, survey, mesh, step),
             Collision::Slabs => Vec::new(),
         };
-        // Slabs of every part in parallel; each part's are cut alone, so the result does not
-        // depend on the thread count.
-        let collision: Vec<PartCollision> = match self.collision {
+        let collision = self.part_collisions(world, mesh, &parts, &fields);
+        let tiles = Tiles {
+            ramp: ramp_tiles(world, mesh),
+            friction: floor_friction(mesh, survey.patches().unwrap_or(&[])),
+            base: self.pieces.thickness,
+        };
+        let what = match self.collision {
+            Collision::Slabs => "collision slabs (convex, in the rock)",
+            Collision::Heightfields { .. } => {
+                "collision height fields (a floor and an upside-down roof per tile; convex slabs in a ramp's tiles)"
+            }
+        };
+        let visual = if self.visual {
+            "visual geoms in group 1"
+        } else {
+            "no visual geoms (visual = \"none\")"
+        };
+        let mut main = format!(
+            "<mujoco model=\"subtgraph world, seed {}\">\n  <!-- metres, x east, y north, z up; {visual}, {what} in group 3 -->\n{COMPILER}",
+            world.resolved.seed
+        );
+        for (i, (part, collision)) in parts.iter().zip(&collision).enumerate() {
+            let visuals: &[String] = files.get(i).map_or(&[], |f| f.as_slice());
+            // The whole world as one part is named `world`: its file must not replace the
+            // main file.
+            let stem = if part.name == "world" {
+                "whole"
+            } else {
+                &part.name
+            };
+            main.push_str(&format!("  <include file=\"{}.xml\"/>\n", xml_escape(stem)));
+            let path = format!("mujoco/{stem}.xml");
+            write_part(out, &path, mesh, part, collision, visuals, &tiles)?;
+        }
+        artifact_bodies(&mut main, crate::artifacts_of(survey));
+        main.push_str("</mujoco>\n");
+        write_file(out, "mujoco/world.xml", main.as_bytes())
+    }
+
+    fn needs_geometry(&self) -> bool {
+        true
+    }
+}
+
+/// Every file's `<compiler>`: radians, and meshes relative to `mujoco/`'s parent.
+const COMPILER: &str = "  <compiler angle=\"radian\" meshdir=\"..\"/>\n";
+
+impl Mjcf {
+    /// Each part's collision geometry: its convex slabs, or the world's height `fields` and
+    /// the slabs of its ramps' tiles. Slabs of every part in parallel; each part's are cut
+    /// alone, so the result does not depend on the thread count.
+    fn part_collisions<'f>(
+        &self,
+        world: &World,
+        mesh: &WorldMesh,
+        parts: &[Part],
+        fields: &'f [TileField],
+    ) -> Vec<PartCollision<'f>> {
+        match self.collision {
             Collision::Slabs => parts
                 .par_iter()
                 .map(|p| PartCollision::Slabs(convex_pieces(&p.collision(mesh), &self.pieces)))
@@ -606,129 +625,119 @@ impl Exporter for Mjcf {
                         } else {
                             convex_pieces(&mesh.collision.extract(&ranges), &self.pieces)
                         };
-                        PartCollision::Fields(&fields, slabs)
+                        PartCollision::Fields(fields, slabs)
                     })
                     .collect()
             }
-        };
-        let base = self.pieces.thickness;
-        let ramp = &ramp_tiles(world, mesh);
-        // Floor friction per mesh tile, from the floor patches.
-        let mut friction: Vec<Option<f64>> = vec![None; mesh.tiles.len()];
-        let patches = crate::hazards::patches(world);
-        for (t, tile) in mesh.tiles.iter().enumerate() {
-            if let Ok(k) = patches
+        }
+    }
+}
+
+/// What each mesh tile's collision geoms need besides its fields: whether it holds a ramp's
+/// spiral, its floor's friction, and how deep a field's base reaches.
+struct Tiles {
+    ramp: Vec<bool>,
+    friction: Vec<Option<f64>>,
+    base: f64,
+}
+
+/// The floor friction of each mesh tile, from the survey's floor patches (`None`: rock).
+fn floor_friction(mesh: &WorldMesh, patches: &[Patch]) -> Vec<Option<f64>> {
+    mesh.tiles
+        .iter()
+        .map(|tile| {
+            patches
                 .binary_search_by_key(&(tile.cell.level, tile.cell.row, tile.cell.col), |p| {
                     (p.cell.level, p.cell.row, p.cell.col)
                 })
-            {
-                friction[t] = Some(patches[k].friction);
-            }
-        }
-        let friction = &friction;
-        let compiler = "  <compiler angle=\"radian\" meshdir=\"..\"/>\n";
-        let what = match self.collision {
-            Collision::Slabs => "collision slabs (convex, in the rock)",
-            Collision::Heightfields { .. } => {
-                "collision height fields (a floor and an upside-down roof per tile; convex slabs in a ramp's tiles)"
-            }
-        };
-        let visual = if self.visual {
-            "visual geoms in group 1"
-        } else {
-            "no visual geoms (visual = \"none\")"
-        };
-        let mut main = format!(
-            "<mujoco model=\"subtgraph world, seed {}\">\n  <!-- metres, x east, y north, z up; {visual}, {what} in group 3 -->\n{compiler}",
-            world.resolved.seed
-        );
-        for (i, (part, collision)) in parts.iter().zip(&collision).enumerate() {
-            let visuals: &[String] = files.get(i).map_or(&[], |f| f.as_slice());
-            let name = xml_escape(&part.name);
-            // The whole world as one part is named `world`: its file must not replace the
-            // main file.
-            let stem = if part.name == "world" {
-                "whole"
-            } else {
-                &part.name
-            };
-            let path = format!("mujoco/{stem}.xml");
-            main.push_str(&format!("  <include file=\"{}.xml\"/>\n", xml_escape(stem)));
-            let colour = part_colour(mesh, part);
-            // Line k of the assets or geoms: a slab, or a tile's floor (even k) or roof (odd).
-            let count = match collision {
-                PartCollision::Slabs(p) => p.len(),
-                PartCollision::Fields(_, slabs) => 2 * part.tiles.len() + slabs.len(),
-            };
-            let ramps = format!("{name}-ramp");
-            let asset = |b: &mut Vec<u8>, k: usize| match collision {
-                PartCollision::Slabs(p) => piece_asset(b, &name, k, &p[k]),
-                PartCollision::Fields(_, slabs) if k >= 2 * part.tiles.len() => {
-                    let i = k - 2 * part.tiles.len();
-                    piece_asset(b, &ramps, i, &slabs[i]);
-                }
-                PartCollision::Fields(f, slabs) => {
-                    let t = part.tiles[k / 2];
-                    if slabs.is_empty() || !ramp[t] {
-                        field_asset(b, &name, t, &f[t], k % 2 == 1, base);
-                    }
-                }
-            };
-            let geom = |b: &mut Vec<u8>, k: usize| match collision {
-                PartCollision::Slabs(p) => piece_geom(b, &name, k, &p[k]),
-                PartCollision::Fields(_, slabs) if k >= 2 * part.tiles.len() => {
-                    let i = k - 2 * part.tiles.len();
-                    piece_geom(b, &ramps, i, &slabs[i]);
-                }
-                PartCollision::Fields(f, slabs) => {
-                    let t = part.tiles[k / 2];
-                    if !slabs.is_empty() && ramp[t] {
-                        return;
-                    }
-                    let roof = k % 2 == 1;
-                    field_geom(
-                        b,
-                        &name,
-                        t,
-                        &f[t],
-                        roof,
-                        if roof { None } else { friction[t] },
-                    );
-                }
-            };
-            stream_file(out, &path, |w| {
-                let mut head = format!("<mujoco model=\"{name}\">\n{compiler}  <asset>\n");
-                for (k, file) in visuals.iter().enumerate() {
-                    head.push_str(&format!(
-                        "    <mesh name=\"{name}-visual-{k}\" file=\"{}\" inertia=\"shell\"/>\n",
-                        xml_escape(file)
-                    ));
-                }
-                w.write_all(head.as_bytes())?;
-                write_lines(w, count, asset)?;
-                let mut mid = Vec::new();
-                mid.extend_from_slice(b"  </asset>\n  <worldbody>\n");
-                for k in 0..visuals.len() {
-                    mid.extend_from_slice(
-                        format!("    <geom name=\"{name}-visual-{k}\" type=\"mesh\" mesh=\"{name}-visual-{k}\" group=\"1\" contype=\"0\" conaffinity=\"0\" rgba=\"")
-                            .as_bytes(),
-                    );
-                    push_colour(&mut mid, colour, 1.0);
-                    mid.extend_from_slice(b"\"/>\n");
-                }
-                w.write_all(&mid)?;
-                write_lines(w, count, geom)?;
-                w.write_all(b"  </worldbody>\n</mujoco>\n")
-            })?;
-        }
-        artifact_bodies(&mut main, &crate::artifacts::place(world)?);
-        main.push_str("</mujoco>\n");
-        write_file(out, "mujoco/world.xml", main.as_bytes())
-    }
+                .ok()
+                .map(|k| patches[k].friction)
+        })
+        .collect()
+}
 
-    fn needs_geometry(&self) -> bool {
-        true
-    }
+/// One part's file: its visual meshes, then its collision geoms, a complete model.
+fn write_part(
+    out: &mut dyn WorldWriter,
+    path: &str,
+    mesh: &WorldMesh,
+    part: &Part,
+    collision: &PartCollision,
+    visuals: &[String],
+    tiles: &Tiles,
+) -> Result<(), ExportError> {
+    let name = xml_escape(&part.name);
+    let colour = part_colour(mesh, part);
+    let Tiles {
+        ramp,
+        friction,
+        base,
+    } = tiles;
+    // Line k of the assets or geoms: a slab, or a tile's floor (even k) or roof (odd).
+    let count = match collision {
+        PartCollision::Slabs(p) => p.len(),
+        PartCollision::Fields(_, slabs) => 2 * part.tiles.len() + slabs.len(),
+    };
+    let ramps = format!("{name}-ramp");
+    let asset = |b: &mut Vec<u8>, k: usize| match collision {
+        PartCollision::Slabs(p) => piece_asset(b, &name, k, &p[k]),
+        PartCollision::Fields(_, slabs) if k >= 2 * part.tiles.len() => {
+            let i = k - 2 * part.tiles.len();
+            piece_asset(b, &ramps, i, &slabs[i]);
+        }
+        PartCollision::Fields(f, slabs) => {
+            let t = part.tiles[k / 2];
+            if slabs.is_empty() || !ramp[t] {
+                field_asset(b, &name, t, &f[t], k % 2 == 1, *base);
+            }
+        }
+    };
+    let geom = |b: &mut Vec<u8>, k: usize| match collision {
+        PartCollision::Slabs(p) => piece_geom(b, &name, k, &p[k]),
+        PartCollision::Fields(_, slabs) if k >= 2 * part.tiles.len() => {
+            let i = k - 2 * part.tiles.len();
+            piece_geom(b, &ramps, i, &slabs[i]);
+        }
+        PartCollision::Fields(f, slabs) => {
+            let t = part.tiles[k / 2];
+            if !slabs.is_empty() && ramp[t] {
+                return;
+            }
+            let roof = k % 2 == 1;
+            field_geom(
+                b,
+                &name,
+                t,
+                &f[t],
+                roof,
+                if roof { None } else { friction[t] },
+            );
+        }
+    };
+    stream_file(out, path, |w| {
+        let mut head = format!("<mujoco model=\"{name}\">\n{COMPILER}  <asset>\n");
+        for (k, file) in visuals.iter().enumerate() {
+            head.push_str(&format!(
+                "    <mesh name=\"{name}-visual-{k}\" file=\"{}\" inertia=\"shell\"/>\n",
+                xml_escape(file)
+            ));
+        }
+        w.write_all(head.as_bytes())?;
+        write_lines(w, count, asset)?;
+        let mut mid = Vec::new();
+        mid.extend_from_slice(b"  </asset>\n  <worldbody>\n");
+        for k in 0..visuals.len() {
+            mid.extend_from_slice(
+                format!("    <geom name=\"{name}-visual-{k}\" type=\"mesh\" mesh=\"{name}-visual-{k}\" group=\"1\" contype=\"0\" conaffinity=\"0\" rgba=\"")
+                    .as_bytes(),
+            );
+            push_colour(&mut mid, colour, 1.0);
+            mid.extend_from_slice(b"\"/>\n");
+        }
+        w.write_all(&mid)?;
+        write_lines(w, count, geom)?;
+        w.write_all(b"  </worldbody>\n</mujoco>\n")
+    })
 }
 
 #[cfg(test)]
@@ -770,7 +779,8 @@ mod tests {
                 collision,
                 ..Mjcf::default()
             };
-            m.export(&world, &mut out).unwrap();
+            m.export(&world, &crate::survey_of(&world), &mut out)
+                .unwrap();
             let main = String::from_utf8(out.get("mujoco/world.xml").unwrap().to_vec()).unwrap();
             let includes: Vec<&str> = main
                 .split("<include file=\"")
@@ -800,7 +810,7 @@ mod tests {
         let world = crate::test_world_with_mesh();
         let full = &world.mesh().unwrap().visual;
         let cell = 0.5_f32;
-        let coarse = coarsen(full, cell);
+        let coarse = full.clustered(&super::coarse(f64::from(cell)));
         assert!(
             coarse.triangles.len() * 10 < full.triangles.len() * 9,
             "{} of {} triangles kept",
@@ -835,7 +845,7 @@ mod tests {
         assert_eq!(coarse.materials.len(), coarse.triangles.len());
         assert_eq!(coarse.normals.len(), coarse.positions.len());
         // Deterministic.
-        let again = coarsen(full, cell);
+        let again = full.clustered(&super::coarse(f64::from(cell)));
         assert_eq!(again.positions, coarse.positions);
         assert_eq!(again.triangles, coarse.triangles);
     }

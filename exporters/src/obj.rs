@@ -8,6 +8,7 @@ use subtgraph_core::World;
 use subtgraph_core::error::ConfigError;
 use subtgraph_core::export::{ExportError, Exporter, WorldWriter, stream_file, write_file};
 use subtgraph_core::params::Params;
+use subtgraph_core::survey::Survey;
 
 use crate::parts::{Split, parts, write_part_meshes};
 use crate::text::{mtl, write_obj};
@@ -36,7 +37,12 @@ impl Obj {
 }
 
 impl Exporter for Obj {
-    fn export(&self, world: &World, out: &mut dyn WorldWriter) -> Result<(), ExportError> {
+    fn export(
+        &self,
+        world: &World,
+        _survey: &dyn Survey,
+        out: &mut dyn WorldWriter,
+    ) -> Result<(), ExportError> {
         let Some(mesh) = world.mesh() else {
             return Err(ExportError::Unsupported(
                 "the OBJ exporter needs geometry: add a [tileset] to the pipeline (or drop --no-mesh)".into(),

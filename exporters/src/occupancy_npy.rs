@@ -5,13 +5,19 @@
 use subtgraph_core::World;
 use subtgraph_core::export::{ExportError, Exporter, WorldWriter, write_file};
 use subtgraph_core::npy;
+use subtgraph_core::survey::Survey;
 
 /// Writes `occupancy.npy`.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct OccupancyNpy;
 
 impl Exporter for OccupancyNpy {
-    fn export(&self, world: &World, out: &mut dyn WorldWriter) -> Result<(), ExportError> {
+    fn export(
+        &self,
+        world: &World,
+        _survey: &dyn Survey,
+        out: &mut dyn WorldWriter,
+    ) -> Result<(), ExportError> {
         let bytes = npy::encode_u8(&world.occupancy.shape(), &world.spatial_codes());
         write_file(out, "occupancy.npy", &bytes)
     }
@@ -26,7 +32,9 @@ mod tests {
     fn the_grid_reads_back_with_its_spatial_codes() {
         let world = crate::test_world();
         let mut out = MemoryWriter::default();
-        OccupancyNpy.export(&world, &mut out).unwrap();
+        OccupancyNpy
+            .export(&world, &crate::survey_of(&world), &mut out)
+            .unwrap();
         let a = npy::decode(out.get("occupancy.npy").unwrap()).unwrap();
         assert_eq!(a.shape, world.occupancy.shape().to_vec());
         let codes: Vec<f64> = world

@@ -35,6 +35,7 @@ use subtgraph_core::error::ConfigError;
 use subtgraph_core::export::{ExportError, Exporter, WorldWriter, write_file};
 use subtgraph_core::graph::EdgeKind;
 use subtgraph_core::params::Params;
+use subtgraph_core::survey::Survey;
 
 use crate::parts::{Split, parts, write_part_meshes};
 use crate::text::{push_fixed, xml_escape};
@@ -192,8 +193,8 @@ fn lights_xml(s: &mut String, world: &World, lights: Lights) {
 
 /// The artifacts as movable models (a box each, resting on the floor at its recorded pose),
 /// named `artifact-<name>`, each on its pad, a static model `artifact-pad-<name>`
-/// ([`Artifact::pad`](crate::artifacts::Artifact::pad)).
-fn artifact_models(s: &mut String, artifacts: &[crate::artifacts::Artifact]) {
+/// ([`Artifact::pad`](subtgraph_core::artifacts::Artifact::pad)).
+fn artifact_models(s: &mut String, artifacts: &[subtgraph_core::artifacts::Artifact]) {
     for a in artifacts {
         let [x, y, z] = a.position;
         let [l, w, h] = a.size;
@@ -239,7 +240,12 @@ fn collision_xml(s: &mut String, name: &str, path: &str, friction: Option<f64>) 
 }
 
 impl Exporter for Sdf {
-    fn export(&self, world: &World, out: &mut dyn WorldWriter) -> Result<(), ExportError> {
+    fn export(
+        &self,
+        world: &World,
+        survey: &dyn Survey,
+        out: &mut dyn WorldWriter,
+    ) -> Result<(), ExportError> {
         let Some(mesh) = world.mesh() else {
             return Err(ExportError::Unsupported(
                 "the SDF exporter needs geometry: add a [tileset] to the pipeline (or drop --no-mesh)".into(),
@@ -265,7 +271,7 @@ impl Exporter for Sdf {
             [m] => Some(m.colour),
             _ => None,
         };
-        let patches = crate::hazards::patches(world);
+        let patches = survey.patches().unwrap_or(&[]);
         // Models are named `subt-<part>`: SDFormat reserves the name `world`.
         for (part, f) in ps.iter().zip(&files) {
             let _ = write!(
@@ -281,7 +287,7 @@ impl Exporter for Sdf {
                 );
             }
             s.push_str("        </visual>\n");
-            match crate::hazards::split_collision(&patches, mesh, part) {
+            match crate::hazards::split_collision(patches, mesh, part) {
                 None => collision_xml(&mut s, "collision", &f.collision, None),
                 Some(groups) => {
                     // Floor patches: the patched floors as collisions of their own, with
@@ -299,7 +305,7 @@ impl Exporter for Sdf {
             }
             s.push_str("      </link>\n    </model>\n");
         }
-        artifact_models(&mut s, &crate::artifacts::place(world)?);
+        artifact_models(&mut s, crate::artifacts_of(survey));
         s.push_str("  </world>\n</sdf>\n");
         write_file(out, "gazebo/world.sdf", s.as_bytes())
     }
@@ -325,7 +331,8 @@ mod tests {
             },
         };
         let mut out = MemoryWriter::default();
-        sdf.export(&world, &mut out).unwrap();
+        sdf.export(&world, &crate::survey_of(&world), &mut out)
+            .unwrap();
         let text = String::from_utf8(out.get("gazebo/world.sdf").unwrap().to_vec()).unwrap();
         let lamps = text.matches("type=\"point\"").count();
         assert_eq!(lamps, lamp_positions(&world, 2, 2.0).len());

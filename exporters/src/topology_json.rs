@@ -5,6 +5,7 @@ use std::borrow::Cow;
 
 use subtgraph_core::World;
 use subtgraph_core::export::{ExportError, Exporter, WorldWriter};
+use subtgraph_core::survey::Survey;
 use subtgraph_schema::{Document as _, Topology};
 
 /// Writes `topology.json`.
@@ -12,7 +13,12 @@ use subtgraph_schema::{Document as _, Topology};
 pub struct TopologyJson;
 
 impl Exporter for TopologyJson {
-    fn export(&self, world: &World, out: &mut dyn WorldWriter) -> Result<(), ExportError> {
+    fn export(
+        &self,
+        world: &World,
+        _survey: &dyn Survey,
+        out: &mut dyn WorldWriter,
+    ) -> Result<(), ExportError> {
         let occupied = world.occupancy.occupied_count();
         let reachable = world.reachable_from_start();
         let start = world
@@ -50,7 +56,9 @@ mod tests {
     fn the_graph_and_counts_read_back() {
         let world = crate::test_world();
         let mut out = MemoryWriter::default();
-        TopologyJson.export(&world, &mut out).unwrap();
+        TopologyJson
+            .export(&world, &crate::survey_of(&world), &mut out)
+            .unwrap();
         let doc: serde_json::Value =
             serde_json::from_slice(out.get("topology.json").unwrap()).unwrap();
         assert_eq!(

@@ -22,6 +22,7 @@ use subtgraph_core::World;
 use subtgraph_core::error::ConfigError;
 use subtgraph_core::export::{ExportError, Exporter, WorldWriter, write_file};
 use subtgraph_core::params::Params;
+use subtgraph_core::survey::Survey;
 
 use crate::mjcf::part_colour;
 use crate::parts::{Split, parts, write_part_meshes};
@@ -54,8 +55,8 @@ impl Urdf {
 
 /// An artifact as a link (a box resting on the floor at its recorded pose) fixed to the
 /// world: a URDF is one articulated body, so the artifacts cannot move in it. Their pads
-/// ([`Artifact::pad`](crate::artifacts::Artifact::pad)) are collision boxes of the world link.
-fn artifact_link(s: &mut String, a: &crate::artifacts::Artifact) {
+/// ([`Artifact::pad`](subtgraph_core::artifacts::Artifact::pad)) are collision boxes of the world link.
+fn artifact_link(s: &mut String, a: &subtgraph_core::artifacts::Artifact) {
     let [x, y, z] = a.position;
     let [l, w, h] = a.size;
     let [r, g, b] = a.class.colour();
@@ -73,7 +74,12 @@ fn artifact_link(s: &mut String, a: &crate::artifacts::Artifact) {
 }
 
 impl Exporter for Urdf {
-    fn export(&self, world: &World, out: &mut dyn WorldWriter) -> Result<(), ExportError> {
+    fn export(
+        &self,
+        world: &World,
+        survey: &dyn Survey,
+        out: &mut dyn WorldWriter,
+    ) -> Result<(), ExportError> {
         let Some(mesh) = world.mesh() else {
             return Err(ExportError::Unsupported(
                 "the URDF exporter needs geometry: add a [tileset] to the pipeline (or drop --no-mesh)".into(),
@@ -85,7 +91,7 @@ impl Exporter for Urdf {
             "<?xml version=\"1.0\"?>\n<!-- subtgraph world, seed {}: metres, x east, y north, z up. PyBullet: loadURDF(\"urdf/world.urdf\", useFixedBase=True) -->\n<robot name=\"subtgraph_world\">\n  <link name=\"world\" concave=\"yes\">\n    <inertial>\n      <mass value=\"0\"/>\n      <inertia ixx=\"0\" ixy=\"0\" ixz=\"0\" iyy=\"0\" iyz=\"0\" izz=\"0\"/>\n    </inertial>\n",
             world.resolved.seed
         );
-        let patches = crate::hazards::patches(world);
+        let patches = survey.patches().unwrap_or(&[]);
         let mut patch_links = Vec::new();
         for (part, file) in parts.iter().zip(&files) {
             let name = xml_escape(&part.name);
@@ -94,7 +100,7 @@ impl Exporter for Urdf {
                 "    <visual name=\"{name}\">\n      <geometry>\n        <mesh filename=\"../{}\"/>\n      </geometry>\n      <material name=\"{name}-rock\">\n        <color rgba=\"{r:.4} {g:.4} {b:.4} 1\"/>\n      </material>\n    </visual>\n",
                 xml_escape(&file.visual)
             ));
-            let collision = match crate::hazards::split_collision(&patches, mesh, part) {
+            let collision = match crate::hazards::split_collision(patches, mesh, part) {
                 None => file.collision.clone(),
                 Some(groups) => {
                     // Floor patches: PyBullet's friction is per link, so each material's
@@ -118,7 +124,7 @@ impl Exporter for Urdf {
                 xml_escape(&collision)
             ));
         }
-        let artifacts = crate::artifacts::place(world)?;
+        let artifacts = crate::artifacts_of(survey);
         for a in artifacts.iter() {
             // Its pad (`Artifact::pad`), part of the fixed world.
             let ([x, y, z], [l, w, h]) = a.pad();
@@ -158,7 +164,9 @@ mod tests {
     fn every_mesh_path_resolves_from_the_urdf_folder_to_a_written_file() {
         let world = crate::test_world_with_mesh();
         let mut out = MemoryWriter::default();
-        Urdf::default().export(&world, &mut out).unwrap();
+        Urdf::default()
+            .export(&world, &crate::survey_of(&world), &mut out)
+            .unwrap();
         let text = String::from_utf8(out.get("urdf/world.urdf").unwrap().to_vec()).unwrap();
         let meshes: Vec<&str> = text
             .split("filename=\"")

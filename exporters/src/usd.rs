@@ -39,6 +39,7 @@ use subtgraph_core::export::{ExportError, Exporter, WorldWriter, stream_file, wr
 use subtgraph_core::hazards::FloorMaterial;
 use subtgraph_core::mesh::Mesh;
 use subtgraph_core::params::Params;
+use subtgraph_core::survey::Survey;
 
 use crate::instances::{Instances, find_instances};
 use crate::parts::{Split, parts};
@@ -303,8 +304,8 @@ fn root_layer(
     mesh: &WorldMesh,
     layers: &[String],
     materials: &[String],
-    artifacts: &[crate::artifacts::Artifact],
-    patches: &[crate::hazards::Patch],
+    artifacts: &[subtgraph_core::artifacts::Artifact],
+    patches: &[subtgraph_core::hazards::Patch],
 ) -> String {
     let mut s = String::from(
         "#usda 1.0\n(\n    defaultPrim = \"World\"\n    doc = \"subtgraph world: metres, x east, y north, z up\"\n    metersPerUnit = 1\n    kilogramsPerUnit = 1\n    upAxis = \"Z\"\n    subLayers = [\n",
@@ -353,8 +354,8 @@ fn root_layer(
 /// The artifacts under `/World/Artifacts`: an `Xform` per artifact at its recorded pose (a
 /// rigid body with its mass, `subtgraph:class` naming its class) holding a `Cube` scaled to
 /// its box, a collider, resting on the floor; beside it `<name>_pad`, its pad
-/// ([`Artifact::pad`](crate::artifacts::Artifact::pad)), a static cube collider of rock.
-fn artifact_prims(s: &mut String, artifacts: &[crate::artifacts::Artifact]) {
+/// ([`Artifact::pad`](subtgraph_core::artifacts::Artifact::pad)), a static cube collider of rock.
+fn artifact_prims(s: &mut String, artifacts: &[subtgraph_core::artifacts::Artifact]) {
     if artifacts.is_empty() {
         return;
     }
@@ -383,7 +384,12 @@ fn artifact_prims(s: &mut String, artifacts: &[crate::artifacts::Artifact]) {
 }
 
 impl Exporter for Usd {
-    fn export(&self, world: &World, out: &mut dyn WorldWriter) -> Result<(), ExportError> {
+    fn export(
+        &self,
+        world: &World,
+        survey: &dyn Survey,
+        out: &mut dyn WorldWriter,
+    ) -> Result<(), ExportError> {
         let Some(mesh) = world.mesh() else {
             return Err(ExportError::Unsupported(
                 "the USD exporter needs geometry: add a [tileset] to the pipeline (or drop --no-mesh)".into(),
@@ -421,7 +427,7 @@ impl Exporter for Usd {
             })?;
             layers.push("parts/prototypes.usda".to_owned());
         }
-        let patches = crate::hazards::patches(world);
+        let patches = survey.patches().unwrap_or(&[]);
         for part in parts(world, mesh, self.split) {
             let name = prim_name(&part.name);
             let file = format!("parts/{}.usda", part.name);
@@ -436,7 +442,7 @@ impl Exporter for Usd {
             // Floor patches: the patched floors as colliders of their own, bound to their
             // material ("collision_mud"); without patches the one "collision" as before.
             let colliders: Vec<(String, Option<FloorMaterial>, Mesh)> =
-                match crate::hazards::split_collision(&patches, mesh, &part) {
+                match crate::hazards::split_collision(patches, mesh, &part) {
                     None => vec![("collision".into(), None, part.collision(mesh))],
                     Some(groups) => groups
                         .into_iter()
@@ -496,8 +502,8 @@ impl Exporter for Usd {
             drop(visual);
             layers.push(file);
         }
-        let artifacts = crate::artifacts::place(world)?;
-        let root = root_layer(mesh, &layers, &materials, &artifacts, &patches);
+        let artifacts = crate::artifacts_of(survey);
+        let root = root_layer(mesh, &layers, &materials, artifacts, patches);
         write_file(out, "usd/world.usda", root.as_bytes())
     }
 

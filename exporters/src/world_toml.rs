@@ -4,17 +4,23 @@
 use subtgraph_core::World;
 use subtgraph_core::config::Provenance;
 use subtgraph_core::export::{ExportError, Exporter, WorldWriter, write_file};
+use subtgraph_core::survey::Survey;
 
 /// Writes `world.toml`.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct WorldToml;
 
 impl Exporter for WorldToml {
-    fn export(&self, world: &World, out: &mut dyn WorldWriter) -> Result<(), ExportError> {
+    fn export(
+        &self,
+        _world: &World,
+        survey: &dyn Survey,
+        out: &mut dyn WorldWriter,
+    ) -> Result<(), ExportError> {
         write_file(
             out,
             "world.toml",
-            world_toml_text(&world.pipeline).as_bytes(),
+            world_toml_text(survey.record()).as_bytes(),
         )
     }
 }
@@ -46,7 +52,9 @@ mod tests {
     fn world_toml_parses_back_into_the_resolved_pipeline() {
         let world = crate::test_world();
         let mut out = MemoryWriter::default();
-        WorldToml.export(&world, &mut out).unwrap();
+        WorldToml
+            .export(&world, &crate::survey_of(&world), &mut out)
+            .unwrap();
         let text = std::str::from_utf8(out.get("world.toml").unwrap()).unwrap();
         let back = subtgraph_core::Pipeline::parse(text, "world.toml").unwrap();
         assert_eq!(back.resolve().unwrap().1, world.resolved);

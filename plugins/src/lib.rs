@@ -48,6 +48,7 @@ use subtgraph_core::params::Params;
 use subtgraph_core::registry::{Catalogue, Registry};
 use subtgraph_core::route::{RouteDescriptor, Segment};
 use subtgraph_core::shape::{Arm, ConstraintShape, Heading, Offset};
+use subtgraph_core::survey::Survey;
 use subtgraph_core::tile::TileKind;
 use subtgraph_core::tileset::{CrossSection, TileContext, TileGeometry, TileSet, TileSetError};
 
@@ -56,7 +57,7 @@ mod loader;
 pub use loader::{LoadedPlugin, PluginError, check_failures, load, loaded};
 
 /// The plugin API version: bumped whenever the declaration or [`Registrar`] changes.
-pub const API_VERSION: u32 = 5;
+pub const API_VERSION: u32 = 6;
 /// The compiler that built this copy of the crate.
 pub const RUSTC_VERSION: &str = env!("SUBTGRAPH_RUSTC_VERSION");
 /// The version of the subtgraph crates this copy belongs to.
@@ -127,12 +128,24 @@ impl FixedText {
     }
 }
 
+/// A plugin's code failed: it panicked (caught inside the plugin) or registered a name that
+/// is taken. The message names the plugin and the call; fix or remove the plugin.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("{message}")]
+pub struct PluginFailure {
+    /// What failed, naming the plugin.
+    pub message: String,
+}
+
 /// Declares a plugin: `declare_plugin!("name", register_fn)`.
 #[macro_export]
 macro_rules! declare_plugin {
     ($name:expr, $register:path) => {
         fn __subtgraph_register(r: &mut $crate::Registrar<'_>) -> Result<(), String> {
+            // The declaration's function returns the failure's text: what crosses the
+            // library boundary.
             r.run_guarded("register", |r| $register(r))
+                .map_err(|e| e.message)
         }
 
         /// The plugin's declaration, read by `subtgraph` when it loads this library.
@@ -202,9 +215,11 @@ impl<'a> Registrar<'a> {
         &mut self,
         what: &str,
         f: impl FnOnce(&mut Self) -> T,
-    ) -> Result<T, String> {
+    ) -> Result<T, PluginFailure> {
         let info = self.info.clone();
-        catch_unwind(AssertUnwindSafe(|| f(self))).map_err(|p| info.fail(what, p))
+        catch_unwind(AssertUnwindSafe(|| f(self))).map_err(|p| PluginFailure {
+            message: info.fail(what, p),
+        })
     }
 
     fn origin(&self) -> String {
@@ -498,9 +513,14 @@ impl TileSet for Guarded<dyn TileSet> {
 
 #[deny(clippy::missing_trait_methods)] // a new defaulted method must be forwarded, not skipped
 impl Exporter for Guarded<dyn Exporter> {
-    fn export(&self, world: &World, out: &mut dyn WorldWriter) -> Result<(), ExportError> {
-        self.try_call("Exporter::export", ExportError::Unsupported, |e| {
-            e.export(world, out)
+    fn export(
+        &self,
+        world: &World,
+        survey: &dyn Survey,
+        out: &mut dyn WorldWriter,
+    ) -> Result<(), ExportError> {
+        self.try_call("Exporter::export", ExportError::Plugin, |e| {
+            e.export(world, survey, out)
         })
     }
     fn needs_geometry(&self) -> bool {

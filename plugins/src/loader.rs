@@ -7,8 +7,8 @@ use std::sync::{Arc, Mutex};
 use subtgraph_core::registry::{DuplicateName, Registry};
 
 use crate::{
-    ABI_FINGERPRINT, API_VERSION, CRATE_VERSION, PluginDeclaration, PluginInfo, RUSTC_VERSION,
-    Registrar, SYMBOL,
+    ABI_FINGERPRINT, API_VERSION, CRATE_VERSION, PluginDeclaration, PluginFailure, PluginInfo,
+    RUSTC_VERSION, Registrar, SYMBOL,
 };
 
 /// Why a plugin was refused. Each says what to rebuild or fix.
@@ -115,16 +115,16 @@ pub fn loaded() -> Vec<LoadedPlugin> {
 
 /// An error for the first failure recorded by any loaded plugin's code (a panic caught inside
 /// the plugin), so the host never writes a world a plugin failed to make properly.
-pub fn check_failures() -> Result<(), String> {
+pub fn check_failures() -> Result<(), PluginFailure> {
     for p in loaded() {
-        if let Some(f) = p
+        if let Some(message) = p
             .info
             .failure
             .lock()
             .unwrap_or_else(|e| e.into_inner())
             .clone()
         {
-            return Err(f);
+            return Err(PluginFailure { message });
         }
     }
     Ok(())

@@ -486,6 +486,7 @@ impl subtgraph_core::export::Exporter for Gate {
     fn export(
         &self,
         _world: &subtgraph_core::World,
+        _survey: &dyn subtgraph_core::survey::Survey,
         _out: &mut dyn subtgraph_core::export::WorldWriter,
     ) -> Result<(), subtgraph_core::export::ExportError> {
         match &*self.0.first.lock().unwrap_or_else(|e| e.into_inner()) {

@@ -34,24 +34,13 @@ impl From<&ConfigError> for Place {
 fn classify(e: &Error) -> (&'static str, Place) {
     match e {
         Error::Config(c) => ("ConfigError", c.into()),
-        Error::Core(core) | Error::Unmakeable { source: core, .. } => match core {
-            subtgraph_core::Error::Config(c) => ("ConfigError", c.into()),
-            subtgraph_core::Error::Unsatisfiable { .. } => ("GenerationError", Place::default()),
-            subtgraph_core::Error::TooLarge(_) => ("TooLargeError", Place::default()),
-            subtgraph_core::Error::Import { source_name, .. } => (
-                "OccupancyError",
-                Place {
-                    file: Some(source_name.clone()),
-                    ..Place::default()
-                },
-            ),
-            _ => ("ComponentError", Place::default()),
-        },
+        Error::Core(core) => classify_core(core),
+        Error::Unmakeable { source, .. } => classify_core(source),
         Error::Usage(_) | Error::UnknownPreset { .. } | Error::NoTileset { .. } => {
             ("ConfigError", Place::default())
         }
         Error::TooLarge(_) => ("TooLargeError", Place::default()),
-        Error::TileSet { .. } | Error::Export { .. } | Error::WorldFiles(_) => {
+        Error::TileSet { .. } | Error::Export { .. } | Error::WorldFiles(_) | Error::Survey(_) => {
             ("ComponentError", Place::default())
         }
         Error::Plugin(_) | Error::PluginFailed(_) => ("PluginError", Place::default()),
@@ -61,6 +50,23 @@ fn classify(e: &Error) -> (&'static str, Place) {
         },
         Error::Folder(_) => ("FolderError", Place::default()),
         _ => ("Error", Place::default()),
+    }
+}
+
+/// The exception class of a generation error and where it points.
+fn classify_core(core: &subtgraph_core::Error) -> (&'static str, Place) {
+    match core {
+        subtgraph_core::Error::Config(c) => ("ConfigError", c.into()),
+        subtgraph_core::Error::Unsatisfiable { .. } => ("GenerationError", Place::default()),
+        subtgraph_core::Error::TooLarge(_) => ("TooLargeError", Place::default()),
+        subtgraph_core::Error::Import { source_name, .. } => (
+            "OccupancyError",
+            Place {
+                file: Some(source_name.clone()),
+                ..Place::default()
+            },
+        ),
+        _ => ("ComponentError", Place::default()),
     }
 }
 

@@ -153,9 +153,10 @@ impl PyWorld {
     /// Runs exporters into memory.
     fn run(&self, exporters: &[NamedExporter]) -> Result<MemoryWriter, Error> {
         let mut out = MemoryWriter::default();
+        let survey = subtgraph_survey::WorldSurvey::new(&self.world)?;
         for e in exporters {
             e.exporter
-                .export(&self.world, &mut out)
+                .export(&self.world, &survey, &mut out)
                 .map_err(|source| Error::Export {
                     exporter: e.name.clone(),
                     source,

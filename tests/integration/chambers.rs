@@ -131,11 +131,12 @@ fn check_world(p: &Pipeline, clearance: [f64; 2], what: &str) -> Seen {
     let mesh = &world.mesh().expect("a mesh").collision;
     let rays = Rays::new(mesh, pitch / 6.0);
     let mut out = MemoryWriter::default();
+    let survey = subtgraph::survey::WorldSurvey::new(&world).unwrap();
     subtgraph::exporters::GraphFiles
-        .export(&world, &mut out)
+        .export(&world, &survey, &mut out)
         .unwrap();
     subtgraph::exporters::SemanticLabels
-        .export(&world, &mut out)
+        .export(&world, &survey, &mut out)
         .unwrap();
     let json = |f: &str| -> serde_json::Value {
         serde_json::from_slice(out.get(&format!("ground_truth/{f}")).unwrap()).unwrap()
@@ -249,7 +250,11 @@ fn chambers_are_rooms(p: &Pipeline, what: &str) -> usize {
     // Each tile's node height (on its passage's floor), from the ground truth.
     let mut out = MemoryWriter::default();
     subtgraph::exporters::SemanticLabels
-        .export(&with, &mut out)
+        .export(
+            &with,
+            &subtgraph::survey::WorldSurvey::new(&with).unwrap(),
+            &mut out,
+        )
         .unwrap();
     let labels: serde_json::Value =
         serde_json::from_slice(out.get("ground_truth/semantic_labels.json").unwrap()).unwrap();

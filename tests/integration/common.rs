@@ -359,8 +359,9 @@ pub fn sdf_report(dir: &Path, sdf: &Path) -> Option<String> {
 pub fn graph_json(world: &subtgraph::core::World) -> serde_json::Value {
     use subtgraph::core::export::{Exporter, MemoryWriter};
     let mut out = MemoryWriter::default();
+    let survey = subtgraph::survey::WorldSurvey::new(world).unwrap();
     subtgraph::exporters::GraphFiles
-        .export(world, &mut out)
+        .export(world, &survey, &mut out)
         .unwrap();
     serde_json::from_slice(out.get("ground_truth/graph.json").unwrap()).unwrap()
 }

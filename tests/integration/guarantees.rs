@@ -103,7 +103,8 @@ fn check_world(w: &World) {
 
 fn world_bytes(w: &World) -> Vec<(String, Vec<u8>)> {
     let mut out = MemoryWriter::default();
-    subtgraph::exporters::write_world_folder(w, &mut out).unwrap();
+    let survey = subtgraph::survey::WorldSurvey::new(w).unwrap();
+    subtgraph::exporters::write_world_folder(w, &survey, &mut out).unwrap();
     out.files
 }
 

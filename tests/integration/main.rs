@@ -9,6 +9,7 @@
 mod common;
 
 mod artifacts;
+mod centrelines;
 mod chambers;
 mod cli;
 mod dataset;

@@ -416,5 +416,82 @@ fn bad_shaft_keys_are_refused_naming_the_key() {
         assert!(err.contains(want), "{body}\n{err}");
     }
     assert!(MeshFiles::open(&manifest(dir.path(), &shaft("", "top = \"none\""))).is_ok());
-    assert!(MeshFiles::open(&manifest(dir.path(), &shaft("shaft_rise = 64.0", ""))).is_ok());
+    assert!(MeshFiles::open(&manifest(dir.path(), &shaft("shaft_rise = 3.0", ""))).is_ok());
+}
+
+/// Issue 21 item 18: a manifest's message names the key that is wrong and a value that works.
+/// Before, `rise` on the straight tile was "two [[tile]] entries for 'elevation'", `scale =
+/// 1e-45` said "set pitch = 112" and `scale = 1e39` "set pitch = inf", and `shaft_rise = 1e12`
+/// was blamed on `world.tile_pitch` (at generation, after the tiles were loaded).
+#[test]
+fn manifest_messages_name_the_wrong_key_and_a_value_that_works() {
+    let dir = tempfile::tempdir().unwrap();
+    write_tiles(dir.path());
+    let elevation =
+        "[[tile]]\nkind = \"elevation\"\nfiles = [\"straight.obj\"]\nrise = 32.0\nrate = 0.3\n";
+    let with_rise = ALL_KINDS.replace(
+        "files = [\"straight.obj\", \"straight-ns.obj\"]",
+        "files = [\"straight.obj\", \"straight-ns.obj\"]\nrise = 32.0",
+    );
+    let shaft = |rise: &str| {
+        format!(
+            "shaft_rise = {rise}\n{ALL_KINDS}\n[[tile]]\nkind = \"shaft-up\"\nrotation = 0\nfiles = [\"dead.obj\"]\n"
+        )
+    };
+    for (head, body, want, not) in [
+        (
+            "",
+            format!("{with_rise}{elevation}"),
+            vec![
+                "tile 'straight': rise = 32",
+                "give it on the kind = \"elevation\" tile",
+            ],
+            "two [[tile]] entries",
+        ),
+        (
+            "scale = 1e-45",
+            ALL_KINDS.to_owned(),
+            vec![
+                "scale = 1e-45: scale turns file units into metres",
+                "like scale = 1",
+            ],
+            "set pitch",
+        ),
+        (
+            "scale = 1e39",
+            ALL_KINDS.to_owned(),
+            vec!["scale = 1e39", "from 0.0001 to 10000", "like scale = 1"],
+            "set pitch",
+        ),
+        (
+            "",
+            shaft("1e12"),
+            vec!["shaft_rise = 1e12", "4 file units tall", "below 4"],
+            "tile_pitch",
+        ),
+        (
+            "",
+            shaft("-3"),
+            vec!["shaft_rise = -3", "a positive number"],
+            "tile_pitch",
+        ),
+    ] {
+        let p = dir.path().join("keys.toml");
+        std::fs::write(&p, format!("pitch = 80.0\nup = \"z\"\n{head}\n{body}")).unwrap();
+        let err = MeshFiles::open(&p)
+            .err()
+            .unwrap_or_else(|| panic!("accepted: {head} {want:?}"))
+            .to_string();
+        for w in want {
+            assert!(err.contains(w), "want '{w}' in: {err}");
+        }
+        assert!(!err.contains(not), "{err}");
+        assert!(err.contains("keys.toml"), "names the manifest: {err}");
+    }
+    // The values the messages suggest are accepted.
+    let p = dir.path().join("fixed.toml");
+    for body in [format!("scale = 1\n{ALL_KINDS}"), shaft("3")] {
+        std::fs::write(&p, format!("pitch = 80.0\nup = \"z\"\n{body}")).unwrap();
+        MeshFiles::open(&p).unwrap_or_else(|e| panic!("{body}: {e}"));
+    }
 }

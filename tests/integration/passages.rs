@@ -293,7 +293,11 @@ fn semantic_labels_mark_sloping_tiles() {
         let w = world("cave", 3, extra);
         let mut out = MemoryWriter::default();
         subtgraph::exporters::SemanticLabels
-            .export(&w, &mut out)
+            .export(
+                &w,
+                &subtgraph::survey::WorldSurvey::new(&w).unwrap(),
+                &mut out,
+            )
             .unwrap();
         let doc: serde_json::Value =
             serde_json::from_slice(out.get("ground_truth/semantic_labels.json").unwrap()).unwrap();

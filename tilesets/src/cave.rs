@@ -5,8 +5,8 @@ use subtgraph_core::error::ConfigError;
 use subtgraph_core::mesh::Material;
 use subtgraph_core::params::Params;
 
-use crate::chambers::Rooms;
-use crate::field::{Passage, Profile};
+use crate::passage::Rooms;
+use crate::passage::{Passage, Profile};
 use crate::procedural::{Procedural, Style};
 
 /// A rounded, slightly flattened section with a floor.

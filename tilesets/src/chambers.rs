@@ -30,7 +30,8 @@ use subtgraph_core::tile::TileKind;
 
 use subtgraph_core::Layout;
 
-use crate::field::{Levels, Passage, Profile};
+pub use crate::passage::{DEFAULT_CLEARANCE, Rooms};
+use crate::passage::{Levels, Passage, Profile};
 
 /// The chamber and the squeeze of an occupied cell (either, or none), as every tile around it
 /// computes them; `lattice` is the visual lattice's spacing.
@@ -96,51 +97,6 @@ pub struct SqueezeSettings {
     /// The passage's size there, as a share of its size elsewhere, `[low, high]`, in (0, 1].
     pub factor: Option<[f64; 2]>,
 }
-
-/// Chambers and squeezes of one world, resolved to metres (see the module docs).
-#[derive(Clone, Debug, PartialEq)]
-pub struct Rooms {
-    /// Share of junction and dead-end tiles with a chamber.
-    pub chamber_rate: f64,
-    /// Chamber width in passage widths, `[low, high]`.
-    pub chamber_size: [f64; 2],
-    /// Round rooms (caves, lava tubes) or rectangular ones (mine stopes).
-    pub chamber_round: bool,
-    /// Share of straight and corner tiles with a squeeze.
-    pub squeeze_rate: f64,
-    /// Length of a squeeze's narrowest part: in a style, as a share of the pitch; resolved,
-    /// metres.
-    pub squeeze_length: [f64; 2],
-    /// Size factor at a squeeze's narrowest part, `[low, high]`.
-    pub squeeze_factor: [f64; 2],
-    /// Chance that a squeeze is low (a crawl) rather than narrow.
-    pub low_share: f64,
-    /// Least width and height a squeeze leaves, metres.
-    pub min_clearance: [f64; 2],
-    /// The least width and height factors `min_clearance` allows (resolved; 1 or more: no
-    /// squeeze of that kind fits).
-    pub least_factor: [f64; 2],
-}
-
-impl Default for Rooms {
-    /// No chambers, no squeezes, a 1 m robot.
-    fn default() -> Self {
-        Rooms {
-            chamber_rate: 0.0,
-            chamber_size: [2.0, 3.0],
-            chamber_round: true,
-            squeeze_rate: 0.0,
-            squeeze_length: [0.12, 0.3],
-            squeeze_factor: [0.45, 0.7],
-            low_share: 0.5,
-            min_clearance: [DEFAULT_CLEARANCE, DEFAULT_CLEARANCE],
-            least_factor: [0.0, 0.0],
-        }
-    }
-}
-
-/// `min_clearance` when not given: a small ground robot, metres.
-pub const DEFAULT_CLEARANCE: f64 = 1.0;
 
 /// How much of the passage's width variation a chamber's walls follow: a little, so they are
 /// not perfect ellipses, but not all of it, so the room can be larger within its block.

@@ -16,99 +16,11 @@ use subtgraph_core::grid::{Cell, Direction};
 use subtgraph_core::rng::WorldRng;
 use subtgraph_core::tile::TileKind;
 
-use crate::bends::{self, Bends, Centreline};
-use crate::chambers::{Chamber, Rooms, Squeeze};
+use crate::bends::{self, Centreline};
+use crate::chambers::{Chamber, Squeeze};
 use crate::noise::Noise;
-use crate::slope::{Slope, Waves};
-
-/// Material indices used by the procedural tile sets.
-pub mod material {
-    /// Walls and ceiling.
-    pub const WALL: u8 = 0;
-    /// The floor.
-    pub const FLOOR: u8 = 1;
-    /// Rock piles and boulders.
-    pub const ROCK: u8 = 2;
-    /// Striated bands on the walls.
-    pub const STRIATED: u8 = 3;
-}
-
-/// The shape of a passage across its axis.
-pub trait Profile: Send + Sync {
-    /// Negative inside the passage: `u >= 0` metres sideways from the axis, `v` metres above
-    /// the floor, for a passage `width` wide and `height` high here.
-    fn section(&self, u: f64, v: f64, width: f64, height: f64) -> f64;
-}
-
-/// The knobs shared by the procedural tile sets, in metres unless said otherwise.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Passage {
-    /// Nominal width.
-    pub width: f64,
-    /// Nominal floor-to-ceiling height.
-    pub height: f64,
-    /// Width changes along the passage, as a fraction of the width.
-    pub width_variation: f64,
-    /// Height changes along the passage, as a fraction of the height.
-    pub height_variation: f64,
-    /// Distance over which width and height change.
-    pub variation_scale: f64,
-    /// Amplitude of wall relief.
-    pub roughness: f64,
-    /// Size of wall relief features.
-    pub roughness_scale: f64,
-    /// Amplitude of floor rubble.
-    pub floor_roughness: f64,
-    /// Rocks per tile (fractions are a probability).
-    pub rocks: f64,
-    /// Typical rock radius.
-    pub rock_size: f64,
-    /// Shaft radius as a fraction of the width.
-    pub shaft_radius: f64,
-    /// Whether walls get striated bands.
-    pub striations: bool,
-    /// Chambers, squeezes and the clearance they keep (see [`crate::chambers`]).
-    pub rooms: Rooms,
-    /// How passages turn at corner cells (see [`bends`]).
-    pub bends: Bends,
-    /// Greatest sideways meander of a straight cell's passage, metres.
-    pub meander: f64,
-    /// Default `[low, high]` range of the floors' steepest grade, degrees (`[tileset] grade`).
-    pub grade: [f64; 2],
-    /// How floors rise and fall (see [`slope`](crate::slope)); set for a world from `grade`.
-    pub slope: Slope,
-    /// Spacing of the collision lattice: rubble rocks and pits are never smaller, so the
-    /// collision mesh holds them (0: no minimum).
-    pub hazard_lattice: f64,
-}
-
-impl Default for Passage {
-    /// The cave's passage: moderate width and height changes, rough walls, a little floor
-    /// rubble, striations. A procedural tile set states only what differs (`..Passage::default()`);
-    /// `width` and `height` are 0, taken from the tile set's style and parameters.
-    fn default() -> Self {
-        Passage {
-            width: 0.0,
-            height: 0.0,
-            width_variation: 0.22,
-            height_variation: 0.2,
-            variation_scale: 0.9,
-            roughness: 0.09,
-            roughness_scale: 0.45,
-            floor_roughness: 0.03,
-            rocks: 0.0,
-            rock_size: 0.12,
-            shaft_radius: 0.3,
-            striations: true,
-            rooms: Rooms::default(),
-            bends: Bends::Round,
-            meander: 0.08,
-            grade: [6.0, 12.0],
-            slope: Slope::flat(),
-            hazard_lattice: 0.0,
-        }
-    }
-}
+use crate::passage::{Levels, Passage, Profile, material};
+use crate::slope::Waves;
 
 /// A passage contribution, with the box it acts in.
 #[derive(Clone, Debug)]
@@ -176,38 +88,6 @@ pub struct LocalField<'a> {
     bands: Noise,
 }
 
-/// Vertical layout of a world's levels for the lattice.
-#[derive(Clone, Copy, Debug)]
-pub struct Levels {
-    /// Metres between levels.
-    pub height: f64,
-    /// How far below its floor a level's block starts: the rock under the floor, or under a
-    /// drop's pit (`[hazards] drops`) when the world has drops.
-    pub below_floor: f64,
-    /// The rock kept between a passage's highest ceiling and the top of its level's block
-    /// (the next level's `below_floor` starts there): the floor's rock without drops. A pit
-    /// sinks into the block of its own level, not into the ceiling of the level below.
-    pub above_ceiling: f64,
-    /// Metres between the collision lattice's points (ramps keep two of them of rock
-    /// between their turns).
-    pub coarse: f64,
-}
-
-impl Levels {
-    /// The height a level's passage may take from its floor to its highest ceiling (floors
-    /// lifted by slopes included): the spacing of levels less the rock under the next level's
-    /// floor (or pit) and the rock above this level's ceiling.
-    pub fn head(&self) -> f64 {
-        self.height - (self.below_floor + self.above_ceiling)
-    }
-
-    /// The z range `[lo, hi]` of level `l`'s block.
-    pub fn block_z(&self, l: usize) -> (f64, f64) {
-        let f = l as f64 * self.height;
-        (f - self.below_floor, f + self.height - self.below_floor)
-    }
-}
-
 impl<'a> LocalField<'a> {
     /// The contributions acting on the block of `cell` (its 3 x 3 neighbourhood on levels
     /// `level - 1 ..= level + 1`), for a lattice of spacing `lattice` metres.
@@ -224,18 +104,6 @@ impl<'a> LocalField<'a> {
         lattice: f64,
     ) -> Self {
         let seed = world.resolved.seed;
-        let pitch = world.resolved.tile_pitch;
-        let half = 0.5 * pitch;
-        let mut features = Vec::new();
-        let mut rocks = Vec::new();
-        let margin = 3.0 * lattice;
-        let reach =
-            (0.5 * passage.width * (1.0 + passage.width_variation) + passage.roughness + margin)
-                .min(half);
-        let top = passage.height * (1.0 + passage.height_variation)
-            + passage.roughness
-            + passage.floor_roughness
-            + margin;
         let occ = &world.occupancy;
         let lmin = cell.level.saturating_sub(1);
         let lmax = (cell.level + 1).min(occ.levels() - 1);
@@ -246,12 +114,7 @@ impl<'a> LocalField<'a> {
                 Waves::FLAT
             }
         });
-        let lift = |l: usize, c: [f64; 2]| match waves.get(l - lmin) {
-            Some(w) => w.lift(c[0], c[1]),
-            // The landing of a shaft from the level above this tile's.
-            None => passage.slope.level(l).lift(c[0], c[1]),
-        };
-        let amp = passage.slope.amp;
+        let mut gather = Gather::new(world, passage, profile, levels, lattice, &waves, lmin);
         for l in lmin..=lmax {
             for dr in -1i64..=1 {
                 for dc in -1i64..=1 {
@@ -259,169 +122,15 @@ impl<'a> LocalField<'a> {
                     if r < 0 || c < 0 || r as usize >= occ.rows() || c as usize >= occ.cols() {
                         continue;
                     }
-                    let n = Cell::new(l, r as usize, c as usize);
-                    let Some(tile) = world.tiles.get(n) else {
-                        continue;
-                    };
-                    let [x, y, floor] = world.cell_position(n);
-                    let (z0, z1) = levels.block_z(l);
-                    let (zlo, zhi) = (z0, (floor + amp + top).min(z1));
-                    let mut ends: Vec<[f64; 2]> = Direction::ALL
-                        .into_iter()
-                        .filter(|d| tile.openings & d.bit() != 0)
-                        .map(|d| {
-                            let (sr, sc) = d.step();
-                            [x + f64::from(sc) * half, y - f64::from(sr) * half]
-                        })
-                        .collect();
-                    if ends.is_empty() {
-                        ends.push([x, y]);
-                    }
-                    // A ramp's end: its lead replaces the half-corridor of the ramp's opening.
-                    let ramp = crate::ramp::shaft_of(world, n).and_then(|s| {
-                        let sizing =
-                            crate::ramp::Sizing::of(world, passage, lattice, levels.coarse);
-                        crate::ramp::plan(world, s, &sizing)
-                            .ok()
-                            .map(|h| (s.up == n, h))
-                    });
-                    let has_ramp = ramp.is_some();
-                    let mut leads = Vec::new();
-                    if let Some((foot, h)) = &ramp {
-                        let (a, b) = h.leads()[usize::from(!*foot)];
-                        ends.retain(|e| (e[0] - b[0]).abs() + (e[1] - b[1]).abs() > 1e-6);
-                        leads.push(Centreline::Segment { a, b });
-                    }
-                    let (chamber, squeeze) =
-                        crate::chambers::of_cell(world, n, tile.kind, passage, levels, lattice);
-                    if let Some(ch) = chamber {
-                        let zhi = floor
-                            + amp
-                            + ch.top(passage.height_variation)
-                            + passage.roughness
-                            + passage.floor_roughness
-                            + margin;
-                        features.push(Bounded {
-                            lo: [x - half, y - half, zlo],
-                            hi: [x + half, y + half, zhi.min(z1)],
-                            item: Feature::Chamber {
-                                chamber: ch,
-                                level: l,
-                            },
-                        });
-                    }
-                    let key = ((l as u64) << 40) | ((n.row as u64) << 20) | n.col as u64;
-                    let sway = bends::meander(seed, key, passage.meander);
-                    // A ramp cell whose only opening is the ramp's has no half-corridor.
-                    let mut lines = if ends.is_empty() {
-                        Vec::new()
-                    } else {
-                        bends::centrelines([x, y], &ends, passage.bends, sway)
-                    };
-                    lines.extend(leads);
-                    for &line in &lines {
-                        let (lo, hi) = line.bounds();
-                        features.push(Bounded {
-                            lo: [lo[0] - reach, lo[1] - reach, zlo],
-                            hi: [hi[0] + reach, hi[1] + reach, zhi],
-                            item: Feature::Corridor {
-                                line,
-                                floor,
-                                level: l,
-                                squeeze,
-                            },
-                        });
-                    }
-                    if let Some((true, h)) = ramp {
-                        let [(a0, _), (a1, _)] = h.leads();
-                        let lifts = [lift(l, a0), lift(l + 1, a1)];
-                        let (lo, mut hi) = h.bounds(margin + passage.roughness);
-                        hi[2] += lifts[0].max(lifts[1]);
-                        features.push(Bounded {
-                            lo,
-                            hi,
-                            item: Feature::Ramp {
-                                helix: Box::new(h),
-                                lifts,
-                            },
-                        });
-                    } else if tile.kind == TileKind::ShaftUp
-                        && l + 1 < occ.levels()
-                        && crate::ramp::shaft_of(world, n).is_none()
-                    {
-                        let above = floor + levels.height + lift(l + 1, [x, y]);
-                        let foot = floor + lift(l, [x, y]);
-                        let r = passage.shaft_radius * passage.width;
-                        let w = (r + passage.roughness + margin).min(half);
-                        features.push(Bounded {
-                            lo: [x - w, y - w, foot],
-                            hi: [x + w, y + w, above + 0.5 + margin],
-                            item: Feature::Shaft {
-                                c: [x, y],
-                                z0: foot + 0.5,
-                                z1: above + 0.5,
-                                r,
-                            },
-                        });
-                    }
-                    let mut rng = WorldRng::new(seed, "rocks", key);
-                    let count = passage.rocks.floor() as u32
-                        + u32::from(rng.unit() < passage.rocks.fract());
-                    // No rocks in a squeeze (the passage there is already as tight as allowed)
-                    // nor in a ramp's cells.
-                    let count = if squeeze.is_some() || has_ramp || lines.is_empty() {
-                        0
-                    } else {
-                        count
-                    };
-                    for _ in 0..count {
-                        let line = lines[rng.below(lines.len() as u64) as usize];
-                        let ([ax, ay], [dx, dy]) = line.at(rng.float_in(0.15, 0.85));
-                        // Sideways toward a wall, on the floor.
-                        let side = if rng.coin() { 1.0 } else { -1.0 };
-                        let radius = passage.rock_size * rng.float_in(0.6, 1.2);
-                        // Out of the robot's box about the axis (`min_clearance`).
-                        let off = rng.float_in(0.15, 0.35).max(
-                            (0.5 * passage.rooms.min_clearance[0] + 1.3 * radius + 0.5)
-                                / passage.width,
-                        ) * passage.width
-                            * side;
-                        let (cx, cy) = (ax - dy * off, ay + dx * off);
-                        let c = [cx, cy, floor + lift(l, [cx, cy]) + 0.15 * radius];
-                        let w = radius + passage.roughness + margin;
-                        rocks.push(Bounded {
-                            lo: [c[0] - w, c[1] - w, c[2] - w],
-                            hi: [c[0] + w, c[1] + w, c[2] + w],
-                            item: Rock { c, r: radius },
-                        });
-                    }
-                    // `[hazards]` rubble rocks and drops: `crate::rubble`.
-                    if let Some(h) = crate::rubble::tile_hazard(world, n, passage, profile) {
-                        for (c, r) in h.rocks {
-                            let w = r + passage.roughness + margin;
-                            rocks.push(Bounded {
-                                lo: [c[0] - w, c[1] - w, c[2] - w],
-                                hi: [c[0] + w, c[1] + w, c[2] + w],
-                                item: Rock { c, r },
-                            });
-                        }
-                        if let Some(pit) = h.pit {
-                            let w = pit.r + margin;
-                            features.push(Bounded {
-                                lo: [pit.c[0] - w, pit.c[1] - w, (pit.bottom - margin).max(z0)],
-                                hi: [pit.c[0] + w, pit.c[1] + w, pit.top + margin],
-                                item: Feature::Pit(pit),
-                            });
-                        }
-                    }
+                    gather.cell(Cell::new(l, r as usize, c as usize));
                 }
             }
         }
         LocalField {
             passage,
             profile,
-            features,
-            rocks,
+            features: gather.features,
+            rocks: gather.rocks,
             waves,
             lmin,
             walls: Noise::new(seed, "walls"),
@@ -551,6 +260,261 @@ impl<'a> LocalField<'a> {
             }
         }
         (best, material)
+    }
+}
+
+/// What [`LocalField::around`] collects, cell by cell: every contribution of one occupied
+/// neighbour (its passage's centrelines, chamber, ramp or shaft, rocks, rubble field or drop).
+struct Gather<'g> {
+    world: &'g Layout,
+    passage: &'g Passage,
+    profile: &'g dyn Profile,
+    levels: Levels,
+    lattice: f64,
+    waves: &'g [Waves; 3],
+    lmin: usize,
+    /// Half the pitch.
+    half: f64,
+    /// How far a contribution's box reaches beyond what it makes negative.
+    margin: f64,
+    /// How far a corridor's box reaches sideways from its centreline.
+    reach: f64,
+    /// How high a corridor's box reaches above its floor.
+    top: f64,
+    features: Vec<Bounded<Feature>>,
+    rocks: Vec<Bounded<Rock>>,
+}
+
+impl<'g> Gather<'g> {
+    fn new(
+        world: &'g Layout,
+        passage: &'g Passage,
+        profile: &'g dyn Profile,
+        levels: Levels,
+        lattice: f64,
+        waves: &'g [Waves; 3],
+        lmin: usize,
+    ) -> Self {
+        let half = 0.5 * world.resolved.tile_pitch;
+        let margin = 3.0 * lattice;
+        Gather {
+            world,
+            passage,
+            profile,
+            levels,
+            lattice,
+            waves,
+            lmin,
+            half,
+            margin,
+            reach: (0.5 * passage.width * (1.0 + passage.width_variation)
+                + passage.roughness
+                + margin)
+                .min(half),
+            top: passage.height * (1.0 + passage.height_variation)
+                + passage.roughness
+                + passage.floor_roughness
+                + margin,
+            features: Vec::new(),
+            rocks: Vec::new(),
+        }
+    }
+
+    /// The floor's lift on level `l` at `c`.
+    fn lift(&self, l: usize, c: [f64; 2]) -> f64 {
+        match self.waves.get(l - self.lmin) {
+            Some(w) => w.lift(c[0], c[1]),
+            // The landing of a shaft from the level above this tile's.
+            None => self.passage.slope.level(l).lift(c[0], c[1]),
+        }
+    }
+
+    /// Every contribution of the cell `n`, if it is occupied.
+    fn cell(&mut self, n: Cell) {
+        let world = self.world;
+        let Some(tile) = world.tiles.get(n) else {
+            return;
+        };
+        let passage = self.passage;
+        let l = n.level;
+        let [x, y, floor] = world.cell_position(n);
+        let (z0, z1) = self.levels.block_z(l);
+        let zspan = (z0, (floor + passage.slope.amp + self.top).min(z1));
+        let mut ends: Vec<[f64; 2]> = Direction::ALL
+            .into_iter()
+            .filter(|d| tile.openings & d.bit() != 0)
+            .map(|d| {
+                let (sr, sc) = d.step();
+                [x + f64::from(sc) * self.half, y - f64::from(sr) * self.half]
+            })
+            .collect();
+        if ends.is_empty() {
+            ends.push([x, y]);
+        }
+        // A ramp's end: its lead replaces the half-corridor of the ramp's opening.
+        let ramp = crate::ramp::shaft_of(world, n).and_then(|s| {
+            let sizing = crate::ramp::Sizing::of(world, passage, self.lattice, self.levels.coarse);
+            crate::ramp::plan(world, s, &sizing)
+                .ok()
+                .map(|h| (s.up == n, h))
+        });
+        let mut leads = Vec::new();
+        if let Some((foot, h)) = &ramp {
+            let (a, b) = h.leads()[usize::from(!*foot)];
+            ends.retain(|e| (e[0] - b[0]).abs() + (e[1] - b[1]).abs() > 1e-6);
+            leads.push(Centreline::Segment { a, b });
+        }
+        let (chamber, squeeze) =
+            crate::chambers::of_cell(world, n, tile.kind, passage, self.levels, self.lattice);
+        if let Some(ch) = chamber {
+            self.chamber(ch, [x, y, floor], l, zspan.0, z1);
+        }
+        let key = ((l as u64) << 40) | ((n.row as u64) << 20) | n.col as u64;
+        let sway = bends::meander(world.resolved.seed, key, passage.meander);
+        // A ramp cell whose only opening is the ramp's has no half-corridor.
+        let mut lines = if ends.is_empty() {
+            Vec::new()
+        } else {
+            bends::centrelines([x, y], &ends, passage.bends, sway)
+        };
+        lines.extend(leads);
+        for &line in &lines {
+            let (lo, hi) = line.bounds();
+            self.features.push(Bounded {
+                lo: [lo[0] - self.reach, lo[1] - self.reach, zspan.0],
+                hi: [hi[0] + self.reach, hi[1] + self.reach, zspan.1],
+                item: Feature::Corridor {
+                    line,
+                    floor,
+                    level: l,
+                    squeeze,
+                },
+            });
+        }
+        let has_ramp = ramp.is_some();
+        if let Some((true, h)) = ramp {
+            self.ramp(h, l);
+        } else if tile.kind == TileKind::ShaftUp
+            && l + 1 < world.occupancy.levels()
+            && crate::ramp::shaft_of(world, n).is_none()
+        {
+            self.shaft([x, y, floor], l);
+        }
+        // No rocks in a squeeze (the passage there is already as tight as allowed) nor in a
+        // ramp's cells.
+        let rocky = squeeze.is_none() && !has_ramp && !lines.is_empty();
+        self.rocks_of(key, &lines, floor, l, rocky);
+        // `[hazards]` rubble rocks and drops: `crate::rubble`.
+        if let Some(h) = crate::rubble::tile_hazard(world, n, passage, self.profile) {
+            self.hazard(h, z0);
+        }
+    }
+
+    /// A chamber centred at `at` (on its floor) on level `level`, in a box from `zlo` up to
+    /// at most `z1`.
+    fn chamber(&mut self, ch: Chamber, at: [f64; 3], level: usize, zlo: f64, z1: f64) {
+        let ps = self.passage;
+        let zhi = at[2]
+            + ps.slope.amp
+            + ch.top(ps.height_variation)
+            + ps.roughness
+            + ps.floor_roughness
+            + self.margin;
+        self.features.push(Bounded {
+            lo: [at[0] - self.half, at[1] - self.half, zlo],
+            hi: [at[0] + self.half, at[1] + self.half, zhi.min(z1)],
+            item: Feature::Chamber { chamber: ch, level },
+        });
+    }
+
+    /// The spiral of a ramp whose foot is on level `l`.
+    fn ramp(&mut self, h: crate::ramp::Helix, l: usize) {
+        let [(a0, _), (a1, _)] = h.leads();
+        let lifts = [self.lift(l, a0), self.lift(l + 1, a1)];
+        let (lo, mut hi) = h.bounds(self.margin + self.passage.roughness);
+        hi[2] += lifts[0].max(lifts[1]);
+        self.features.push(Bounded {
+            lo,
+            hi,
+            item: Feature::Ramp {
+                helix: Box::new(h),
+                lifts,
+            },
+        });
+    }
+
+    /// The vertical shaft from the foot at `at` (on level `l`) to the level above.
+    fn shaft(&mut self, at: [f64; 3], l: usize) {
+        let ps = self.passage;
+        let [x, y, floor] = at;
+        let above = floor + self.levels.height + self.lift(l + 1, [x, y]);
+        let foot = floor + self.lift(l, [x, y]);
+        let r = ps.shaft_radius * ps.width;
+        let w = (r + ps.roughness + self.margin).min(self.half);
+        self.features.push(Bounded {
+            lo: [x - w, y - w, foot],
+            hi: [x + w, y + w, above + 0.5 + self.margin],
+            item: Feature::Shaft {
+                c: [x, y],
+                z0: foot + 0.5,
+                z1: above + 0.5,
+                r,
+            },
+        });
+    }
+
+    /// The rocks on the floor beside the cell's `lines` (drawn whether `rocky` or not, from
+    /// the cell's own stream, so the draws do not depend on what else the cell has).
+    fn rocks_of(&mut self, key: u64, lines: &[Centreline], floor: f64, l: usize, rocky: bool) {
+        let ps = self.passage;
+        let mut rng = WorldRng::new(self.world.resolved.seed, "rocks", key);
+        let count = ps.rocks.floor() as u32 + u32::from(rng.unit() < ps.rocks.fract());
+        let count = if rocky { count } else { 0 };
+        for _ in 0..count {
+            let line = lines[rng.below(lines.len() as u64) as usize];
+            let ([ax, ay], [dx, dy]) = line.at(rng.float_in(0.15, 0.85));
+            // Sideways toward a wall, on the floor.
+            let side = if rng.coin() { 1.0 } else { -1.0 };
+            let radius = ps.rock_size * rng.float_in(0.6, 1.2);
+            // Out of the robot's box about the axis (`min_clearance`).
+            let off = rng
+                .float_in(0.15, 0.35)
+                .max((0.5 * ps.rooms.min_clearance[0] + 1.3 * radius + 0.5) / ps.width)
+                * ps.width
+                * side;
+            let (cx, cy) = (ax - dy * off, ay + dx * off);
+            let c = [cx, cy, floor + self.lift(l, [cx, cy]) + 0.15 * radius];
+            self.rock(c, radius, ps.roughness + self.margin);
+        }
+    }
+
+    /// A rock of radius `r` at `c`, in a box `grow` wider than the rock.
+    fn rock(&mut self, c: [f64; 3], r: f64, grow: f64) {
+        let w = r + grow;
+        self.rocks.push(Bounded {
+            lo: [c[0] - w, c[1] - w, c[2] - w],
+            hi: [c[0] + w, c[1] + w, c[2] + w],
+            item: Rock { c, r },
+        });
+    }
+
+    /// A tile's rubble field or drop; `z0` is the bottom of its level's block.
+    fn hazard(&mut self, h: crate::rubble::TileHazard, z0: f64) {
+        for (c, r) in h.rocks {
+            self.rock(c, r, self.passage.roughness + self.margin);
+        }
+        if let Some(pit) = h.pit {
+            let w = pit.r + self.margin;
+            self.features.push(Bounded {
+                lo: [
+                    pit.c[0] - w,
+                    pit.c[1] - w,
+                    (pit.bottom - self.margin).max(z0),
+                ],
+                hi: [pit.c[0] + w, pit.c[1] + w, pit.top + self.margin],
+                item: Feature::Pit(pit),
+            });
+        }
     }
 }
 

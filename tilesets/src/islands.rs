@@ -28,7 +28,7 @@
 use std::cell::RefCell;
 use std::collections::HashMap;
 
-use crate::marching::Block;
+use crate::lattice::Block;
 
 /// Most lattice points of a component that is removed.
 pub const MOST_POINTS: usize = 8;

@@ -12,24 +12,27 @@
 //! world coordinates, and each tile meshes its own block of a world-wide lattice with marching
 //! tetrahedra ([`marching`]). Adjacent tiles therefore meet on exactly the same opening,
 //! vertex for vertex, the assembled world is one closed surface, and no two tiles are alike.
-//! A new cave type needs only a [`field::Profile`] and a [`procedural::Style`].
+//! A new cave type needs only a [`passage::Profile`] and a [`procedural::Style`].
 //!
 //! [`mesh_files`] places meshes of your own (the DARPA SubT tiles, scans) from a manifest.
 
 use subtgraph_core::registry::{DuplicateName, Registry};
 use subtgraph_core::tileset::TileSet;
 
+pub mod axis;
 pub mod bends;
 pub mod cave;
 pub mod chambers;
 pub mod field;
 pub mod islands;
+pub mod lattice;
 pub mod lava_tube;
 pub mod marching;
 pub mod mesh_files;
 pub mod mine;
 pub mod noise;
 pub mod owner;
+pub mod passage;
 pub mod procedural;
 pub mod ramp;
 pub mod rubble;

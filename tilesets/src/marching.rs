@@ -12,6 +12,8 @@
 
 use subtgraph_core::mesh::Mesh;
 
+pub use crate::lattice::Block;
+
 /// Corner bits: x = 1, y = 2, z = 4.
 const TETS: [[u8; 4]; 6] = [
     [0, 1, 3, 7],
@@ -37,18 +39,6 @@ fn det(a: u8, b: u8, c: u8, d: u8) -> i64 {
     let w = [pd[0] - pa[0], pd[1] - pa[1], pd[2] - pa[2]];
     u[0] * (v[1] * w[2] - v[2] * w[1]) - u[1] * (v[0] * w[2] - v[2] * w[0])
         + u[2] * (v[0] * w[1] - v[1] * w[0])
-}
-
-/// A block of the world lattice: `cubes` cubes from integer lattice point `origin`, spacing
-/// `h` metres.
-#[derive(Clone, Copy, Debug)]
-pub struct Block {
-    /// Lattice index of the block's lowest corner.
-    pub origin: [i64; 3],
-    /// Cubes along x, y, z.
-    pub cubes: [usize; 3],
-    /// Lattice spacing in metres.
-    pub h: f64,
 }
 
 /// Meshes the zero level set of `field` (negative inside the void) over a block. `field`

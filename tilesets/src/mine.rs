@@ -6,8 +6,8 @@ use subtgraph_core::mesh::Material;
 use subtgraph_core::params::Params;
 
 use crate::bends::Bends;
-use crate::chambers::Rooms;
-use crate::field::{Passage, Profile};
+use crate::passage::Rooms;
+use crate::passage::{Passage, Profile};
 use crate::procedural::{Procedural, Style};
 use crate::slope::Slope;
 

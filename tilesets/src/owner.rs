@@ -14,8 +14,9 @@ use std::collections::HashMap;
 use subtgraph_core::Layout;
 use subtgraph_core::grid::Cell;
 
-use crate::field::{Levels, LocalField, Passage, Profile};
+use crate::field::LocalField;
 use crate::marching::Block;
+use crate::passage::{Levels, Passage, Profile};
 
 /// The owners of lattice points around one tile, and their fields, built when first read.
 pub struct Owners<'a> {

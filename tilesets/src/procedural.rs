@@ -16,9 +16,10 @@ use subtgraph_core::tileset::{
 };
 
 use crate::chambers::{ChamberSettings, SqueezeSettings, least_factors};
-use crate::field::{Column, Levels, LocalField, Passage, Profile, material};
+use crate::field::{Column, LocalField};
 use crate::marching::{Block, polygonise_columns};
 use crate::owner::Owners;
+use crate::passage::{Levels, Passage, Profile, material};
 use crate::ramp::{self, Helix, Sizing, Unfit};
 use crate::slope::Slope;
 
@@ -232,7 +233,7 @@ impl Procedural {
     /// Chambers and squeezes in metres: the style's defaults and the user's keys, with the
     /// least squeeze factors that keep `min_clearance` (and the wall relief, and half a
     /// collision lattice cell for the coarser collision surface) clear.
-    fn rooms(&self, world: &Layout, width: f64) -> crate::chambers::Rooms {
+    fn rooms(&self, world: &Layout, width: f64) -> crate::passage::Rooms {
         let pitch = world.resolved.tile_pitch;
         let s = &self.settings;
         let base = &self.style.shape;
@@ -645,6 +646,7 @@ impl TileSet for Procedural {
                 collision: collision_seam,
             },
             hazards,
+            axis: crate::axis::passage_axis(world, ctx.cell, &passage, levels, fine),
         })
     }
 

@@ -34,7 +34,7 @@ use subtgraph_core::Layout;
 use subtgraph_core::grid::{Cell, Direction, Shaft};
 use subtgraph_core::tile::TileKind;
 
-use crate::field::{Passage, Profile};
+use crate::passage::{Passage, Profile};
 
 /// A point of the floor line is kept every this many metres along it.
 const SAMPLE: f64 = 0.5;

@@ -3,7 +3,8 @@
 //! one closed surface, visual and collision alike, and seamless across tiles.
 //!
 //! Which tiles get one, and on which arm (the half-corridor from the tile's centre toward one
-//! opening), is [`HazardsSection::floor_hazard`]'s answer; the rest is drawn here from the
+//! opening), the layout says ([`Layout::floor_hazards`], resolved from `[hazards]` when the
+//! layout was made: a tile set never reads the pipeline); the rest is drawn here from the
 //! world's `"rubble"` stream keyed by the cell, so every tile evaluating a neighbour's field
 //! places the same rocks. With `w` the passage's nominal width, `p` the tile pitch and `h` the
 //! collision lattice's spacing (pitch / `collision_resolution`):
@@ -34,11 +35,11 @@
 
 use subtgraph_core::Layout;
 use subtgraph_core::grid::Cell;
-use subtgraph_core::hazards::{FloorHazard, HazardRegion, HazardsSection};
+use subtgraph_core::hazards::{FloorHazard, HazardRegion};
 use subtgraph_core::rng::WorldRng;
 
-use crate::field::{Passage, Profile};
 use crate::noise::Noise;
+use crate::passage::{Passage, Profile};
 
 /// Most rocks in one rubble field; a wider passage gets its rocks spaced wider.
 pub const MAX_FIELD_ROCKS: usize = 64;
@@ -84,11 +85,7 @@ pub fn pit_depth(height: f64) -> f64 {
 
 /// Whether the world asks for drops (its levels' blocks then reach deeper).
 pub fn has_drops(world: &Layout) -> bool {
-    world
-        .pipeline
-        .hazards
-        .as_ref()
-        .is_some_and(|h| h.drops > 0.0)
+    world.floor_hazards.drops
 }
 
 /// The rubble field or drop of `cell`, if it has one.
@@ -101,10 +98,8 @@ pub fn tile_hazard(
     passage: &Passage,
     profile: &dyn Profile,
 ) -> Option<TileHazard> {
-    let section: &HazardsSection = world.pipeline.hazards.as_ref()?;
+    let (kind, arm) = world.floor_hazards.at(cell)?;
     let tile = world.tiles.get(cell).as_ref()?;
-    let (kind, arm) =
-        section.floor_hazard(world.resolved.seed, cell, tile, world.start == Some(cell))?;
     let pitch = world.resolved.tile_pitch;
     // A squeeze is already as tight as `min_clearance` allows: no rubble or drop there.
     if passage
@@ -114,164 +109,223 @@ pub fn tile_hazard(
     {
         return None;
     }
-    let [_, _, floor] = world.cell_position(cell);
     let key = ((cell.level as u64) << 40) | ((cell.row as u64) << 20) | cell.col as u64;
-    // The arm's stretch of the passage's own centreline (bent or meandering, as the field
-    // has it: `crate::bends`), and the floor's lift under a point (`crate::slope`).
-    let arm_line = ArmLine::new(world, cell, tile.openings, passage, arm, key);
-    let waves = passage.slope.level(cell.level);
-    let floor_at = |px: f64, py: f64| floor + waves.lift(px, py);
     let mut rng = WorldRng::new(world.resolved.seed, "rubble", key);
     let side = if rng.coin() { 1.0 } else { -1.0 };
+    let site = Site {
+        world,
+        cell,
+        passage,
+        // The arm's stretch of the passage's own centreline (bent or meandering, as the field
+        // has it: `crate::bends`).
+        arm_line: ArmLine::new(world, cell, tile.openings, passage, arm, key),
+        floor: world.cell_position(cell)[2],
+        waves: passage.slope.level(cell.level),
+        side,
+    };
+    match kind {
+        FloorHazard::Rubble => rubble_field(&site, profile, &mut rng),
+        FloorHazard::Drop => Some(drop_pit(&site)),
+    }
+}
+
+/// Where a tile's rubble field or drop goes: its passage, the arm's centreline, and the side
+/// of the axis drawn for it.
+struct Site<'a> {
+    world: &'a Layout,
+    cell: Cell,
+    passage: &'a Passage,
+    arm_line: ArmLine,
+    /// The level's nominal floor.
+    floor: f64,
+    /// How the level's floor rises and falls (`crate::slope`).
+    waves: crate::slope::Waves,
+    /// `1` or `-1`: which side of the axis the lane (rubble) or the pit (drop) is on.
+    side: f64,
+}
+
+impl Site<'_> {
+    /// The floor under a point: the nominal floor lifted by the level's slope.
+    fn floor_at(&self, px: f64, py: f64) -> f64 {
+        self.floor + self.waves.lift(px, py)
+    }
+}
+
+/// A rubble field on the site's arm (see the module's doc), drawing its rocks' radii from
+/// `rng`; `None` when no rock fits beside the lane.
+fn rubble_field(site: &Site, profile: &dyn Profile, rng: &mut WorldRng) -> Option<TileHazard> {
+    let Site {
+        world,
+        cell,
+        passage,
+        ref arm_line,
+        side,
+        ..
+    } = *site;
+    let hazards = &world.floor_hazards;
+    let kind = FloorHazard::Rubble;
+    let pitch = world.resolved.tile_pitch;
+    let floor_at = |px: f64, py: f64| site.floor_at(px, py);
     let w = passage.width;
     let h = passage.hazard_lattice;
-    match kind {
-        FloorHazard::Rubble => {
-            let r0 = (0.08 * w).max(0.5 * h);
-            let relief = 0.3 * passage.roughness;
-            // The first collision lattice plane above the floor (with its rubble): a rock
-            // whose centre column is solid there is in the collision mesh at its height.
-            let r_min = |floor: f64| {
-                if h > 0.0 {
-                    let plane = (((floor + passage.floor_roughness) / h).floor() + 1.0) * h;
-                    (plane - floor + relief + 0.15) / 1.5
-                } else {
-                    0.0
-                }
-            };
-            let (s0, s1) = (0.08 * pitch, 0.42 * pitch);
-            let samples = arm_line.samples(s0, s1, 48);
-            let gap = section.rubble_passable.then(|| {
-                let c = side * (0.25 * w - 0.5 * section.rubble_gap).max(0.0);
-                (c - 0.5 * section.rubble_gap, c + 0.5 * section.rubble_gap)
-            });
-            // The local width, as `LocalField::column` has it.
-            let sizes = Noise::new(world.resolved.seed, "sizes");
-            let vs = 1.0 / passage.variation_scale;
-            let on_floor = |px: f64, py: f64, l: f64| {
-                let width = w * (1.0 + passage.width_variation * sizes.at(px * vs, py * vs, 0.5));
-                profile.section(l.abs(), 0.3, width, passage.height) < 0.0
-            };
-            // Candidate centres: a grid about `1.6 r0` apart; on lattice columns (every
-            // `k`-th, from the world's origin) when the tile set has a collision lattice, so
-            // the field has no hole where a column was skipped.
-            let (mut x0, mut x1, mut y0, mut y1) = (f64::MAX, f64::MIN, f64::MAX, f64::MIN);
-            for &(q, _) in &samples {
-                x0 = x0.min(q[0] - 0.5 * w);
-                x1 = x1.max(q[0] + 0.5 * w);
-                y0 = y0.min(q[1] - 0.5 * w);
-                y1 = y1.max(q[1] + 0.5 * w);
+    let r0 = (0.08 * w).max(0.5 * h);
+    let relief = 0.3 * passage.roughness;
+    // The first collision lattice plane above the floor (with its rubble): a rock
+    // whose centre column is solid there is in the collision mesh at its height.
+    let r_min = |floor: f64| {
+        if h > 0.0 {
+            let plane = (((floor + passage.floor_roughness) / h).floor() + 1.0) * h;
+            (plane - floor + relief + 0.15) / 1.5
+        } else {
+            0.0
+        }
+    };
+    let (s0, s1) = (0.08 * pitch, 0.42 * pitch);
+    let samples = arm_line.samples(s0, s1, 48);
+    let gap = hazards.rubble_passable.then(|| {
+        let c = side * (0.25 * w - 0.5 * hazards.rubble_gap).max(0.0);
+        (c - 0.5 * hazards.rubble_gap, c + 0.5 * hazards.rubble_gap)
+    });
+    // The local width, as `LocalField::column` has it.
+    let sizes = Noise::new(world.resolved.seed, "sizes");
+    let vs = 1.0 / passage.variation_scale;
+    let on_floor = |px: f64, py: f64, l: f64| {
+        let width = w * (1.0 + passage.width_variation * sizes.at(px * vs, py * vs, 0.5));
+        profile.section(l.abs(), 0.3, width, passage.height) < 0.0
+    };
+    // Candidate centres: a grid about `1.6 r0` apart; on lattice columns (every
+    // `k`-th, from the world's origin) when the tile set has a collision lattice, so
+    // the field has no hole where a column was skipped.
+    let (mut x0, mut x1, mut y0, mut y1) = (f64::MAX, f64::MIN, f64::MAX, f64::MIN);
+    for &(q, _) in &samples {
+        x0 = x0.min(q[0] - 0.5 * w);
+        x1 = x1.max(q[0] + 0.5 * w);
+        y0 = y0.min(q[1] - 0.5 * w);
+        y1 = y1.max(q[1] + 0.5 * w);
+    }
+    let unit = if h > 0.0 { h } else { 0.25 * r0 };
+    let mut k = ((1.6 * r0 / unit).round() as i64).max(1);
+    let columns = |k: i64| {
+        let span = |a: f64, b: f64| {
+            let (i0, i1) = ((a / unit).ceil() as i64, (b / unit).floor() as i64);
+            (i0..=i1).filter(move |i| i.rem_euclid(k) == 0)
+        };
+        span(x0, x1)
+            .flat_map(|i| span(y0, y1).map(move |j| (i, j)))
+            .collect::<Vec<_>>()
+    };
+    let mut grid = columns(k);
+    while grid.len() > MAX_FIELD_ROCKS {
+        k += 1;
+        grid = columns(k);
+    }
+    let mut rocks = Vec::new();
+    for (i, j) in grid {
+        // Every draw is made whether the rock is kept or not, so the lane does not
+        // change the other rocks.
+        let drawn = r0 * rng.float_in(0.8, 1.25);
+        let (px, py) = (i as f64 * unit, j as f64 * unit);
+        let Some(l) = offset(&samples, [px, py]) else {
+            continue;
+        };
+        let here = floor_at(px, py);
+        let r = drawn.max(r_min(here));
+        if let Some((g0, g1)) = gap {
+            if l + r + relief > g0 && l - r - relief < g1 {
+                continue;
             }
-            let unit = if h > 0.0 { h } else { 0.25 * r0 };
-            let mut k = ((1.6 * r0 / unit).round() as i64).max(1);
-            let columns = |k: i64| {
-                let span = |a: f64, b: f64| {
-                    let (i0, i1) = ((a / unit).ceil() as i64, (b / unit).floor() as i64);
-                    (i0..=i1).filter(move |i| i.rem_euclid(k) == 0)
-                };
-                span(x0, x1)
-                    .flat_map(|i| span(y0, y1).map(move |j| (i, j)))
-                    .collect::<Vec<_>>()
-            };
-            let mut grid = columns(k);
-            while grid.len() > MAX_FIELD_ROCKS {
-                k += 1;
-                grid = columns(k);
-            }
-            let mut rocks = Vec::new();
-            for (i, j) in grid {
-                // Every draw is made whether the rock is kept or not, so the lane does not
-                // change the other rocks.
-                let drawn = r0 * rng.float_in(0.8, 1.25);
-                let (px, py) = (i as f64 * unit, j as f64 * unit);
-                let Some(l) = offset(&samples, [px, py]) else {
-                    continue;
-                };
-                let here = floor_at(px, py);
-                let r = drawn.max(r_min(here));
-                if let Some((g0, g1)) = gap {
-                    if l + r + relief > g0 && l - r - relief < g1 {
-                        continue;
-                    }
-                }
-                if !on_floor(px, py, l) {
-                    continue;
-                }
-                rocks.push(([px, py, here + 0.5 * r], r));
-            }
-            let mut bounds = [f64::MAX, f64::MAX, f64::MIN, f64::MIN];
-            let mut top = f64::MIN;
-            let mut low = f64::MAX;
-            for &(c, r) in &rocks {
-                low = low.min(c[2] - 0.5 * r);
-                bounds = [
-                    bounds[0].min(c[0] - r),
-                    bounds[1].min(c[1] - r),
-                    bounds[2].max(c[0] + r),
-                    bounds[3].max(c[1] + r),
+        }
+        if !on_floor(px, py, l) {
+            continue;
+        }
+        rocks.push(([px, py, here + 0.5 * r], r));
+    }
+    let mut bounds = [f64::MAX, f64::MAX, f64::MIN, f64::MIN];
+    let mut top = f64::MIN;
+    let mut low = f64::MAX;
+    for &(c, r) in &rocks {
+        low = low.min(c[2] - 0.5 * r);
+        bounds = [
+            bounds[0].min(c[0] - r),
+            bounds[1].min(c[1] - r),
+            bounds[2].max(c[0] + r),
+            bounds[3].max(c[1] + r),
+        ];
+        top = top.max(c[2] + r);
+    }
+    if rocks.is_empty() {
+        // No room for a rock beside the lane: no field.
+        return None;
+    }
+    let gap = gap.map(|(g0, g1)| {
+        let mut b = [f64::MAX, f64::MAX, f64::MIN, f64::MIN];
+        for &(q, d) in &samples {
+            for g in [g0, g1] {
+                let e = [q[0] - d[1] * g, q[1] + d[0] * g];
+                b = [
+                    b[0].min(e[0]),
+                    b[1].min(e[1]),
+                    b[2].max(e[0]),
+                    b[3].max(e[1]),
                 ];
-                top = top.max(c[2] + r);
             }
-            if rocks.is_empty() {
-                // No room for a rock beside the lane: no field.
-                return None;
-            }
-            let gap = gap.map(|(g0, g1)| {
-                let mut b = [f64::MAX, f64::MAX, f64::MIN, f64::MIN];
-                for &(q, d) in &samples {
-                    for g in [g0, g1] {
-                        let e = [q[0] - d[1] * g, q[1] + d[0] * g];
-                        b = [
-                            b[0].min(e[0]),
-                            b[1].min(e[1]),
-                            b[2].max(e[0]),
-                            b[3].max(e[1]),
-                        ];
-                    }
-                }
-                b
-            });
-            Some(TileHazard {
-                region: HazardRegion {
-                    kind,
-                    cell,
-                    bounds,
-                    floor_z: low,
-                    z: [low, top],
-                    gap,
-                    rocks: rocks.iter().map(|&(c, r)| [c[0], c[1], c[2], r]).collect(),
-                },
-                rocks,
-                pit: None,
-            })
         }
-        FloorHazard::Drop => {
-            let r = (0.2 * w).max(0.75 * h).min(0.3 * w);
-            let (q, d) = arm_line.samples(0.25 * pitch, 0.25 * pitch, 1)[0];
-            let off = side * (0.3 * w - r).max(0.0);
-            let c = [q[0] - d[1] * off, q[1] + d[0] * off];
-            let depth = pit_depth(passage.height);
-            let floor = floor_at(c[0], c[1]);
-            let pit = Pit {
-                c,
-                r,
-                bottom: floor - depth,
-                top: floor + passage.floor_roughness + 0.3,
-            };
-            Some(TileHazard {
-                rocks: Vec::new(),
-                pit: Some(pit),
-                region: HazardRegion {
-                    kind,
-                    cell,
-                    bounds: [c[0] - r, c[1] - r, c[0] + r, c[1] + r],
-                    floor_z: floor,
-                    z: [floor - depth, floor],
-                    gap: None,
-                    rocks: Vec::new(),
-                },
-            })
-        }
+        b
+    });
+    Some(TileHazard {
+        region: HazardRegion {
+            kind,
+            cell,
+            bounds,
+            floor_z: low,
+            z: [low, top],
+            gap,
+            rocks: rocks.iter().map(|&(c, r)| [c[0], c[1], c[2], r]).collect(),
+        },
+        rocks,
+        pit: None,
+    })
+}
+
+/// A drop's pit on the site's arm (see the module's doc).
+fn drop_pit(site: &Site) -> TileHazard {
+    let Site {
+        world,
+        cell,
+        passage,
+        ref arm_line,
+        side,
+        ..
+    } = *site;
+    let kind = FloorHazard::Drop;
+    let pitch = world.resolved.tile_pitch;
+    let floor_at = |px: f64, py: f64| site.floor_at(px, py);
+    let w = passage.width;
+    let h = passage.hazard_lattice;
+    let r = (0.2 * w).max(0.75 * h).min(0.3 * w);
+    let (q, d) = arm_line.samples(0.25 * pitch, 0.25 * pitch, 1)[0];
+    let off = side * (0.3 * w - r).max(0.0);
+    let c = [q[0] - d[1] * off, q[1] + d[0] * off];
+    let depth = pit_depth(passage.height);
+    let floor = floor_at(c[0], c[1]);
+    let pit = Pit {
+        c,
+        r,
+        bottom: floor - depth,
+        top: floor + passage.floor_roughness + 0.3,
+    };
+    TileHazard {
+        rocks: Vec::new(),
+        pit: Some(pit),
+        region: HazardRegion {
+            kind,
+            cell,
+            bounds: [c[0] - r, c[1] - r, c[0] + r, c[1] + r],
+            floor_z: floor,
+            z: [floor - depth, floor],
+            gap: None,
+            rocks: Vec::new(),
+        },
     }
 }
 

@@ -152,7 +152,10 @@ pub fn check_out(out: &Path, all: &[Planned], reading: &[&Path]) -> Result<(), E
                 // have its write probe there before it marks the folder.
                 let temporary = n.starts_with('.')
                     && (n.contains(".partial-") || n.starts_with(".write-test-"));
-                !temporary && !all.iter().any(|w| &w.name == n)
+                // It may also have marked the folder between the check above and this
+                // listing: its index is this dataset's too.
+                let marked = n == index::FACTS_DIR;
+                !temporary && !marked && !all.iter().any(|w| &w.name == n)
             })
             .collect();
         foreign.sort();

@@ -4,12 +4,12 @@
 //! `[artifacts]` (whatever the formats), so a world with artifacts always has its answers.
 //!
 //! Each artifact also says whether it is `visible_from_axis`: whether the straight line from
-//! [`EYE`](crate::sight::EYE) above the nearest point of its tile's passage axis (`axis.rs`)
-//! to the artifact's centre stays in free space, as `sight.rs` looks (the computation
-//! placement uses to hide some on purpose; `sight_from` is the eye). With `[artifacts]
-//! hidden` the eye is instead where a robot on its way from the start first comes within
-//! `sight::NEAR` of the artifact. An artifact around a corner or in a side pocket is not
-//! visible. Without a mesh every artifact is visible (from its tile's centre).
+//! half a metre above the nearest point of its tile's passage axis to the artifact's centre
+//! stays in free space, as the survey looks (`survey/src/sight.rs`, the computation placement
+//! uses to hide some on purpose; `sight_from` is the eye). With `[artifacts] hidden` the eye
+//! is instead where a robot on its way from the start first comes within 10 m of the
+//! artifact. An artifact around a corner or in a side pocket is not visible. Without a mesh
+//! every artifact is visible (from its tile's centre).
 
 use std::fmt::Write as _;
 
@@ -18,22 +18,9 @@ use std::borrow::Cow;
 use subtgraph_core::World;
 use subtgraph_core::export::{ExportError, WorldWriter, write_file};
 
-use super::FRAME;
-use crate::artifacts::{Artifact, GraphPlace};
-use crate::inside::Passages;
+use subtgraph_core::artifacts::{GraphPlace, PlacedArtifacts};
 
-/// Whether each artifact is seen from its tile's passage axis, and the eye it is looked at
-/// from (`sight.rs`): what placement found ([`crate::artifacts::place`] looks once for all).
-fn visible_from_axis(world: &World, artifacts: &[Artifact]) -> Vec<(bool, [f64; 3])> {
-    if let Some(all) = artifacts
-        .iter()
-        .map(|a| a.sight)
-        .collect::<Option<Vec<_>>>()
-    {
-        return all;
-    }
-    crate::artifacts::look(world, &Passages::of(world), artifacts)
-}
+use super::FRAME;
 
 type Entry<'a> = subtgraph_schema::ArtifactEntry<'a>;
 type Document<'a> = subtgraph_schema::Artifacts<'a, &'static str>;
@@ -45,10 +32,14 @@ pub const CSV_HEADER: &str = "id,name,class,x,y,z,yaw,level,row,col,tile_kind,gr
 /// Writes both files.
 pub(crate) fn write(
     world: &World,
-    artifacts: &[Artifact],
+    placed: &PlacedArtifacts,
     out: &mut dyn WorldWriter,
 ) -> Result<(), ExportError> {
-    let visible = visible_from_axis(world, artifacts);
+    let artifacts = &placed.artifacts;
+    let visible: Vec<(bool, [f64; 3])> = artifacts
+        .iter()
+        .map(|a| (a.visible_from_axis, a.sight_from))
+        .collect();
     let doc = Document {
         format: "subtgraph-artifacts/1",
         seed: world.resolved.seed,
@@ -56,20 +47,15 @@ pub(crate) fn write(
         units: "metres; yaw in radians counter-clockwise from east (x) about z; quaternions x, y, z, w; size is [length along the yaw, width, height]",
         position: "the centre of the artifact's base, on the floor (the collision surface)",
         count: artifacts.len(),
-        hidden: world
-            .pipeline
-            .artifacts
-            .as_ref()
-            .filter(|s| s.hidden > 0.0)
-            .map(|s| {
-                let placed = visible.iter().filter(|v| !v.0).count();
-                Hidden {
-                    share_requested: s.hidden,
-                    requested: s.hidden_count(artifacts.len()),
-                    placed,
-                    share_placed: placed as f64 / artifacts.len().max(1) as f64,
-                }
-            }),
+        hidden: placed.hidden.map(|asked| {
+            let placed = visible.iter().filter(|v| !v.0).count();
+            Hidden {
+                share_requested: asked.share,
+                requested: asked.count,
+                placed,
+                share_placed: placed as f64 / artifacts.len().max(1) as f64,
+            }
+        }),
         artifacts: artifacts
             .iter()
             .zip(&visible)

@@ -4,7 +4,7 @@
 //!
 //! Voxel `[k, j, i]` (axes z, y, x; j grows north) is free when its centre
 //! `origin + ((i + ½) v, (j + ½) v, (k + ½) v)` is inside a passage, decided exactly by ray
-//! parity on the closed collision surface (see [`super::inside`]). The array is bit-packed
+//! parity on the closed collision surface (the survey's passages, `survey/src/passages.rs`). The array is bit-packed
 //! along x, most significant bit first, as `numpy.packbits` makes it:
 //! `numpy.unpackbits(numpy.load(path), axis=2, count=nx).astype(bool)` gives the
 //! `[nz, ny, nx]` grid. Bits keep the file 8 × smaller than bytes: free space is a small
@@ -18,9 +18,9 @@
 use rayon::prelude::*;
 use subtgraph_core::World;
 use subtgraph_core::export::{ExportError, Exporter, WorldWriter, stream_file};
+use subtgraph_core::survey::{Columns, Source, Survey, grid_clear_height};
 
 use super::{FRAME, Settings, extent};
-use crate::inside::{Columns, Passages, grid_clear_height};
 
 /// The largest file the default voxel may make, bytes.
 const DEFAULT_BYTES: f64 = 100e6;
@@ -141,17 +141,10 @@ fn npy_header(shape: [usize; 3]) -> Vec<u8> {
 }
 
 impl Exporter for FreeSpace {
-    fn export(&self, world: &World, out: &mut dyn WorldWriter) -> Result<(), ExportError> {
-        self.write(world, &Passages::of(world), out)
-    }
-}
-
-impl FreeSpace {
-    /// Writes the files from passages already made (`ground-truth` makes them once).
-    pub(crate) fn write(
+    fn export(
         &self,
         world: &World,
-        passages: &Passages,
+        survey: &dyn Survey,
         out: &mut dyn WorldWriter,
     ) -> Result<(), ExportError> {
         let g = self.voxels(world)?;
@@ -163,7 +156,7 @@ impl FreeSpace {
             ny: g.n[1],
         };
         // Per row, the free voxel layers `k0..k1` of each line `i`.
-        let raster = passages.raster(&cols, |_, spans, _| {
+        let raster = survey.raster(&cols, |_, spans, _| {
             spans
                 .iter()
                 .map(|s| (s.i, g.layer_above(s.z0, false), g.layer_above(s.z1, true)))
@@ -211,10 +204,10 @@ impl FreeSpace {
             frame: FRAME,
             units: "metres",
             file: "free_space.npy",
-            source: passages.source(),
-            source_note: match passages {
-                Passages::Mesh { .. } => "inside the closed collision surface (mesh/collision.obj), exact ray parity at voxel centres".into(),
-                Passages::Grid(_) => format!(
+            source: survey.source().name(),
+            source_note: match survey.source() {
+                Source::CollisionMesh => "inside the closed collision surface (mesh/collision.obj), exact ray parity at voxel centres".into(),
+                Source::Grid => format!(
                     "no mesh: each occupied cell's whole square, from its floor up {} m (half the level height); a shaft's foot reaches into the landing above",
                     grid_clear_height(world)
                 ),
@@ -249,7 +242,8 @@ mod tests {
         let world = crate::test_world();
         let fs = FreeSpace { voxel: Some(5.0) };
         let mut out = MemoryWriter::default();
-        fs.export(&world, &mut out).unwrap();
+        fs.export(&world, &crate::survey_of(&world), &mut out)
+            .unwrap();
         let a = npy::decode(out.get("ground_truth/free_space.npy").unwrap()).unwrap();
         let g = fs.voxels(&world).unwrap();
         assert_eq!(a.shape, vec![g.n[2], g.n[1], g.n[0].div_ceil(8)]);
@@ -259,7 +253,7 @@ mod tests {
         };
         let lh = world.resolved.level_height;
         let tile_at = |level: usize, x: f64, y: f64| {
-            crate::inside::cell_at(&world, level, x, y).and_then(|c| *world.tiles.get(c))
+            world.cell_at(level, x, y).and_then(|c| *world.tiles.get(c))
         };
         let shaft = |t: Option<subtgraph_core::tile::Tile>| {
             t.is_some_and(|t| t.kind == subtgraph_core::tile::TileKind::ShaftUp)

@@ -3,20 +3,18 @@
 //! Nodes are the junctions, intersections, dead ends and shaft ends (kind, cell, level, world
 //! position on the floor of the tile's own passage); edges are corridors and shafts with their
 //! length in metres (along the grid), the corridor's centreline along the middle of its
-//! passage, in the world frame (see `axis.rs`; without a mesh, through the cell centres), and
-//! its least width and height measured on the collision surface (`min_width_m`,
-//! `min_height_m`, see `sections.rs`; `null` without a mesh). The GraphML declares a
+//! passage, in the world frame (the survey's, `survey/src/centrelines/`; without a mesh,
+//! through the cell centres), and its least width and height measured on the collision
+//! surface (`min_width_m`, `min_height_m`, `survey/src/sections.rs`; `null` without a mesh). The GraphML declares a
 //! typed `<key>` for every attribute, so `networkx.read_graphml` gives numbers as numbers; it is
 //! an undirected graph, and a multigraph when two corridors join the same two nodes.
 
 use subtgraph_core::World;
 use subtgraph_core::export::{ExportError, Exporter, WorldWriter, write_file};
 use subtgraph_core::graph::EdgeKind;
+use subtgraph_core::survey::Survey;
 
 use super::FRAME;
-use super::sections::Sections;
-use crate::axis::Axes;
-use crate::inside::Passages;
 use crate::text::{push_fixed, push_uint};
 
 /// Writes `ground_truth/graph.json` and `ground_truth/graph.graphml`.
@@ -35,42 +33,14 @@ fn edge_kind(k: EdgeKind) -> &'static str {
     }
 }
 
-/// A ramp's line (its foot's node, the spiral's floor, its landing's node) and the length
-/// driven along it, for a ramp edge of a world with a mesh.
-pub(crate) fn ramp_line(
-    world: &World,
-    axes: &Axes,
-    e: &subtgraph_core::graph::Edge,
-) -> Option<(Vec<[f64; 3]>, f64)> {
-    if e.kind != EdgeKind::Ramp {
-        return None;
-    }
-    let line = crate::axis::ramp_line(world, &e.cells)?;
-    let mut p = vec![axes.position(world, e.cells[0])];
-    p.extend_from_slice(line);
-    p.push(axes.position(world, e.cells[e.cells.len() - 1]));
-    p.dedup();
-    let length = p
-        .windows(2)
-        .map(|w| {
-            ((w[1][0] - w[0][0]).powi(2)
-                + (w[1][1] - w[0][1]).powi(2)
-                + (w[1][2] - w[0][2]).powi(2))
-            .sqrt()
-        })
-        .sum();
-    Some((p, length))
-}
-
-fn document(world: &World, axes: &Axes) -> Document {
+fn document(world: &World, survey: &dyn Survey) -> Document {
     let g = &world.graph;
-    let sections = Sections::of(world);
     Document {
         format: "subtgraph-graph/1",
         seed: world.resolved.seed,
         frame: FRAME,
         units: "metres",
-        positions: if axes.is_empty() {
+        positions: if !survey.has_axes() {
             "tile centres on their level's nominal floor; a polyline runs through the cell centres of its corridor, a shaft's from the foot to the landing"
         } else {
             "on the floor of each tile's own passage (its axis, from the collision surface's free space): a node where its tile's passage meets its openings (a dead end where its passage ends), a corridor's polyline along the middle of its passage through every tile, a shaft's from the foot to the landing, a ramp's along its spiral's floor"
@@ -87,24 +57,23 @@ fn document(world: &World, axes: &Axes) -> Document {
                 level: n.cell.level,
                 row: n.cell.row,
                 col: n.cell.col,
-                position: axes.position(world, n.cell),
+                position: survey.position(n.cell),
             })
             .collect(),
         edges: g
             .edges
             .iter()
-            .map(|e| {
-                let (polyline, length_m) = ramp_line(world, axes, e)
-                    .unwrap_or_else(|| (axes.polyline(world, &e.cells), e.length_m));
-                let least = sections.as_ref().and_then(|s| s.edge(e.kind, &polyline));
+            .zip(survey.edges())
+            .zip(survey.sections())
+            .map(|((e, line), least)| {
                 EdgeOut {
                     id: e.id,
                     kind: edge_kind(e.kind),
                     from: e.from,
                     to: e.to,
-                    length_m,
+                    length_m: line.length_m,
                     length_cells: e.length_cells,
-                    polyline,
+                    polyline: line.points.clone(),
                     // Centimetres are what the surface is good for (and keep the files stable).
                     min_width_m: least.map(|l| round_cm(l.0)),
                     min_height_m: least.map(|l| round_cm(l.1)),
@@ -232,20 +201,13 @@ xsi:schemaLocation=\"http://graphml.graphdrawing.org/xmlns http://graphml.graphd
 }
 
 impl Exporter for GraphFiles {
-    fn export(&self, world: &World, out: &mut dyn WorldWriter) -> Result<(), ExportError> {
-        self.write(world, &Axes::of(world, &Passages::of(world)), out)
-    }
-}
-
-impl GraphFiles {
-    /// Writes the files from passage axes already found (`ground-truth` finds them once).
-    pub(crate) fn write(
+    fn export(
         &self,
         world: &World,
-        axes: &Axes,
+        survey: &dyn Survey,
         out: &mut dyn WorldWriter,
     ) -> Result<(), ExportError> {
-        let doc = document(world, axes);
+        let doc = document(world, survey);
         crate::write_json(out, "ground_truth/graph.json", &doc)?;
         write_file(out, "ground_truth/graph.graphml", &graphml(&doc))
     }
@@ -260,7 +222,9 @@ mod tests {
     fn every_node_and_edge_is_written_once_with_its_centreline() {
         let world = crate::test_world();
         let mut out = MemoryWriter::default();
-        GraphFiles.export(&world, &mut out).unwrap();
+        GraphFiles
+            .export(&world, &crate::survey_of(&world), &mut out)
+            .unwrap();
         let doc: serde_json::Value =
             serde_json::from_slice(out.get("ground_truth/graph.json").unwrap()).unwrap();
         assert_eq!(

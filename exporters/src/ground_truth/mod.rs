@@ -11,8 +11,9 @@
 //! | `spawn-poses` | `spawn_poses.json` | multi-robot start and goal poses |
 //! | `ground-truth` | all of the above | |
 //!
-//! None needs geometry: with the world's collision mesh they use its exact surface (see
-//! `ground_truth/inside.rs`), without one (`--no-mesh`, no `[tileset]`) the grid's cells, and every file's
+//! None needs geometry: with the world's collision mesh they use its exact surface (the
+//! survey's passages, `survey/src/passages.rs`), without one (`--no-mesh`, no `[tileset]`) the
+//! grid's cells, and every file's
 //! metadata says which (`source`). Every file records the seed and the frame where its format
 //! allows: metres, x east (+column), y north (−row), z up (+level), origin at the centre of
 //! cell (row `rows − 1`, column 0) of level 0, on its floor.
@@ -22,13 +23,13 @@ use subtgraph_core::World;
 use subtgraph_core::error::ConfigError;
 use subtgraph_core::export::{ExportError, Exporter, WorldWriter};
 use subtgraph_core::params::Params;
+use subtgraph_core::survey::Survey;
 
 pub(crate) mod artifacts;
 mod free_space;
 mod graph;
 pub(crate) mod hazards;
 mod ros_map;
-mod sections;
 mod semantic_labels;
 mod spawn_poses;
 
@@ -136,15 +137,19 @@ impl GroundTruth {
 }
 
 impl Exporter for GroundTruth {
-    fn export(&self, world: &World, out: &mut dyn WorldWriter) -> Result<(), ExportError> {
+    fn export(
+        &self,
+        world: &World,
+        survey: &dyn Survey,
+        out: &mut dyn WorldWriter,
+    ) -> Result<(), ExportError> {
+        // One survey for all five: the passages and the tiles' axes are found once.
         let s = &self.settings;
-        let passages = crate::inside::Passages::of(world);
-        let axes = crate::axis::Axes::of(world, &passages);
-        GraphFiles.write(world, &axes, out)?;
-        SemanticLabels.write(world, &axes, out)?;
-        RosMap::from_settings(s).write(world, &passages, out)?;
-        FreeSpace::from_settings(s).write(world, &passages, out)?;
-        SpawnPoses::from_settings(s).write(world, &passages, &axes, out)
+        GraphFiles.export(world, survey, out)?;
+        SemanticLabels.export(world, survey, out)?;
+        RosMap::from_settings(s).export(world, survey, out)?;
+        FreeSpace::from_settings(s).export(world, survey, out)?;
+        SpawnPoses::from_settings(s).export(world, survey, out)
     }
 }
 

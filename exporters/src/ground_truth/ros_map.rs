@@ -19,9 +19,9 @@
 
 use subtgraph_core::World;
 use subtgraph_core::export::{ExportError, Exporter, WorldWriter, write_file};
+use subtgraph_core::survey::{Columns, Survey};
 
 use super::{FRAME, Settings, extent};
-use crate::inside::{Columns, Passages};
 use crate::text::push_uint;
 
 /// The most pixels a level's map may have at the default resolution.
@@ -99,17 +99,10 @@ const OCCUPIED: u8 = 0;
 const UNKNOWN: u8 = 205;
 
 impl Exporter for RosMap {
-    fn export(&self, world: &World, out: &mut dyn WorldWriter) -> Result<(), ExportError> {
-        self.write(world, &Passages::of(world), out)
-    }
-}
-
-impl RosMap {
-    /// Writes the files from passages already made (`ground-truth` makes them once).
-    pub(crate) fn write(
+    fn export(
         &self,
         world: &World,
-        passages: &Passages,
+        survey: &dyn Survey,
         out: &mut dyn WorldWriter,
     ) -> Result<(), ExportError> {
         let px = self.pixels(world)?;
@@ -126,10 +119,11 @@ impl RosMap {
             if !hills {
                 return 0.0;
             }
-            crate::inside::cell_at(world, l, px.x(i as usize), px.y(j))
+            world
+                .cell_at(l, px.x(i as usize), px.y(j))
                 .map_or(0.0, |c| world.floor_lift(c)[1])
         };
-        let raster = passages.raster(&px, |j, spans, open| {
+        let raster = survey.raster(&px, |j, spans, open| {
             let mut rows = vec![vec![OCCUPIED; px.nx]; levels];
             for s in spans {
                 for (l, row) in rows.iter_mut().enumerate() {
@@ -180,7 +174,7 @@ impl RosMap {
                 seed = world.resolved.seed,
                 h = self.height,
                 z = level as f64 * lh + self.height,
-                source = passages.source(),
+                source = survey.source().name(),
                 open = if raster.open_lines > 0 {
                     format!(" ({} lines crossed an open surface)", raster.open_lines)
                 } else {
@@ -215,7 +209,8 @@ mod tests {
             height: 1.0,
         };
         let mut out = MemoryWriter::default();
-        map.export(&world, &mut out).unwrap();
+        map.export(&world, &crate::survey_of(&world), &mut out)
+            .unwrap();
         let pgm = out.get("ground_truth/maps/level-1.pgm").unwrap();
         let px = map.pixels(&world).unwrap();
         let header_end = pgm.len() - px.nx * px.ny;
@@ -224,7 +219,7 @@ mod tests {
         for (k, &v) in img.iter().enumerate() {
             let (r, i) = (k / px.nx, k % px.nx);
             let (x, y) = (px.x(i), px.y(px.ny - 1 - r));
-            let cell = crate::inside::cell_at(&world, 1, x, y).unwrap();
+            let cell = world.cell_at(1, x, y).unwrap();
             let occupied = *world.occupancy.get(cell);
             assert_eq!(v == FREE, occupied, "pixel ({r}, {i})");
         }

@@ -6,8 +6,8 @@
 //! `intersection`, `shaft-up`, `shaft-landing`; `ramp` for both ends of a ramp between levels,
 //! `world.connections = "ramp"`), the original's spatial code, its rotation
 //! (quarter turns counter-clockwise from the kind's base orientation), its openings, and the
-//! world position of the tile's node: on the floor of its own passage (see `axis.rs`; the tile
-//! centre on its level's floor without a mesh). Tiles with a hazard carry `hazard`: the floor
+//! world position of the tile's node: on the floor of its own passage (the survey's
+//! `Survey::position`; the tile centre on its level's floor without a mesh). Tiles with a hazard carry `hazard`: the floor
 //! patch's material (`[hazards] friction`: `mud`, `ice`, `sand`, `wet-rock`), `rubble` or
 //! `drop` (`[hazards] rubble`, `drops`), space-separated when a tile has two; the CSV then
 //! has a last column `hazard` (empty on other tiles). Tiles the tile set made more of carry
@@ -22,10 +22,9 @@
 use subtgraph_core::World;
 use subtgraph_core::export::{ExportError, Exporter, WorldWriter, write_file};
 use subtgraph_core::grid::Direction;
+use subtgraph_core::survey::Survey;
 
 use super::FRAME;
-use crate::axis::Axes;
-use crate::inside::Passages;
 use crate::text::{push_fixed, push_uint};
 
 /// Writes `ground_truth/semantic_labels.json` and `.csv`.
@@ -49,10 +48,10 @@ fn direction_name(d: Direction) -> &'static str {
     }
 }
 
-fn labels(world: &World, axes: &Axes) -> Vec<Label> {
+fn labels(world: &World, survey: &dyn Survey) -> Vec<Label> {
     let mut hazard: std::collections::BTreeMap<_, Vec<&'static str>> =
         std::collections::BTreeMap::new();
-    for p in crate::hazards::patches(world) {
+    for p in survey.patches().unwrap_or(&[]) {
         hazard.entry(p.cell).or_default().push(p.material.name());
     }
     for r in world.mesh().map_or(&[][..], |m| m.hazards.as_slice()) {
@@ -90,12 +89,12 @@ fn labels(world: &World, axes: &Axes) -> Vec<Label> {
                     .filter(|d| t.openings & d.bit() != 0)
                     .map(direction_name)
                     .collect(),
-                position: axes.position(world, c),
+                position: survey.position(c),
                 start: world.start == Some(c),
                 features: features.get(&c).cloned().unwrap_or_default(),
                 hazard: hazard.get(&c).map(|h| h.join(" ")),
-                grade_deg: axes.grade(c).map(|g| (g * 10.0).round() / 10.0),
-                slope: axes.grade(c).is_some_and(|g| g > SLOPE_DEG),
+                grade_deg: survey.grade(c).map(|g| (g * 10.0).round() / 10.0),
+                slope: survey.grade(c).is_some_and(|g| g > SLOPE_DEG),
             })
         })
         .collect()
@@ -146,17 +145,10 @@ fn csv(labels: &[Label], hazards: bool) -> Vec<u8> {
 }
 
 impl Exporter for SemanticLabels {
-    fn export(&self, world: &World, out: &mut dyn WorldWriter) -> Result<(), ExportError> {
-        self.write(world, &Axes::of(world, &Passages::of(world)), out)
-    }
-}
-
-impl SemanticLabels {
-    /// Writes the files from passage axes already found (`ground-truth` finds them once).
-    pub(crate) fn write(
+    fn export(
         &self,
         world: &World,
-        axes: &Axes,
+        survey: &dyn Survey,
         out: &mut dyn WorldWriter,
     ) -> Result<(), ExportError> {
         let doc = Document {
@@ -170,9 +162,9 @@ impl SemanticLabels {
                 let k = subtgraph_core::tile::TileKind::ALL.map(|k| k.name());
                 [k[0], k[1], k[2], k[3], k[4], k[5], k[6], "ramp"]
             },
-            tiles: labels(world, axes),
+            tiles: labels(world, survey),
         };
-        let hazards = world.pipeline.hazards.is_some();
+        let hazards = survey.patches().is_some();
         write_file(
             out,
             "ground_truth/semantic_labels.csv",
@@ -191,7 +183,9 @@ mod tests {
     fn one_label_per_occupied_cell_in_both_files() {
         let world = crate::test_world();
         let mut out = MemoryWriter::default();
-        SemanticLabels.export(&world, &mut out).unwrap();
+        SemanticLabels
+            .export(&world, &crate::survey_of(&world), &mut out)
+            .unwrap();
         let doc: serde_json::Value =
             serde_json::from_slice(out.get("ground_truth/semantic_labels.json").unwrap()).unwrap();
         let tiles = doc["tiles"].as_array().unwrap();

@@ -21,11 +21,10 @@ use std::collections::BinaryHeap;
 use subtgraph_core::World;
 use subtgraph_core::export::{ExportError, Exporter, WorldWriter};
 use subtgraph_core::grid::{Cell, Direction};
+use subtgraph_core::survey::{Columns, Span, Survey};
 use subtgraph_core::tile::TileKind;
 
 use super::{FRAME, Settings};
-use crate::axis::Axes;
-use crate::inside::{Columns, Passages, Span, cell_at};
 
 /// The cast starts this far above the nominal floor.
 const PROBE: f64 = 1.0;
@@ -88,8 +87,7 @@ impl SpawnPoses {
     fn spawns(
         &self,
         world: &World,
-        passages: &Passages,
-        axes: &Axes,
+        survey: &dyn Survey,
         start: Cell,
     ) -> Result<Vec<[f64; 3]>, ExportError> {
         let pitch = world.resolved.tile_pitch;
@@ -128,7 +126,7 @@ impl SpawnPoses {
             nx: ((b[2] - b[0]) / step).ceil() as usize,
             ny: ((b[3] - b[1]) / step).ceil() as usize,
         };
-        let rows = passages
+        let rows = survey
             .raster_within(&cols, b, |_, spans, open| {
                 // A line through an open surface is never free.
                 spans
@@ -146,7 +144,7 @@ impl SpawnPoses {
         };
         // The cast starts above the floor of the start's own passage (its axis), which may lie
         // above or below the level's nominal floor.
-        let nominal = axes.position(world, start)[2];
+        let nominal = survey.position(start)[2];
         let floor = |i: usize, j: usize| {
             let z = nominal + PROBE;
             line(i, j)
@@ -164,11 +162,12 @@ impl SpawnPoses {
             .flat_map(|dj| (-reach..=reach).map(move |di| (di, dj)))
             .filter(|&(di, dj)| ((di * di + dj * dj) as f64).sqrt() * step <= self.clearance)
             .collect();
-        let centre = axes.position(world, start);
+        let centre = survey.position(start);
         let mut candidates: Vec<(f64, usize, usize)> = (0..cols.ny)
             .flat_map(|j| (0..cols.nx).map(move |i| (i, j)))
             .filter(|&(i, j)| {
-                cell_at(world, start.level, cols.x(i), cols.y(j))
+                world
+                    .cell_at(start.level, cols.x(i), cols.y(j))
                     .is_some_and(|c| cells.contains(&c))
             })
             .map(|(i, j)| {
@@ -216,7 +215,7 @@ impl SpawnPoses {
     }
 
     /// The goals: nodes by decreasing path length from the start node.
-    fn goals(&self, world: &World, passages: &Passages, axes: &Axes, start: Cell) -> Vec<Goal> {
+    fn goals(&self, world: &World, survey: &dyn Survey, start: Cell) -> Vec<Goal> {
         let g = &world.graph;
         let Some(source) = g.nodes.iter().position(|n| n.cell == start) else {
             return Vec::new();
@@ -227,11 +226,7 @@ impl SpawnPoses {
             adjacent[e.to].push((e.from, e.id));
         }
         // A ramp is as long as its spiral (graph.json's length), not the level height.
-        let lengths: Vec<f64> = g
-            .edges
-            .iter()
-            .map(|e| super::graph::ramp_line(world, axes, e).map_or(e.length_m, |(_, l)| l))
-            .collect();
+        let lengths: Vec<f64> = survey.edges().iter().map(|e| e.length_m).collect();
         let mut dist = vec![f64::INFINITY; g.nodes.len()];
         let mut via = vec![usize::MAX; g.nodes.len()];
         dist[source] = 0.0;
@@ -264,8 +259,8 @@ impl SpawnPoses {
             .into_iter()
             .map(|n| {
                 let node = &g.nodes[n];
-                let [x, y, nominal] = axes.position(world, node.cell);
-                let z = passages.floor(x, y, nominal, PROBE).unwrap_or(nominal);
+                let [x, y, nominal] = survey.position(node.cell);
+                let z = survey.floor(x, y, nominal, PROBE).unwrap_or(nominal);
                 let e = &g.edges[via[n]];
                 let (a, b) = if e.to == n {
                     (e.cells[e.cells.len() - 2], e.cells[e.cells.len() - 1])
@@ -292,19 +287,10 @@ impl SpawnPoses {
 }
 
 impl Exporter for SpawnPoses {
-    fn export(&self, world: &World, out: &mut dyn WorldWriter) -> Result<(), ExportError> {
-        let passages = Passages::of(world);
-        self.write(world, &passages, &Axes::of(world, &passages), out)
-    }
-}
-
-impl SpawnPoses {
-    /// Writes the files from passages already made (`ground-truth` makes them once).
-    pub(crate) fn write(
+    fn export(
         &self,
         world: &World,
-        passages: &Passages,
-        axes: &Axes,
+        survey: &dyn Survey,
         out: &mut dyn WorldWriter,
     ) -> Result<(), ExportError> {
         let start = world.start.ok_or_else(|| {
@@ -315,8 +301,8 @@ impl SpawnPoses {
             .into_iter()
             .find(|d| openings & d.bit() != 0)
             .unwrap_or(Direction::East);
-        let spawns = self.spawns(world, passages, axes, start)?;
-        let goals = self.goals(world, passages, axes, start);
+        let spawns = self.spawns(world, survey, start)?;
+        let goals = self.goals(world, survey, start);
         if goals.is_empty() {
             return Err(ExportError::Unsupported(
                 "spawn-poses: the graph has no node to go to besides the start".into(),
@@ -346,7 +332,7 @@ impl SpawnPoses {
             seed: world.resolved.seed,
             frame: FRAME,
             units: "metres; yaw in radians counter-clockwise from east (x) about z; quaternions x, y, z, w",
-            source: passages.source(),
+            source: survey.source().name(),
             start,
             robots_requested: self.robots,
             clearance_m: self.clearance,
@@ -366,11 +352,11 @@ mod tests {
     #[test]
     fn robots_spawn_apart_on_the_floor_and_go_far() {
         let world = super::super::tests::world_with_mesh();
-        let passages = Passages::of(&world);
-        let axes = Axes::of(&world, &passages);
+        let survey = crate::survey_of(&world);
+        let survey: &dyn Survey = &survey;
         let start = world.start.unwrap();
         let sp = SpawnPoses::default();
-        let spawns = sp.spawns(&world, &passages, &axes, start).unwrap();
+        let spawns = sp.spawns(&world, survey, start).unwrap();
         assert_eq!(spawns.len(), 4);
         for (k, a) in spawns.iter().enumerate() {
             for b in &spawns[k + 1..] {
@@ -378,10 +364,10 @@ mod tests {
             }
             // On the floor: the cast at this exact point, from just above it (floors slope),
             // finds the same height.
-            let f = passages.floor(a[0], a[1], a[2], PROBE).unwrap();
+            let f = survey.floor(a[0], a[1], a[2], PROBE).unwrap();
             assert!((f - a[2]).abs() < 1e-9, "{a:?} vs {f}");
         }
-        let goals = sp.goals(&world, &passages, &axes, start);
+        let goals = sp.goals(&world, survey, start);
         assert_eq!(goals.len(), 4);
         assert!(
             goals
@@ -389,6 +375,6 @@ mod tests {
                 .all(|w| w[0].path_length_m >= w[1].path_length_m)
         );
         let too_many = SpawnPoses { robots: 200, ..sp };
-        assert!(too_many.spawns(&world, &passages, &axes, start).is_err());
+        assert!(too_many.spawns(&world, survey, start).is_err());
     }
 }

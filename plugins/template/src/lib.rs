@@ -1,5 +1,19 @@
 //! Template plugin: one route descriptor, `wiggle`. Replace it with yours; keep the
 //! `declare_plugin!` line at the end.
+//!
+//! Other kinds register the same way (`r.constraint_shape`, `r.tileset`, `r.exporter`; see
+//! docs/plugins.md and plugins/examples). An exporter (plugin API 6) formats the world and what
+//! its survey found, and computes nothing of its own:
+//!
+//! ```ignore
+//! impl Exporter for Mine {
+//!     fn export(&self, world: &World, survey: &dyn Survey, out: &mut dyn WorldWriter)
+//!         -> Result<(), ExportError> {
+//!         let artifacts = survey.artifacts().map_or(0, |a| a.artifacts.len());
+//!         write_file(out, "mine.txt", format!("{artifacts}").as_bytes())
+//!     }
+//! }
+//! ```
 
 use subtgraph_core::route::{RouteDescriptor, Segment};
 

@@ -22,11 +22,18 @@
 //! is read off its free space (lines cast down through the mesh: a floor faces up with a
 //! ceiling over it), and the lower opening is turned west, the base orientation.
 
+use std::path::Path;
+use std::sync::Arc;
+
 use subtgraph_core::Layout;
-use subtgraph_core::grid::{Cell, Direction};
+use subtgraph_core::grid::{Cell, Direction, rotate_openings};
 use subtgraph_core::mesh::Mesh;
 use subtgraph_core::rng::WorldRng;
 use subtgraph_core::tile::TileKind;
+
+use super::manifest::{Manifest, ManifestError, ManifestTile};
+use super::prepare::{describe, openings, turn};
+use super::{Asset, ELEVATION, Entry, Hills};
 
 /// What a hill makes of one tile.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -131,7 +138,7 @@ pub(super) fn end_floors(mesh: &Mesh, pitch: f64) -> Option<[f64; 2]> {
         .triangles
         .iter()
         .map(|t| t.map(|i| mesh.positions[i as usize].map(f64::from)))
-        .filter(|p| super::area(p) != 0.0)
+        .filter(|p| super::collision::area(p) != 0.0)
         .collect();
     let side = |x: f64| {
         let mut found: Vec<f64> = [-0.1, -0.05, 0.0, 0.05, 0.1]
@@ -147,8 +154,132 @@ pub(super) fn end_floors(mesh: &Mesh, pitch: f64) -> Option<[f64; 2]> {
 /// The lowest floor on the vertical line through `q`: a crossing of a triangle facing up (seen
 /// from above, counter-clockwise) whose next crossing up faces down.
 fn lowest_floor(triangles: &[[[f64; 3]; 3]], q: [f64; 2]) -> Option<f64> {
-    let hits = super::line_crossings(triangles, q);
+    let hits = super::collision::line_crossings(triangles, q);
     hits.windows(2).find(|w| w[0].1 && !w[1].1).map(|w| w[0].0)
+}
+
+/// The `elevation` tile: its files turned so the low opening faces west (the given `rotation`,
+/// or the one the floors at its openings show), checked against `rise` and `rate`.
+pub(super) fn elevation_tile(
+    path: &Path,
+    manifest: &Manifest,
+    t: &ManifestTile,
+    read: &dyn Fn(&str) -> Result<Arc<Mesh>, ManifestError>,
+) -> Result<Hills, ManifestError> {
+    let value = |problem: String| ManifestError::Value {
+        path: path.to_owned(),
+        problem,
+    };
+    let name = subtgraph_core::error::excerpt(&t.kind);
+    if t.kind != ELEVATION {
+        return Err(value(format!(
+            "tile '{name}': `rise` and `rate` describe hills; give them on the kind = \
+             \"elevation\" tile only"
+        )));
+    }
+    if t.cap.is_some() || t.cap_faces.is_some() || t.top.is_some() || t.split.is_some() {
+        return Err(value(
+            "tile 'elevation': `cap`, `cap_faces`, `top` and `split` are not for the elevation \
+             tile; remove them"
+                .into(),
+        ));
+    }
+    if t.files.is_empty() {
+        return Err(value("tile 'elevation' lists no files".into()));
+    }
+    let Some(rise) = t.rise else {
+        return Err(value(
+            "tile 'elevation': give rise, how far its floor climbs from the low opening to the \
+             high one (metres, file units times scale)"
+                .into(),
+        ));
+    };
+    if !(rise.is_finite() && rise > 0.0) {
+        return Err(value(format!(
+            "tile 'elevation': rise = {rise}: give the climb as a positive number of metres"
+        )));
+    }
+    let Some(rate) = t.rate else {
+        return Err(value(
+            "tile 'elevation': give rate, the share of straight runs that get a hill (0 to 1)"
+                .into(),
+        ));
+    };
+    if !(0.0..=1.0).contains(&rate) {
+        return Err(value(format!(
+            "tile 'elevation': rate = {rate}: give the share of straight runs that get a hill, \
+             from 0 to 1"
+        )));
+    }
+    let pitch = manifest.pitch * manifest.scale;
+    let rise = rise * manifest.scale;
+    let mut assets = Vec::new();
+    for f in &t.files {
+        let mesh = read(f)?;
+        let turned = |q: u8| {
+            let mut m = (*mesh).clone();
+            let back = (4 - q) % 4;
+            for p in &mut m.positions {
+                *p = turn(*p, back);
+            }
+            for n in &mut m.normals {
+                *n = turn(*n, back);
+            }
+            m
+        };
+        // The openings say east-west or north-south; the floors say which end is low.
+        let q0 = match t.rotation {
+            Some(r) => r,
+            None => {
+                let found = openings(&mesh, pitch, TileKind::Straight);
+                (0..2)
+                    .find(|&q| rotate_openings(TileKind::Straight.base_openings(), q) == found)
+                    .ok_or_else(|| ManifestError::Openings {
+                        path: path.to_owned(),
+                        file: f.clone(),
+                        kind: t.kind.clone(),
+                        found: describe(found),
+                        half: pitch / 2.0,
+                    })?
+            }
+        };
+        let m = turned(q0);
+        let Some([west, east]) = end_floors(&m, pitch) else {
+            return Err(value(format!(
+                "tile 'elevation': {f} has no floor near one of its openings (turned {q0} \
+                 quarter turns); check `pitch`, `up` and `rotation`"
+            )));
+        };
+        let (m, climb) = match t.rotation {
+            _ if east > west => (m, east - west),
+            None => (turned(q0 + 2), west - east),
+            Some(r) => {
+                return Err(value(format!(
+                    "tile 'elevation': rotation = {r} puts {f}'s high opening west (floor {west:.1} \
+                     m, east {east:.1} m); the base orientation is low west, high east: give \
+                     rotation = {}",
+                    (r + 2) % 4
+                )));
+            }
+        };
+        // Measured a few metres in from the openings, where the floor still climbs.
+        if (climb - rise).abs() > 0.25 * rise {
+            return Err(value(format!(
+                "tile 'elevation': rise = {}: {f}'s floor climbs {climb:.1} m between its \
+                 openings (measured); set rise to what the tile climbs",
+                rise / manifest.scale
+            )));
+        }
+        assets.push(Arc::new(Asset {
+            mesh: m,
+            shaft: None,
+        }));
+    }
+    Ok(Hills {
+        entry: Entry { assets, cap: None },
+        rise,
+        rate,
+    })
 }
 
 #[cfg(test)]

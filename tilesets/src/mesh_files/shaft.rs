@@ -46,10 +46,10 @@ impl ShaftParts {
     pub fn new(mesh: &Mesh, split: f32, rise: f32, top_turn: u8) -> ShaftParts {
         let (foot, mut landing, section, material) = cut(mesh, split);
         for p in &mut landing.positions {
-            *p = super::turn([p[0], p[1], p[2] - rise], top_turn);
+            *p = super::prepare::turn([p[0], p[1], p[2] - rise], top_turn);
         }
         for n in &mut landing.normals {
-            *n = super::turn(*n, top_turn);
+            *n = super::prepare::turn(*n, top_turn);
         }
         let radii = radii(&section);
         let collars = [0u8, 1, 2, 3].map(|r| {

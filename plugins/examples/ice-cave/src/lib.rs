@@ -8,7 +8,7 @@
 //! ```
 
 use subtgraph_core::mesh::Material;
-use subtgraph_tilesets::field::{Passage, Profile};
+use subtgraph_tilesets::passage::{Passage, Profile};
 use subtgraph_tilesets::procedural::{Procedural, Style};
 
 /// A keyhole: a narrow slot below, a round chamber above.

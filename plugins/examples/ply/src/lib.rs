@@ -10,11 +10,19 @@ use std::fmt::Write;
 
 use subtgraph_core::World;
 use subtgraph_core::export::{ExportError, Exporter, WorldWriter, write_file};
+use subtgraph_core::survey::Survey;
 
 struct Ply;
 
 impl Exporter for Ply {
-    fn export(&self, world: &World, out: &mut dyn WorldWriter) -> Result<(), ExportError> {
+    // The mesh is all this format holds: the survey (passages, centrelines, artifacts) is not
+    // asked for anything, so nothing of it is computed for this exporter.
+    fn export(
+        &self,
+        world: &World,
+        _survey: &dyn Survey,
+        out: &mut dyn WorldWriter,
+    ) -> Result<(), ExportError> {
         let Some(mesh) = world.mesh() else {
             return Err(ExportError::Unsupported(
                 "the ply exporter needs geometry: add a [tileset] to the pipeline".into(),

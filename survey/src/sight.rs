@@ -1,8 +1,10 @@
 //! Lines of sight through the collision surface's free space: whether an artifact is seen
-//! from its tile's passage axis (`axis.rs`). One computation for two users, so they cannot
-//! disagree: placement (`artifacts.rs`, which hides a share of the artifacts on purpose with
-//! `[artifacts] hidden`) and the ground truth's `visible_from_axis` flag
-//! (`ground_truth/artifacts.rs`).
+//! from its tile's passage axis (`axis`). One computation for two users, so they cannot
+//! disagree: placement (`artifacts`, which hides a share of the artifacts on purpose with
+//! `[artifacts] hidden`) and the ground truth's `visible_from_axis` flag (the exporters'
+//! `ground_truth/artifacts.rs`, from [`Artifact::visible_from_axis`]).
+//!
+//! [`Artifact::visible_from_axis`]: subtgraph_core::artifacts::Artifact::visible_from_axis
 //!
 //! The eye is [`EYE`] above the nearest point of the tile's axis (its anchor and its paths to
 //! the openings, as a polyline per path) to the artifact's centre. The line from the eye to
@@ -15,13 +17,13 @@
 //! The nearest point of the axis sees nearly everything in a tile (on the cave preset, seeds
 //! 1 and 2, a search of every tile found 3 of the 6 hidden spots asked for, on the small
 //! caves of the tests 5 of 16): a robot that has driven up to an artifact has found it. What hides an artifact is where the robot
-//! is when it first comes near: with `[artifacts] hidden`, the eye is [`approach_eye`], the
+//! is when it first comes near: with `[artifacts] hidden`, the eye is `approach_eye`, the
 //! first point within [`NEAR`] of the artifact on the robot's way into the tile from the
 //! opening nearest the start along the graph (then on to the anchor and the other
 //! openings), so an artifact just past a bend, or in the far leg of a junction, is hidden.
 //! Without the key the eye stays the nearest point, as in worlds made before it.
 
-use crate::inside::Passages;
+use crate::passages::Passages;
 
 /// Height of the eye above the passage axis's floor, metres (a robot's sensor).
 pub const EYE: f64 = 0.5;
@@ -32,7 +34,7 @@ pub const SIGHT_END: f64 = 0.3;
 
 /// How near a robot on its way comes to an artifact before the artifact counts as in reach
 /// of its sensors, metres: with `[artifacts] hidden`, the eye is the first point of the way
-/// this near ([`approach_eye`]).
+/// this near (`approach_eye`).
 pub const NEAR: f64 = 10.0;
 
 /// The eye looking at `target` as a robot comes to it: [`EYE`] above the first point of

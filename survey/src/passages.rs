@@ -4,7 +4,7 @@
 //! The collision surface is closed, so along any vertical line its crossings alternate between
 //! entering and leaving the passages (ray parity); where a surface is not (the DARPA tiles'
 //! overlap themselves and each other), the triangles' facing tells floors from ceilings
-//! ([`stretches`]). Each triangle is rasterised to the columns
+//! (`stretches`). Each triangle is rasterised to the columns
 //! of a regular grid whose centres it covers, so a whole grid costs O(triangles + columns),
 //! bands of rows run in parallel, and the result does not depend on the thread count.
 //!
@@ -18,13 +18,17 @@
 //! Without geometry, the passages are the grid's own: each occupied cell's whole square, from
 //! its floor up to half the level height (the other half is the rock between levels); the foot
 //! of a shaft reaches up into the landing above.
+//!
+//! A world's passages are made once, by its survey ([`crate::WorldSurvey`]), and shared by
+//! everything that looks at them: artifact placement, passage axes, the height fields, and
+//! the exporters' maps and free-space grids (through `Survey::visit_rows`).
 
 use std::ops::Range;
 
 use rayon::prelude::*;
 use subtgraph_core::World;
-use subtgraph_core::grid::Cell;
 use subtgraph_core::mesh::Mesh;
+pub(crate) use subtgraph_core::survey::{Columns, Raster, Source, Span, grid_clear_height};
 use subtgraph_core::tile::TileKind;
 
 /// Lattice steps per metre for the exact plane tests.
@@ -84,45 +88,6 @@ fn crossing(a: [i64; 2], b: [i64; 2], c: [i64; 2], z: [f32; 3], p: [i64; 2]) -> 
     )
 }
 
-/// A regular grid of vertical lines: line `(i, j)` stands at
-/// `(x0 + (i + ½) step, y0 + (j + ½) step)`.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub(crate) struct Columns {
-    /// West edge, metres.
-    pub x0: f64,
-    /// South edge, metres.
-    pub y0: f64,
-    /// Spacing, metres.
-    pub step: f64,
-    /// Lines west to east.
-    pub nx: usize,
-    /// Lines south to north.
-    pub ny: usize,
-}
-
-impl Columns {
-    /// x of line column `i`.
-    pub fn x(&self, i: usize) -> f64 {
-        self.x0 + (i as f64 + 0.5) * self.step
-    }
-
-    /// y of line row `j`.
-    pub fn y(&self, j: usize) -> f64 {
-        self.y0 + (j as f64 + 0.5) * self.step
-    }
-}
-
-/// A stretch of passage along line `i` of a row: free from `z0` to `z1` (metres).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub(crate) struct Span {
-    /// The line's column index.
-    pub i: u32,
-    /// Bottom: a floor.
-    pub z0: f64,
-    /// Top: a ceiling.
-    pub z1: f64,
-}
-
 /// The passages of a world.
 pub(crate) enum Passages<'a> {
     /// Inside the closed collision surface.
@@ -136,13 +101,6 @@ pub(crate) enum Passages<'a> {
     },
     /// The grid's cells.
     Grid(&'a World),
-}
-
-/// A raster's rows (one value per row, south to north) and how many of its lines crossed the
-/// surface an odd number of times (0 for a closed surface).
-pub(crate) struct Raster<T> {
-    pub rows: Vec<T>,
-    pub open_lines: usize,
 }
 
 impl<'a> Passages<'a> {
@@ -185,11 +143,11 @@ impl<'a> Passages<'a> {
             .collect()
     }
 
-    /// `"collision-mesh"` or `"grid"`: what the files were computed from.
-    pub fn source(&self) -> &'static str {
+    /// What the passages were found from.
+    pub fn source(&self) -> Source {
         match self {
-            Passages::Mesh { .. } => "collision-mesh",
-            Passages::Grid(_) => "grid",
+            Passages::Mesh { .. } => Source::CollisionMesh,
+            Passages::Grid(_) => Source::Grid,
         }
     }
 
@@ -277,6 +235,7 @@ impl<'a> Passages<'a> {
     /// Every line of `cols`: `row(j, spans, open)` for each row `j`, south to north, spans
     /// sorted by line then height; `open` lists the lines of the row that crossed the surface an
     /// odd number of times (an open surface: their spans are unreliable).
+    #[cfg(test)]
     pub fn raster<T: Send>(
         &self,
         cols: &Columns,
@@ -336,33 +295,10 @@ impl<'a> Passages<'a> {
 
     /// The floor under `(x, y)` for a level whose nominal floor is at `nominal` metres: the
     /// bottom of the free stretch holding `nominal + probe` (a downward cast from that height).
+    #[cfg(test)]
     pub fn floor(&self, x: f64, y: f64, nominal: f64, probe: f64) -> Option<f64> {
-        floor_in(&self.column(x, y), nominal + probe)
+        subtgraph_core::survey::floor_in(&self.column(x, y), nominal + probe)
     }
-}
-
-/// The bottom of the stretch holding height `z`.
-pub(crate) fn floor_in(stretches: &[[f64; 2]], z: f64) -> Option<f64> {
-    stretches
-        .iter()
-        .find(|s| s[0] <= z && z <= s[1])
-        .map(|s| s[0])
-}
-
-/// The cell of `level` whose square holds `(x, y)`, if it is in the grid.
-pub(crate) fn cell_at(world: &World, level: usize, x: f64, y: f64) -> Option<Cell> {
-    let pitch = world.resolved.tile_pitch;
-    let off = world.level_offsets[level];
-    let rows = world.occupancy.rows() as i64;
-    let col = (x / pitch + 0.5).floor() as i64 - off[1];
-    let row = rows - 1 - (y / pitch + 0.5).floor() as i64 - off[0];
-    (col >= 0 && row >= 0 && row < rows && (col as usize) < world.occupancy.cols())
-        .then(|| Cell::new(level, row as usize, col as usize))
-}
-
-/// The clear height of a grid world's passages: half the level height.
-pub(crate) fn grid_clear_height(world: &World) -> f64 {
-    0.5 * world.resolved.level_height
 }
 
 /// The free stretches of a grid world along the line through `(x, y)`.
@@ -371,7 +307,7 @@ fn grid_column(world: &World, x: f64, y: f64) -> Vec<[f64; 2]> {
     let clear = grid_clear_height(world);
     let mut out: Vec<[f64; 2]> = Vec::new();
     for level in 0..world.occupancy.levels() {
-        let Some(c) = cell_at(world, level, x, y) else {
+        let Some(c) = world.cell_at(level, x, y) else {
             continue;
         };
         let Some(t) = world.tiles.get(c) else {

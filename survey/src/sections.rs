@@ -183,7 +183,7 @@ mod tests {
 
     #[test]
     fn a_box_passage_is_as_wide_and_high_as_the_box() {
-        let box_mesh = crate::inside::tests::box_mesh([0.0, 0.0, 0.0], [4.0, 10.0, 3.0]);
+        let box_mesh = crate::passages::tests::box_mesh([0.0, 0.0, 0.0], [4.0, 10.0, 3.0]);
         let s = Sections::new(&box_mesh, 0.7, 25.0);
         let (w, h) = s.at([1.0, 5.0, 0.0], [0.0, 1.0]);
         assert!((w - 4.0).abs() < 1e-9 && (h - 3.0).abs() < 1e-9, "{w} {h}");

@@ -4,7 +4,7 @@
 //! Along every vertical line of a regular grid (`step` metres apart, lines on the tile edges so
 //! two neighbours share their edge lines), the free stretches of the closed collision surface
 //! are found exactly by ray parity, or by the triangles' facing where the surface overlaps
-//! itself (as for the free-space ground truth, `inside.rs`). For a tile on level `L`,
+//! itself (as for the free-space ground truth, [`crate::passages`]). For a tile on level `L`,
 //! the stretches meeting the level's band (from a quarter of a level height below its floor
 //! to three quarters above, moved up by the tile's floor lift on a hill) give the **floor**
 //! (the lowest bottom) and the **roof** (the highest top) of that line; a line with no free
@@ -24,8 +24,7 @@
 use rayon::prelude::*;
 use subtgraph_core::World;
 use subtgraph_core::assembly::WorldMesh;
-
-use crate::inside::{Columns, Passages};
+use subtgraph_core::survey::{Columns, Survey};
 
 /// The heights of one tile's floor and roof.
 #[derive(Clone, Debug, PartialEq)]
@@ -47,8 +46,15 @@ pub fn samples_per_tile(pitch: f64, step: f64) -> usize {
     ((pitch / step).round() as usize).max(2)
 }
 
-/// The floor and roof of every tile of `mesh`, in the order of [`WorldMesh::tiles`].
-pub fn tile_fields(world: &World, mesh: &WorldMesh, step: f64) -> Vec<TileField> {
+/// The floor and roof of every tile of `mesh` (the world's), from the passages its `survey`
+/// found, in the order of [`WorldMesh::tiles`]. Computed when an exporter asks (MuJoCo's
+/// writer), with its `step`: a world exported in other formats never pays for them.
+pub fn tile_fields(
+    world: &World,
+    survey: &dyn Survey,
+    mesh: &WorldMesh,
+    step: f64,
+) -> Vec<TileField> {
     let pitch = world.resolved.tile_pitch;
     let lh = world.resolved.level_height;
     let n = samples_per_tile(pitch, step);
@@ -80,8 +86,7 @@ pub fn tile_fields(world: &World, mesh: &WorldMesh, step: f64) -> Vec<TileField>
         ny: (hi.1 - lo.1 + 1) as usize * n + 1,
     };
     // Every free stretch of every line, row by row: (line, bottom, top).
-    let passages = Passages::of(world);
-    let raster = passages.raster(&cols, |_, spans, _| {
+    let raster = survey.raster(&cols, |_, spans, _| {
         spans
             .iter()
             .map(|s| (s.i, s.z0 as f32, s.z1 as f32))
@@ -136,10 +141,11 @@ mod tests {
 
     #[test]
     fn neighbours_share_their_edge_heights_and_every_tile_has_a_passage() {
-        let world = crate::test_world_with_mesh();
+        let world = crate::tests::coarse_world_with_mesh();
         let mesh = world.mesh().unwrap();
-        let fields = tile_fields(&world, mesh, 1.25);
-        let passages = Passages::of(&world);
+        let survey = crate::WorldSurvey::new(&world).unwrap();
+        let fields = tile_fields(&world, &survey, mesh, 1.25);
+        let passages = crate::passages::Passages::of(&world);
         let mut centres = 0;
         assert_eq!(fields.len(), mesh.tiles.len());
         let pitch = world.resolved.tile_pitch;

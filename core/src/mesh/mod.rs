@@ -1,6 +1,10 @@
 //! Triangle meshes: what tile sets produce and exporters write.
 
+mod cluster;
+
 use serde::{Deserialize, Serialize};
+
+pub use cluster::{Clustering, Grid};
 
 use crate::vec3::{cross, sub};
 
