@@ -27,17 +27,21 @@ pub enum Grid {
 }
 
 impl Grid {
-    /// The cell a position falls in, and the position it moves to.
-    fn snap(self, p: [f32; 3]) -> ([i32; 3], [f32; 3]) {
+    /// The cell a position falls in.
+    fn key(self, p: [f32; 3]) -> [i32; 3] {
         match self {
-            Grid::CubeCentres { cell } => {
-                let key = p.map(|v| (v / cell).floor() as i32);
-                (key, key.map(|c| (c as f32 + 0.5) * cell))
-            }
+            Grid::CubeCentres { cell } => p.map(|v| (v / cell).floor() as i32),
             Grid::Points { cell, origin } => {
-                let key = [0, 1, 2].map(|a| ((p[a] - origin[a]) / cell).round() as i32);
-                (key, [0, 1, 2].map(|a| origin[a] + key[a] as f32 * cell))
+                [0, 1, 2].map(|a| ((p[a] - origin[a]) / cell).round() as i32)
             }
+        }
+    }
+
+    /// The position the vertices of cell `key` move to.
+    fn point(self, key: [i32; 3]) -> [f32; 3] {
+        match self {
+            Grid::CubeCentres { cell } => key.map(|c| (c as f32 + 0.5) * cell),
+            Grid::Points { cell, origin } => [0, 1, 2].map(|a| origin[a] + key[a] as f32 * cell),
         }
     }
 }
@@ -71,11 +75,11 @@ impl Mesh {
             .iter()
             .enumerate()
             .map(|(i, &p)| {
-                let (key, at) = how.grid.snap(p);
+                let key = how.grid.key(p);
                 let next = out.positions.len() as u32;
                 let k = *index.entry(key).or_insert(next);
                 if k == next {
-                    out.positions.push(at);
+                    out.positions.push(how.grid.point(key));
                     if has_normals {
                         normal_sums.push([0.0; 3]);
                     }
@@ -105,7 +109,16 @@ impl Mesh {
                 })
                 .collect();
         }
-        let mut seen: HashSet<[u32; 3], BuildFastHash> = HashSet::default();
+        // Sized as the mesh-file tile set's copies need (about a quarter of the triangles
+        // survive), so the set rarely grows.
+        let mut seen: HashSet<[u32; 3], BuildFastHash> = HashSet::with_capacity_and_hasher(
+            if how.distinct {
+                self.triangles.len() / 4
+            } else {
+                0
+            },
+            BuildFastHash::default(),
+        );
         for (t, tri) in self.triangles.iter().enumerate() {
             let [a, b, c] = tri.map(|v| remap[v as usize]);
             if a == b || b == c || a == c {

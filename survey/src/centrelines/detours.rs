@@ -4,7 +4,7 @@
 
 use subtgraph_core::World;
 
-use super::drivable;
+use super::{columns, drivable};
 use crate::axis::Line;
 use crate::passages::Passages;
 
@@ -189,7 +189,7 @@ fn bridge(passages: &Passages, a: Line, b: Line) -> Option<Vec<Line>> {
     let height = |k: usize| p[2] + (k + 1) as f64 / n as f64 * (q[2] - p[2]);
     let mut out = Vec::with_capacity(n);
     let mut last = p[2];
-    for (k, column) in passages.columns_at(&centres).iter().enumerate() {
+    for (k, column) in columns(passages, &centres, 1).iter().enumerate() {
         let floor = drivable(column, height(k))?;
         if (floor - last).abs() > 0.25 {
             return None;
@@ -213,7 +213,7 @@ fn bridge(passages: &Passages, a: Line, b: Line) -> Option<Vec<Line>> {
             })
         })
         .collect();
-    let columns = passages.columns_at(&probes);
+    let columns = columns(passages, &probes, 4 * BRIDGE_ROOMS.len());
     let per = 4 * BRIDGE_ROOMS.len();
     for (k, l) in out.iter_mut().enumerate() {
         l.room = BRIDGE_ROOMS

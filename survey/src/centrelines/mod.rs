@@ -51,6 +51,19 @@ const HEADROOM: f64 = 0.6;
 /// (the collision surface is a coarser lattice than the passage it approximates).
 pub(crate) const BAND: [f64; 2] = [2.0, 1.5];
 
+/// Points of a path cast together: [`Passages::columns_at`] tests every point against the
+/// triangles near all of them, so a few metres of path at a time keep that set small.
+const CAST_RUN: usize = 4;
+
+/// The free stretches over each of `points`, in order, cast [`CAST_RUN`] groups of `per`
+/// neighbouring points at a time (a group: a point and its side probes).
+pub(crate) fn columns(passages: &Passages, points: &[[f64; 2]], per: usize) -> Vec<Vec<[f64; 2]>> {
+    points
+        .chunks(CAST_RUN * per.max(1))
+        .flat_map(|run| passages.columns_at(run))
+        .collect()
+}
+
 /// The centreline of every edge of `world`'s graph, in edge order.
 pub(crate) fn edges(world: &World, passages: &Passages, axes: &Axes) -> Vec<EdgeLine> {
     let hazards: BTreeSet<Cell> = world

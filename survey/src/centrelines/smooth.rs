@@ -5,7 +5,7 @@ use subtgraph_core::World;
 use subtgraph_core::grid::Cell;
 
 use super::detours::{rerouted, shortcuts};
-use super::{MARGIN, PASSES, SPACING, drivable, floor_near, resample};
+use super::{MARGIN, PASSES, SPACING, columns, drivable, floor_near, resample};
 use crate::axis::{Axes, Line, towards};
 use crate::passages::Passages;
 
@@ -73,7 +73,7 @@ pub(super) fn smoothed(
         [0.0, 0.25, 0.5, 0.75, 1.0].map(|t| [p[0] + t * (l[0] - p[0]), p[1] + t * (l[1] - p[1])])
     };
     let tries: Vec<[f64; 2]> = picked.iter().flat_map(|&x| place(x)).collect();
-    let columns = passages.columns_at(&tries);
+    let columns = columns(passages, &tries, 5);
     let mut out = vec![lines[0].point];
     for (k, &(_, i)) in picked.iter().enumerate().take(picked.len() - 1).skip(1) {
         let (a, b) = (
@@ -153,7 +153,7 @@ fn relaxed(passages: &Passages, mut points: Vec<[f64; 3]>) -> Vec<[f64; 3]> {
                     [c[0] - side[0], c[1] - side[1]],
                 ]);
             }
-            let columns = passages.columns_at(&probes);
+            let columns = columns(passages, &probes, 3);
             let ok = (lo..=hi).all(|k| {
                 let at = 3 * (k - lo);
                 let z = points[k][2];

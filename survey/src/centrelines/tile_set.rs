@@ -6,7 +6,7 @@ use std::collections::BTreeSet;
 use subtgraph_core::World;
 use subtgraph_core::grid::Cell;
 
-use super::{BAND, floor_near};
+use super::{BAND, columns, floor_near};
 use crate::axis::{Axes, towards};
 use crate::passages::Passages;
 
@@ -67,11 +67,9 @@ pub(super) fn tile_set_line(
     // Every point on the collision surface's floor nearest where the tile set laid it.
     let xy: Vec<[f64; 2]> = nominal.iter().map(|p| [p[0], p[1]]).collect();
     let mut out = vec![axes.position(first)];
-    for (chunk, at) in xy.chunks(32).zip(nominal.chunks(32)) {
-        for (column, p) in passages.columns_at(chunk).into_iter().zip(at) {
-            let floor = floor_near(&column, p[2], BAND)?;
-            out.push([p[0], p[1], floor]);
-        }
+    for (column, p) in columns(passages, &xy, 1).into_iter().zip(&nominal) {
+        let floor = floor_near(&column, p[2], BAND)?;
+        out.push([p[0], p[1], floor]);
     }
     out.push(axes.position(last));
     Some(out)
