@@ -71,14 +71,8 @@ struct AppHost<'a> {
 }
 
 impl subtgraph_sensors::Host for AppHost<'_> {
-    fn world(&self, folder: &Path) -> Result<World, String> {
-        world_of(folder).map_err(|e| {
-            format!(
-                "rebuilding the world of {}: {}",
-                folder.display(),
-                crate::message(&e)
-            )
-        })
+    fn world(&self, folder: &Path) -> Result<World, subtgraph_sensors::HostError> {
+        world_of(folder).map_err(|e| e.into())
     }
 
     fn write_folder(
@@ -98,7 +92,7 @@ impl subtgraph_sensors::Host for AppHost<'_> {
         folder::write_atomically(&out, |w| fill(w.root())).map_err(|e| match e {
             FolderError::Content(inner) => match inner.downcast::<SenseError>() {
                 Ok(e) => *e,
-                Err(other) => SenseError::Host(other.to_string()),
+                Err(other) => SenseError::Host(other),
             },
             e => self.keep(e),
         })
@@ -112,7 +106,7 @@ impl subtgraph_sensors::Host for AppHost<'_> {
 impl AppHost<'_> {
     /// Keeps a folder error for [`run`] to return as it is, and says it to the sensors crate.
     fn keep(&self, e: FolderError) -> SenseError {
-        let said = SenseError::Host(e.to_string());
+        let said = SenseError::Host(e.to_string().into());
         *self.folder_error.borrow_mut() = Some(e);
         said
     }

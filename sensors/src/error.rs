@@ -2,6 +2,10 @@
 
 use std::path::PathBuf;
 
+/// An error of the application hosting the sensors ([`crate::Host`]), kept with its type so
+/// that the application can tell its own errors apart when they come back.
+pub type HostError = Box<dyn std::error::Error + Send + Sync + 'static>;
+
 /// Why a sequence could not be made. Nothing is written when one is returned.
 #[derive(Debug, thiserror::Error)]
 #[non_exhaustive]
@@ -116,9 +120,17 @@ pub enum SenseError {
         /// The cause.
         source: std::io::Error,
     },
-    /// The application could not rebuild the world or place the folder (its message).
+    /// The application could not rebuild the world of a folder (the cause is its error).
+    #[error("rebuilding the world of {folder}: {source}")]
+    Rebuild {
+        /// The world folder.
+        folder: PathBuf,
+        /// Why, as the application says it.
+        source: HostError,
+    },
+    /// The application could not place the folder (the cause is its error).
     #[error("{0}")]
-    Host(String),
+    Host(#[source] HostError),
 }
 
 /// A byte count as people read it.

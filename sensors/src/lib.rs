@@ -33,7 +33,7 @@ pub mod sequence;
 pub mod trajectory;
 pub mod write;
 
-pub use error::SenseError;
+pub use error::{HostError, SenseError};
 pub use request::{Host, SenseRequest};
 pub use scene::Scene;
 pub use sequence::{Options, Sequence, Summary};

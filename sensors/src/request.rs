@@ -5,7 +5,7 @@ use std::path::{Path, PathBuf};
 
 use subtgraph_core::World;
 
-use crate::error::SenseError;
+use crate::error::{HostError, SenseError};
 use crate::graph::RouteGraph;
 use crate::imu::ImuModel;
 use crate::lidar::{LidarModel, Overrides};
@@ -84,7 +84,7 @@ impl Default for SenseRequest {
 /// removed otherwise.
 pub trait Host {
     /// The world a world folder was made from.
-    fn world(&self, folder: &Path) -> Result<World, String>;
+    fn world(&self, folder: &Path) -> Result<World, HostError>;
 
     /// Writes the folder `out` through `fill`, atomically; `force` replaces a folder this tool
     /// wrote, and nothing else.
@@ -187,7 +187,12 @@ impl SenseRequest {
         let mut summary = None;
         host.write_folder(&self.out, self.force, &mut |dir| {
             let started = std::time::Instant::now();
-            let world = host.world(&self.world).map_err(SenseError::Host)?;
+            let world = host
+                .world(&self.world)
+                .map_err(|source| SenseError::Rebuild {
+                    folder: self.world.clone(),
+                    source,
+                })?;
             check_graph(&world, &graph, &self.world)?;
             let options = options(self, world.resolved.seed)?;
             let scene = Scene::of_world(&world)?;

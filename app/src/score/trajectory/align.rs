@@ -82,9 +82,24 @@ pub fn origin(est0: &Pose, ref0: &Pose) -> Alignment {
     }
 }
 
+/// Why a least-squares alignment is undetermined.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum Undetermined {
+    /// Every associated position of the estimate is the same point: no rotation fits.
+    #[error("the estimate's associated positions are all the same point")]
+    OnePoint,
+    /// The best scale is zero, negative or not a number.
+    #[error("the best scale is {0}, not a positive number")]
+    Scale(f64),
+}
+
 /// Umeyama's least-squares transform taking `est` onto `reference` (the same length), with
 /// a scale when `with_scale`. `Err` says why it is undetermined.
-pub fn umeyama(est: &[Vec3], reference: &[Vec3], with_scale: bool) -> Result<Alignment, String> {
+pub fn umeyama(
+    est: &[Vec3],
+    reference: &[Vec3],
+    with_scale: bool,
+) -> Result<Alignment, Undetermined> {
     let n = est.len() as f64;
     let mean = |v: &[Vec3]| {
         let s = v.iter().fold([0.0; 3], |a, &p| add(a, p));
@@ -103,7 +118,7 @@ pub fn umeyama(est: &[Vec3], reference: &[Vec3], with_scale: bool) -> Result<Ali
         }
     }
     if spread <= 0.0 {
-        return Err("the estimate's associated positions are all the same point".into());
+        return Err(Undetermined::OnePoint);
     }
     let [[sxx, sxy, sxz], [syx, syy, syz], [szx, szy, szz]] = c;
     let k = [
@@ -123,7 +138,7 @@ pub fn umeyama(est: &[Vec3], reference: &[Vec3], with_scale: bool) -> Result<Ali
         1.0
     };
     if !(s.is_finite() && s > 0.0) {
-        return Err(format!("the best scale is {s}, not a positive number"));
+        return Err(Undetermined::Scale(s));
     }
     Ok(Alignment {
         rotation: q,
