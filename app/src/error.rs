@@ -135,6 +135,17 @@ pub enum Error {
         /// Worlds this run set out to make.
         total: usize,
     },
+    /// `dataset --sense` could not write a world's sequence; the worlds and the sequences
+    /// already written are complete.
+    #[error(
+        "sensing {world}: {source} (the worlds and the sequences finished so far are kept; run the same command again to go on)"
+    )]
+    Sequence {
+        /// The world's folder name.
+        world: String,
+        /// Why.
+        source: Box<Error>,
+    },
 }
 
 impl Error {

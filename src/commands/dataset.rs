@@ -5,7 +5,7 @@ use std::time::Instant;
 
 use subtgraph::app::dataset::Shard;
 use subtgraph::app::pipeline::Adjustments;
-use subtgraph::app::{DatasetRequest, Error};
+use subtgraph::app::{DatasetRequest, Error, SenseRequest};
 
 /// `dataset`'s arguments.
 #[derive(clap::Args)]
@@ -68,6 +68,37 @@ pub struct Args {
     /// the --jobs workers gets its share.
     #[arg(long, value_name = "SIZE")]
     max_memory: Option<String>,
+    /// Also write a sensor sequence of every world (LiDAR, IMU and poses, as `subtgraph
+    /// sense` writes it) to OUT/sequences/NAME; adds ground-truth to every world's formats.
+    #[arg(long)]
+    sense: bool,
+    /// With --sense: seconds of each world's route (default: the whole route; a cave's
+    /// out-and-back is about 15 minutes and 13 GB).
+    #[arg(long, value_name = "SECONDS", requires = "sense")]
+    sense_duration: Option<f64>,
+    /// With --sense: out-and-back, loop, levels or coverage.
+    #[arg(
+        long,
+        value_name = "ROUTE",
+        default_value = "out-and-back",
+        requires = "sense"
+    )]
+    sense_route: String,
+    /// With --sense: ground or aerial.
+    #[arg(long, value_name = "P", default_value = "ground", requires = "sense")]
+    sense_platform: String,
+    /// With --sense: os1-32, os1-64, os1-128, vlp-16, mid-360, or a LiDAR table FILE.toml.
+    #[arg(
+        long,
+        value_name = "MODEL",
+        default_value = "os1-32",
+        requires = "sense"
+    )]
+    sense_lidar: String,
+    /// With --sense: the outputs besides sequence.json and ground_truth.tum: bag, kitti
+    /// (default both).
+    #[arg(long, value_name = "LIST", requires = "sense")]
+    sense_format: Vec<String>,
 }
 
 /// Makes the dataset and prints what was made.
@@ -92,6 +123,14 @@ pub fn run(a: Args) -> Result<(), Error> {
         },
         plugins: a.plugins,
         max_memory: a.max_memory,
+        sense: a.sense.then(|| SenseRequest {
+            platform: a.sense_platform,
+            route: a.sense_route,
+            lidar: a.sense_lidar,
+            formats: a.sense_format,
+            duration: a.sense_duration,
+            ..SenseRequest::default()
+        }),
         ..DatasetRequest::default()
     };
     let opts = request.options()?;
@@ -107,5 +146,17 @@ pub fn run(a: Args) -> Result<(), Error> {
         a.out.join("index.json").display(),
         summary.indexed
     ));
+    if let Some(s) = &summary.sensed {
+        super::print(&format!(
+            "wrote {} sensor sequence(s) ({} scans, {:.1} MB), kept {} complete one(s), in {}\n",
+            s.made,
+            s.scans,
+            s.bytes as f64 / 1e6,
+            s.kept,
+            a.out
+                .join(subtgraph::app::dataset::sense::SEQUENCES_DIR)
+                .display()
+        ));
+    }
     Ok(())
 }

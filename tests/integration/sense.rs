@@ -409,3 +409,108 @@ fn odometry_tracks_the_control_route_and_loses_itself_in_a_uniform_tube() {
         );
     }
 }
+
+/// `dataset --sense`: a sequence per world in `sequences/NAME`, the same bytes `sense` writes
+/// for that world on its own (whose files the tests above check with rosbags, trimesh and the
+/// odometry programs); run again, complete sequences are kept and a damaged one is made again;
+/// a user's folder in a sequence's place is refused and kept; bad sensor options are refused
+/// before any world is made.
+#[test]
+fn a_dataset_with_sense_writes_what_sense_writes_for_each_world() {
+    let dir = tempfile::tempdir().unwrap();
+    let pipeline = small_cave_pipeline(dir.path(), 1, "");
+    let data = dir.path().join("data");
+    let dataset = |extra: &[&str]| {
+        let mut args = vec![
+            "dataset",
+            arg(&pipeline),
+            "--count",
+            "2",
+            "--seed",
+            "9",
+            "--sense",
+            "--sense-duration",
+            "2",
+            "--out",
+            arg(&data),
+        ];
+        args.extend_from_slice(extra);
+        args.iter().map(|s| s.to_string()).collect::<Vec<String>>()
+    };
+    let run = |extra: &[&str]| {
+        let args = dataset(extra);
+        ok(&args.iter().map(String::as_str).collect::<Vec<_>>())
+    };
+    let said = run(&[]);
+    assert!(
+        said.contains("wrote 2 sensor sequence(s) (40 scans"),
+        "{said}"
+    );
+    let names = ["small-cave-0000", "small-cave-0001"];
+    for name in names {
+        let world = data.join(name);
+        assert!(
+            world.join("ground_truth/graph.json").is_file(),
+            "--sense adds the ground truth"
+        );
+        let alone = dir.path().join(format!("alone-{name}"));
+        sense(&world, &alone, &["--duration", "2"]);
+        let seq = data.join("sequences").join(name);
+        // sequence.json names the world folder it was made from: the same world, two paths.
+        common::assert_same_files(&alone, &seq, &["sequence.json", ".subtgraph-files"]);
+        let (a, b) = (
+            json(&alone.join("sequence.json")),
+            json(&seq.join("sequence.json")),
+        );
+        assert_eq!(a["scans"], b["scans"]);
+        assert_eq!(a["seed"], b["seed"]);
+    }
+
+    // Again: nothing to do.
+    let said = run(&[]);
+    assert!(said.contains("wrote 0 sensor sequence(s)"), "{said}");
+    assert!(said.contains("kept 2 complete one(s)"), "{said}");
+
+    // A damaged sequence (ours) is made again; a user's folder in a sequence's place is not.
+    let damaged = data
+        .join("sequences")
+        .join(names[0])
+        .join("ground_truth.tum");
+    let good = std::fs::read(&damaged).unwrap();
+    std::fs::write(&damaged, b"0 0 0 0 0 0 0 1\n").unwrap();
+    let said = run(&[]);
+    assert!(said.contains("wrote 1 sensor sequence(s)"), "{said}");
+    assert_eq!(std::fs::read(&damaged).unwrap(), good);
+    let theirs = data.join("sequences").join(names[1]);
+    std::fs::remove_dir_all(&theirs).unwrap();
+    std::fs::create_dir_all(&theirs).unwrap();
+    std::fs::write(theirs.join("notes.txt"), b"mine").unwrap();
+    let args = dataset(&[]);
+    let err = fails(&args.iter().map(String::as_str).collect::<Vec<_>>());
+    assert!(err.contains("sensing small-cave-0001"), "{err}");
+    assert_eq!(std::fs::read(theirs.join("notes.txt")).unwrap(), b"mine");
+
+    // Refused before any world is made.
+    for (extra, expect) in [
+        (
+            &["--sense-lidar", "hdl-64"][..],
+            "unknown LiDAR model 'hdl-64'",
+        ),
+        (&["--no-mesh"][..], "leave out --no-mesh"),
+    ] {
+        let fresh = dir.path().join("fresh");
+        let mut args: Vec<&str> = vec![
+            "dataset",
+            arg(&pipeline),
+            "--count",
+            "1",
+            "--sense",
+            "--out",
+            arg(&fresh),
+        ];
+        args.extend_from_slice(extra);
+        let err = fails(&args);
+        assert!(err.contains(expect), "{err}");
+        assert!(!fresh.exists(), "nothing made");
+    }
+}

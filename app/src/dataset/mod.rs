@@ -18,11 +18,13 @@ pub mod index;
 mod plan;
 mod progress;
 mod run;
+pub mod sense;
 mod shard;
 
 use std::path::PathBuf;
 
 use subtgraph_core::{Components, Pipeline, Registry};
+use subtgraph_sensors::SenseRequest;
 
 use crate::pipeline::{self, Adjustments, PipelineSource};
 use crate::{Error, Frontend};
@@ -64,6 +66,9 @@ pub struct Options {
     pub shard: Shard,
     /// Memory the whole run may use; each of the `jobs` workers gets its share.
     pub max_memory: subtgraph_core::Budget,
+    /// A sensor sequence per world, as this request asks (its `world`, `out` and `force` are
+    /// set per world): [`sense::sense_worlds`] after the worlds.
+    pub sense: Option<SenseRequest>,
 }
 
 /// What a run did.
@@ -79,6 +84,8 @@ pub struct Summary {
     pub elsewhere: Vec<(String, u32)>,
     /// Worlds in the rebuilt index (all shards' so far).
     pub indexed: usize,
+    /// The sequences of `--sense`.
+    pub sensed: Option<sense::Sensed>,
 }
 
 /// What `dataset` is asked to make.
@@ -106,6 +113,9 @@ pub struct DatasetRequest {
     pub max_memory: Option<String>,
     /// Who asks (how options are named in messages).
     pub frontend: Frontend,
+    /// A sensor sequence per world (`--sense`), as this request asks; `ground-truth` is added
+    /// to every world's formats (the routes follow its graph).
+    pub sense: Option<SenseRequest>,
 }
 
 impl Default for DatasetRequest {
@@ -122,6 +132,7 @@ impl Default for DatasetRequest {
             plugins: Vec::new(),
             max_memory: None,
             frontend: Frontend::Cli,
+            sense: None,
         }
     }
 }
@@ -158,6 +169,16 @@ impl DatasetRequest {
                 ),
             }));
         }
+        if let Some(template) = &self.sense {
+            if self.adjust.no_mesh {
+                return Err(Error::Usage(format!(
+                    "{} needs the worlds' geometry (the LiDAR's rays hit the mesh): leave out {}",
+                    f.option("sense"),
+                    f.option("no-mesh")
+                )));
+            }
+            sense::check(template)?;
+        }
         let names: Vec<String> = self.chosen().map(|s| s.name()).collect();
         let names: Vec<&str> = names.iter().map(String::as_str).collect();
         let mut reading: Vec<&std::path::Path> =
@@ -173,6 +194,7 @@ impl DatasetRequest {
             }),
             shard: self.shard,
             max_memory,
+            sense: self.sense.clone(),
         })
     }
 
@@ -201,6 +223,9 @@ impl DatasetRequest {
         for from in chosen {
             let (mut p, description) = from.load()?;
             self.adjust.apply(&mut p)?;
+            if self.sense.is_some() {
+                pipeline::add_formats(&mut p, &["ground-truth".to_owned()])?;
+            }
             let mut registry = crate::registry_with(&p, &self.plugins)?;
             extend(&mut registry)?;
             let (components, left_out) = pipeline::build(&p, &registry, self.adjust.no_mesh)?;

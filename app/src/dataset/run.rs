@@ -9,7 +9,7 @@ use std::time::Instant;
 use super::existing::{Existing, description, existing, expected_world_toml};
 use super::index::{self, RunFacts};
 use super::plan::{Planned, plan};
-use super::{Options, Source, Summary, progress};
+use super::{Options, Source, Summary, progress, sense};
 use crate::folder::{FolderError, Kind, Out, manifest};
 use crate::{Error, pipeline};
 
@@ -123,11 +123,31 @@ pub fn run(sources: &[Source], opts: &Options) -> Result<Summary, Error> {
             total: todo.len(),
         });
     }
+    let sensed = match &opts.sense {
+        Some(template) => {
+            let names: Vec<String> = mine.iter().map(|w| w.name.clone()).collect();
+            Some(sense::sense_worlds(
+                &opts.out,
+                &names,
+                template,
+                &|name, scan, of| {
+                    if (scan + 1) % 500 == 0 || scan + 1 == of {
+                        eprint!("\r  sensing {name}: scan {} of {of}", scan + 1);
+                        if scan + 1 == of {
+                            eprintln!();
+                        }
+                    }
+                },
+            )?)
+        }
+        None => None,
+    };
     Ok(Summary {
         made: todo.len() - meanwhile,
         skipped: skipped + meanwhile,
         elsewhere,
         indexed,
+        sensed,
     })
 }
 
@@ -366,6 +386,7 @@ mod tests {
             jobs: 1,
             shard: Shard::ALL,
             max_memory: subtgraph_core::Budget::unlimited(),
+            sense: None,
         };
         let sources = std::slice::from_ref(&source);
         // This run planned cave-0000; another process then made it.
