@@ -321,7 +321,10 @@ pub fn analyse(list: &[Run], seed: u64, resamples: usize) -> Result<Report, Erro
                 .filter(|r| preset.is_none_or(|p| worlds[index[&r.key]].preset == p))
                 .collect();
             for metric in &metrics {
-                let x: Vec<f64> = here.iter().filter_map(|r| r.metrics.get(metric).copied()).collect();
+                let x: Vec<f64> = here
+                    .iter()
+                    .filter_map(|r| r.metrics.get(metric).copied())
+                    .collect();
                 if !x.is_empty() {
                     summaries.push(summary(m, scope, metric, &x, seed, resamples));
                 }
@@ -329,7 +332,10 @@ pub fn analyse(list: &[Run], seed: u64, resamples: usize) -> Result<Report, Erro
             successes.extend(success(m, scope, &here));
         }
         for metric in &metrics {
-            let have: Vec<&&Run> = runs.iter().filter(|r| r.metrics.contains_key(metric)).collect();
+            let have: Vec<&&Run> = runs
+                .iter()
+                .filter(|r| r.metrics.contains_key(metric))
+                .collect();
             let y: Vec<f64> = have.iter().map(|r| r.metrics[metric]).collect();
             for (p, name) in PARAMETERS.iter().enumerate() {
                 let x: Vec<f64> = have.iter().map(|r| infos[&r.key].1.parameters[p]).collect();
@@ -347,7 +353,10 @@ pub fn analyse(list: &[Run], seed: u64, resamples: usize) -> Result<Report, Erro
             let failed: Vec<bool> = flagged.iter().map(|r| r.failed == Some(true)).collect();
             for (p, name) in PARAMETERS.iter().enumerate() {
                 let all: Vec<f64> = infos.values().map(|(_, w)| w.parameters[p]).collect();
-                let x: Vec<f64> = flagged.iter().map(|r| infos[&r.key].1.parameters[p]).collect();
+                let x: Vec<f64> = flagged
+                    .iter()
+                    .map(|r| infos[&r.key].1.parameters[p])
+                    .collect();
                 failure_bins.push(FailureBins {
                     method: m.clone(),
                     parameter: name,

@@ -23,7 +23,13 @@ fn pair(v: Option<[f64; 2]>) -> (String, String) {
 pub fn plot_name(metric: &str) -> String {
     let s: String = metric
         .chars()
-        .map(|c| if c.is_ascii_alphanumeric() || c == '_' { c } else { '-' })
+        .map(|c| {
+            if c.is_ascii_alphanumeric() || c == '_' {
+                c
+            } else {
+                '-'
+            }
+        })
         .collect();
     format!("plots/{s}.png")
 }
@@ -234,7 +240,9 @@ fn html(r: &Report, out: &Path) -> String {
     if !r.success.is_empty() {
         h.push_str("<h2>Success rate</h2>\n<table><tr><th class=\"l\">method</th><th class=\"l\">worlds</th><th>runs</th><th>failures</th><th>success</th><th>Wilson 95 %</th></tr>\n");
         for s in &r.success {
-            let ci = s.wilson95.map_or(String::new(), |c| format!("{} to {}", num(c[0]), num(c[1])));
+            let ci = s
+                .wilson95
+                .map_or(String::new(), |c| format!("{} to {}", num(c[0]), num(c[1])));
             let _ = writeln!(
                 h,
                 "<tr><td class=\"l\">{}</td><td class=\"l\">{}</td><td>{}</td><td>{}</td><td>{}</td><td>{ci}</td></tr>",
@@ -246,6 +254,18 @@ fn html(r: &Report, out: &Path) -> String {
             );
         }
         let _ = writeln!(h, "</table>\n<p class=\"note\">{}</p>", esc(r.success_rule));
+    }
+    h.push_str("<h2>Plots</h2>\n");
+    if !r.failure_bins.is_empty() {
+        h.push_str("<p><img class=\"plot\" src=\"plots/failure-rate.png\" alt=\"failure rate per bin\"></p>\n");
+    }
+    for m in &r.metrics {
+        let _ = writeln!(
+            h,
+            "<p><img class=\"plot\" src=\"{}\" alt=\"{}\"></p>",
+            plot_name(m),
+            esc(m)
+        );
     }
     if !r.paired.is_empty() {
         h.push_str("<h2>Paired comparisons</h2>\n<table><tr><th class=\"l\">first - second</th><th class=\"l\">metric</th><th>n</th><th>mean difference</th><th>median difference</th><th>first lower</th><th>second lower</th><th>Wilcoxon p</th><th class=\"l\">test</th></tr>\n");
@@ -266,33 +286,35 @@ fn html(r: &Report, out: &Path) -> String {
                 w.map_or("", |w| w.method)
             );
         }
-        let _ = writeln!(h, "</table>\n<p class=\"note\">{} {}.</p>", esc(r.pairing), esc(r.wilcoxon));
+        let _ = writeln!(
+            h,
+            "</table>\n<p class=\"note\">{}. Test: {}.</p>",
+            esc(r.pairing),
+            esc(r.wilcoxon)
+        );
         if !r.unpaired.is_empty() {
             h.push_str("<p class=\"note\">Unpaired: ");
             let list: Vec<String> = r
                 .unpaired
                 .iter()
-                .map(|u| format!("{} (scored by {}, not by {})", esc(&u.world), esc(&u.scored_by), esc(&u.missing_from)))
+                .map(|u| {
+                    format!(
+                        "{} (scored by {}, not by {})",
+                        esc(&u.world),
+                        esc(&u.scored_by),
+                        esc(&u.missing_from)
+                    )
+                })
                 .collect();
             h.push_str(&list.join("; "));
             h.push_str("</p>\n");
         }
     }
-    h.push_str("<h2>Plots</h2>\n");
-    if !r.failure_bins.is_empty() {
-        h.push_str("<p><img class=\"plot\" src=\"plots/failure-rate.png\" alt=\"failure rate per bin\"></p>\n");
-    }
-    for m in &r.metrics {
-        let _ = writeln!(
-            h,
-            "<p><img class=\"plot\" src=\"{}\" alt=\"{}\"></p>",
-            plot_name(m),
-            esc(m)
-        );
-    }
     h.push_str("<h2>Every metric</h2>\n<table><tr><th class=\"l\">method</th><th class=\"l\">worlds</th><th class=\"l\">metric</th><th>n</th><th>mean</th><th>median</th><th>95 % CI of the mean</th></tr>\n");
     for s in &r.summary {
-        let ci = s.ci95.map_or(String::new(), |c| format!("{} to {}", num(c[0]), num(c[1])));
+        let ci = s
+            .ci95
+            .map_or(String::new(), |c| format!("{} to {}", num(c[0]), num(c[1])));
         let _ = writeln!(
             h,
             "<tr><td class=\"l\">{}</td><td class=\"l\">{}</td><td class=\"l\">{}</td><td>{}</td><td>{}</td><td>{}</td><td>{ci}</td></tr>",
@@ -325,7 +347,11 @@ fn html(r: &Report, out: &Path) -> String {
         h.push_str("<td class=\"l\">");
         for m in &w.maps {
             let src = esc(&format!("{link}/{m}"));
-            let _ = write!(h, "<a href=\"{src}\"><img class=\"map\" src=\"{src}\" alt=\"{}\"></a> ", esc(m));
+            let _ = write!(
+                h,
+                "<a href=\"{src}\"><img class=\"map\" src=\"{src}\" alt=\"{}\"></a> ",
+                esc(m)
+            );
         }
         h.push_str("</td><td class=\"l\">");
         for run in r.runs.iter().filter(|x| x.world == k) {

@@ -62,7 +62,10 @@ pub struct Reported {
 impl fmt::Display for Reported {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         let [m, w, r, k] = self.counts;
-        writeln!(f, "report: {m} method(s), {w} world(s), {r} run(s), {k} metric(s)")?;
+        writeln!(
+            f,
+            "report: {m} method(s), {w} world(s), {r} run(s), {k} metric(s)"
+        )?;
         for h in &self.headline {
             writeln!(f, "{h}")?;
         }
@@ -142,7 +145,10 @@ fn absolute(p: &Path) -> PathBuf {
     } else {
         std::env::current_dir().unwrap_or_default().join(p)
     };
-    match (p.parent().and_then(|d| d.canonicalize().ok()), p.file_name()) {
+    match (
+        p.parent().and_then(|d| d.canonicalize().ok()),
+        p.file_name(),
+    ) {
         (Some(d), Some(n)) => d.join(n),
         _ => p,
     }

@@ -89,7 +89,13 @@ fn area(k: usize) -> (f64, f64, f64, f64) {
 }
 
 /// Frame, title and the range labels of one panel; maps values into it.
-fn panel(f: &mut Figure, k: usize, name: &str, x: (f64, f64), y: (f64, f64)) -> impl Fn(f64, f64) -> (f64, f64) + use<> {
+fn panel(
+    f: &mut Figure,
+    k: usize,
+    name: &str,
+    x: (f64, f64),
+    y: (f64, f64),
+) -> impl Fn(f64, f64) -> (f64, f64) + use<> {
     let (l, t, r, b) = area(k);
     rect(f, l, t, r - l, b - t, [248, 248, 248]);
     line(f, (l, b), (r, b), BLACK, 1.0);
@@ -111,7 +117,9 @@ fn panel(f: &mut Figure, k: usize, name: &str, x: (f64, f64), y: (f64, f64)) -> 
 }
 
 fn range(v: impl Iterator<Item = f64>) -> (f64, f64) {
-    v.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), x| (a.min(x), b.max(x)))
+    v.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), x| {
+        (a.min(x), b.max(x))
+    })
 }
 
 /// A metric against every parameter: `panels[p]` holds each method's series on parameter `p`.
@@ -125,7 +133,8 @@ pub fn scatter(metric: &str, methods: &[&str], panels: &[Vec<Series<'_>>]) -> Ve
         }
         let at = panel(&mut f, k, PARAMETERS[k], x, y);
         for s in series {
-            let colour = PALETTE[methods.iter().position(|m| *m == s.method).unwrap_or(0) % PALETTE.len()];
+            let colour =
+                PALETTE[methods.iter().position(|m| *m == s.method).unwrap_or(0) % PALETTE.len()];
             for &(u, v) in &s.points {
                 let (px, py) = at(u, v);
                 rect(&mut f, px - 2.0, py - 2.0, 4.0, 4.0, colour);
@@ -162,7 +171,14 @@ pub fn failures(methods: &[&str], panels: &[Vec<Vec<Bin>>]) -> Vec<u8> {
             for (j, bin) in list.iter().enumerate() {
                 let top = at(x.0, bin.rate.unwrap_or(0.0)).1;
                 let left = l + slot * j as f64 + slot * 0.1 + bar * m as f64;
-                rect(&mut f, left, top, bar * 0.9, b - top, PALETTE[m % PALETTE.len()]);
+                rect(
+                    &mut f,
+                    left,
+                    top,
+                    bar * 0.9,
+                    b - top,
+                    PALETTE[m % PALETTE.len()],
+                );
             }
         }
     }

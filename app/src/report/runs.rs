@@ -117,8 +117,8 @@ fn recorded_world(doc: &Value, score: &Path, file: &str) -> Result<Option<PathBu
     }
     let seq = found.join("sequence.json");
     if let Ok(bytes) = std::fs::read(&seq) {
-        let v: Value = serde_json::from_slice(&bytes)
-            .map_err(|e| input(format!("{}: {e}", seq.display())))?;
+        let v: Value =
+            serde_json::from_slice(&bytes).map_err(|e| input(format!("{}: {e}", seq.display())))?;
         let world = v.get("world").and_then(Value::as_str);
         if let Some(w) = world.and_then(|w| locate(w, &found)) {
             if w.join("world.toml").is_file() {
@@ -194,7 +194,9 @@ pub fn read(
 
 /// The runs of `METHOD=FOLDER` arguments.
 pub fn from_argument(k: usize, arg: &str) -> Result<Vec<Run>, Error> {
-    let Some((method, folder)) = arg.split_once('=').filter(|(m, f)| !m.is_empty() && !f.is_empty())
+    let Some((method, folder)) = arg
+        .split_once('=')
+        .filter(|(m, f)| !m.is_empty() && !f.is_empty())
     else {
         return Err(Error::Usage(format!(
             "argument {k} `{arg}` is not METHOD=FOLDER (a method's name, `=`, a score folder or a folder of them)"
@@ -211,7 +213,10 @@ pub fn from_argument(k: usize, arg: &str) -> Result<Vec<Run>, Error> {
         .filter_map(Result::ok)
         .map(|e| e.path())
         .filter(|p| p.is_dir())
-        .filter(|p| !p.file_name().is_some_and(|n| n.to_string_lossy().starts_with('.')))
+        .filter(|p| {
+            !p.file_name()
+                .is_some_and(|n| n.to_string_lossy().starts_with('.'))
+        })
         .collect();
     dirs.sort();
     if dirs.is_empty() {
@@ -227,9 +232,13 @@ pub fn from_argument(k: usize, arg: &str) -> Result<Vec<Run>, Error> {
 
 /// The runs of a `world,method,score_folder` CSV.
 pub fn from_csv(csv: &Path) -> Result<Vec<Run>, Error> {
-    let text = std::fs::read_to_string(csv).map_err(Error::io(format!("reading {}", csv.display())))?;
+    let text =
+        std::fs::read_to_string(csv).map_err(Error::io(format!("reading {}", csv.display())))?;
     let base = csv.parent().unwrap_or(Path::new(""));
-    let mut lines = text.lines().enumerate().filter(|(_, l)| !l.trim().is_empty());
+    let mut lines = text
+        .lines()
+        .enumerate()
+        .filter(|(_, l)| !l.trim().is_empty());
     let header = lines.next().map(|(_, l)| l.trim());
     if header != Some("world,method,score_folder") {
         return Err(input(format!(

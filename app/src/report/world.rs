@@ -25,7 +25,7 @@ pub const PARAMETERS: [&str; 7] = [
 pub struct WorldInfo {
     /// Its folder's name.
     pub name: String,
-    /// The preset it was made from (`world.toml`'s `[generated] source = "preset NAME"`), else
+    /// The preset it was made from (`world.toml`'s `[generated] source = "preset NAME ..."`), else
     /// `custom`.
     pub preset: String,
     /// [`PARAMETERS`]' values: loops, T-junctions and intersections summed over levels (as
@@ -84,7 +84,9 @@ pub fn read(world: &Path) -> Result<WorldInfo, Error> {
             t.get("generated")?
                 .get("source")?
                 .as_str()?
-                .strip_prefix("preset ")
+                .strip_prefix("preset ")?
+                .split_whitespace()
+                .next()
                 .map(str::to_owned)
         })
         .unwrap_or_else(|| "custom".to_owned());
@@ -93,9 +95,10 @@ pub fn read(world: &Path) -> Result<WorldInfo, Error> {
         .filter(|m| world.join(m).is_file())
         .collect();
     Ok(WorldInfo {
-        name: world
-            .file_name()
-            .map_or_else(|| world.display().to_string(), |n| n.to_string_lossy().into_owned()),
+        name: world.file_name().map_or_else(
+            || world.display().to_string(),
+            |n| n.to_string_lossy().into_owned(),
+        ),
         preset,
         parameters: [
             sum(|c| c.loops),
