@@ -15,7 +15,7 @@
 //!
 //! Single-threaded and ordered by name throughout: the same runs give the same bytes.
 
-mod analysis;
+pub mod analysis;
 mod files;
 mod plots;
 pub mod runs;
