@@ -200,3 +200,58 @@ pub fn bins(all: &[f64], x: &[f64], failed: &[bool]) -> Vec<Bin> {
         })
         .collect()
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A normal draw (Box and Muller) from the generator.
+    fn normal(rng: &mut SplitMix64) -> f64 {
+        let u = |r: &mut SplitMix64| ((r.next_u64() >> 11) as f64 + 0.5) / (1u64 << 53) as f64;
+        let (a, b) = (u(rng), u(rng));
+        (-2.0 * a.ln()).sqrt() * (std::f64::consts::TAU * b).cos()
+    }
+
+    #[test]
+    fn the_bootstrap_interval_covers_the_true_mean_about_95_percent_of_the_time() {
+        // 400 samples of 30 from N(3, 2^2): a percentile interval of the mean covers 3 in
+        // about 93 to 95 % of them (it is a little narrow at n = 30); the binomial spread of
+        // 400 trials is about 1.2 %.
+        let mut rng = SplitMix64::new(7);
+        let mut covered = 0;
+        for k in 0..400 {
+            let x: Vec<f64> = (0..30).map(|_| 3.0 + 2.0 * normal(&mut rng)).collect();
+            let [lo, hi] = bootstrap(&x, k, 500).unwrap();
+            assert!(lo <= mean(&x) && mean(&x) <= hi);
+            covered += usize::from(lo <= 3.0 && 3.0 <= hi);
+        }
+        let share = covered as f64 / 400.0;
+        assert!((0.89..=0.98).contains(&share), "coverage {share}");
+    }
+
+    #[test]
+    fn the_wilson_interval_covers_the_true_rate_about_95_percent_of_the_time() {
+        let mut rng = SplitMix64::new(3);
+        let mut covered = 0;
+        for _ in 0..2000 {
+            let k = (0..40)
+                .filter(|_| rng.next_u64() < (0.2 * u64::MAX as f64) as u64)
+                .count();
+            let [lo, hi] = wilson(k, 40).unwrap();
+            covered += usize::from(lo <= 0.2 && 0.2 <= hi);
+        }
+        let share = covered as f64 / 2000.0;
+        assert!((0.92..=0.98).contains(&share), "coverage {share}");
+    }
+
+    #[test]
+    fn bins_hold_every_run_once() {
+        let x: Vec<f64> = (0..50).map(|k| f64::from(k % 13) * 1.5).collect();
+        let failed: Vec<bool> = (0..50).map(|k| k % 3 == 0).collect();
+        let b = bins(&x, &x, &failed);
+        assert_eq!(b.len(), 5);
+        assert_eq!(b.iter().map(|b| b.runs).sum::<usize>(), 50);
+        assert_eq!(b.iter().map(|b| b.failures).sum::<usize>(), 17);
+        assert_eq!((b[0].from, b[4].to), (0.0, 18.0));
+    }
+}

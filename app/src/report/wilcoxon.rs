@@ -157,4 +157,29 @@ mod tests {
         // T+ = 0 only when every sign is negative.
         assert_eq!(pmf[0], 1.0 / 1024.0);
     }
+
+    #[test]
+    fn counting_sign_flips_gives_the_exact_distribution_without_ties() {
+        // Untied differences: the exact null distribution and the 2^n sign flips are the same
+        // count, so the two ways must give the same p-value.
+        for n in 2..=12usize {
+            let d: Vec<f64> = (1..=n)
+                .map(|k| {
+                    (k as f64 + 0.37 * k as f64 * k as f64) * if k % 3 == 0 { -1.0 } else { 1.0 }
+                })
+                .collect();
+            let exact = test(&d).unwrap();
+            assert_eq!(exact.method, "exact");
+            let mut with_zero = d.clone();
+            with_zero.push(0.0);
+            let flips = test(&with_zero).unwrap();
+            assert_eq!(flips.method, "permutation");
+            assert!(
+                (exact.p - flips.p).abs() < 1e-12,
+                "n {n}: {} {}",
+                exact.p,
+                flips.p
+            );
+        }
+    }
 }
