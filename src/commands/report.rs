@@ -26,7 +26,7 @@ pub struct Args {
     #[arg(long, default_value_t = 0)]
     seed: u64,
     /// Bootstrap resamples per interval.
-    #[arg(long, default_value_t = subtgraph::app::report::stats::RESAMPLES)]
+    #[arg(long, default_value_t = subtgraph::app::report::sample::RESAMPLES)]
     resamples: usize,
 }
 

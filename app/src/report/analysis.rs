@@ -6,7 +6,7 @@ use std::path::PathBuf;
 use serde::Serialize;
 
 use super::runs::Run;
-use super::stats::{self, Bin, Line};
+use super::sample::{self, Bin, Line};
 use super::wilcoxon::{self, Wilcoxon};
 use super::world::{self, PARAMETERS, WorldInfo};
 use crate::Error;
@@ -229,9 +229,9 @@ fn summary(method: &str, scope: &str, metric: &str, x: &[f64], seed: u64, b: usi
         scope: scope.to_owned(),
         metric: metric.to_owned(),
         n: x.len(),
-        mean: stats::mean(x),
-        median: stats::median(x),
-        ci95: stats::bootstrap(x, seed, b),
+        mean: sample::mean(x),
+        median: sample::median(x),
+        ci95: sample::bootstrap(x, seed, b),
     }
 }
 
@@ -248,7 +248,7 @@ fn success(method: &str, scope: &str, runs: &[&Run]) -> Option<Success> {
         runs: n,
         failures,
         rate: (n - failures) as f64 / n as f64,
-        wilson95: stats::wilson(n - failures, n),
+        wilson95: sample::wilson(n - failures, n),
     })
 }
 
@@ -344,7 +344,7 @@ pub fn analyse(list: &[Run], seed: u64, resamples: usize) -> Result<Report, Erro
                     metric: metric.clone(),
                     parameter: name,
                     n: x.len(),
-                    line: stats::fit(&x, &y),
+                    line: sample::fit(&x, &y),
                 });
             }
         }
@@ -360,7 +360,7 @@ pub fn analyse(list: &[Run], seed: u64, resamples: usize) -> Result<Report, Erro
                 failure_bins.push(FailureBins {
                     method: m.clone(),
                     parameter: name,
-                    bins: stats::bins(&all, &x, &failed),
+                    bins: sample::bins(&all, &x, &failed),
                 });
             }
         }
@@ -400,8 +400,8 @@ pub fn analyse(list: &[Run], seed: u64, resamples: usize) -> Result<Report, Erro
                     b: b.clone(),
                     metric: metric.clone(),
                     n: d.len(),
-                    mean_difference: stats::mean(&d),
-                    median_difference: stats::median(&d),
+                    mean_difference: sample::mean(&d),
+                    median_difference: sample::median(&d),
                     a_lower: share(|x| *x < 0.0),
                     b_lower: share(|x| *x > 0.0),
                     equal: share(|x| *x == 0.0),

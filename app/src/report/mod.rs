@@ -6,7 +6,7 @@
 //!   of each folder's summary JSON, read generically (a new kind of score needs no code).
 //! - The world's parameters (`world.rs`): loops, junctions, levels, length, ... from the world
 //!   folder's files.
-//! - Statistics (`stats.rs`, `wilcoxon.rs`): per method and preset the mean, median and a
+//! - Statistics (`sample.rs`, `wilcoxon.rs`): per method and preset the mean, median and a
 //!   seeded bootstrap interval of every metric and the success rate with a Wilson interval;
 //!   per pair of methods the paired differences with Wilcoxon's signed-rank test; per metric
 //!   and parameter a least-squares line, and failure rates per bin.
@@ -19,7 +19,7 @@ pub mod analysis;
 mod files;
 mod plots;
 pub mod runs;
-pub mod stats;
+pub mod sample;
 pub mod wilcoxon;
 pub mod world;
 

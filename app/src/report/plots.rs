@@ -4,7 +4,7 @@
 
 use subtgraph_plot::{Anchor, Figure, PALETTE, Rgb, Shape, to_png};
 
-use super::stats::{Bin, Line};
+use super::sample::{Bin, Line};
 use super::world::PARAMETERS;
 
 const BLACK: Rgb = [0, 0, 0];
