@@ -4,8 +4,10 @@
 //! Runs are named in either of two ways (both may be mixed):
 //! - `METHOD=FOLDER`: `FOLDER` is a score folder, or a folder whose subfolders are all score
 //!   folders (hidden ones skipped), each one run of `METHOD`;
-//! - `--runs runs.csv` with the header `world,method,score_folder` (paths relative to the
-//!   CSV's folder; `world` may be empty, then the score folder's own record is used).
+//! - `--runs runs.csv` with the header `world,method,score_folder` (plain comma-separated, no
+//!   quoting; paths relative to the CSV's folder; `world` may be empty, then the score
+//!   folder's own record is used; a world given here wins over the record, so a trajectory
+//!   scored against a bare reference file can still be placed in its world).
 //!
 //! Each score folder records the world it graded (`world` in `score.json`,
 //! `world_or_sequence` in `trajectory.json`, a sensor sequence's `world` in its
@@ -159,7 +161,7 @@ pub fn read(
         if let Some(f) = doc.get("failed").and_then(Value::as_bool) {
             failed = Some(failed.unwrap_or(false) || f);
         }
-        if recorded.is_none() {
+        if world.is_none() && recorded.is_none() {
             recorded = recorded_world(&doc, folder, &file)?;
         }
     }
