@@ -379,6 +379,22 @@ fn mismatched_runs_are_refused_naming_the_folder_and_nothing_is_written() {
     .unwrap();
     let err = fails(&["report", "--runs", arg(&csv), "--out", arg(&out)]);
     assert!(err.contains("line 2") || err.contains("line 3"), "{err}");
+    // A trajectory scored against a bare reference file records no world: refused as an
+    // argument, saying how to give it; placed by a CSV that names its world.
+    let bare = dir.path().join("bare/run");
+    let reference = dir.path().join("ref.tum");
+    std::fs::write(&reference, "0 0 0 0 0 0 0 1\n").unwrap();
+    synthetic_score(&bare, &reference, &json!({"final_drift_percent": 1.0}), false);
+    let err = fails(&["report", &format!("m={}", arg(&bare)), "--out", arg(&out)]);
+    assert!(err.contains("ref.tum") && err.contains("--runs CSV"), "{err}");
+    std::fs::write(
+        &csv,
+        format!("world,method,score_folder\n{},m,bare/run\n", arg(&worlds[0])),
+    )
+    .unwrap();
+    let placed = dir.path().join("placed");
+    ok(&["report", "--runs", arg(&csv), "--out", arg(&placed)]);
+    assert_eq!(report(&placed)["worlds"][0]["path"], arg(&worlds[0]));
     // Not METHOD=FOLDER.
     let err = fails(&["report", arg(&a), "--out", arg(&out)]);
     assert!(err.contains("METHOD=FOLDER"), "{err}");
