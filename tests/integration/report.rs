@@ -384,12 +384,23 @@ fn mismatched_runs_are_refused_naming_the_folder_and_nothing_is_written() {
     let bare = dir.path().join("bare/run");
     let reference = dir.path().join("ref.tum");
     std::fs::write(&reference, "0 0 0 0 0 0 0 1\n").unwrap();
-    synthetic_score(&bare, &reference, &json!({"final_drift_percent": 1.0}), false);
+    synthetic_score(
+        &bare,
+        &reference,
+        &json!({"final_drift_percent": 1.0}),
+        false,
+    );
     let err = fails(&["report", &format!("m={}", arg(&bare)), "--out", arg(&out)]);
-    assert!(err.contains("ref.tum") && err.contains("--runs CSV"), "{err}");
+    assert!(
+        err.contains("ref.tum") && err.contains("--runs CSV"),
+        "{err}"
+    );
     std::fs::write(
         &csv,
-        format!("world,method,score_folder\n{},m,bare/run\n", arg(&worlds[0])),
+        format!(
+            "world,method,score_folder\n{},m,bare/run\n",
+            arg(&worlds[0])
+        ),
     )
     .unwrap();
     let placed = dir.path().join("placed");
