@@ -290,7 +290,7 @@ fn thirty_worlds_the_paired_test_finds_twice_the_drift() {
 }
 
 #[test]
-fn a_runs_csv_names_the_same_runs_and_unpaired_worlds_are_listed() {
+fn a_runs_csv_names_the_same_runs_lists_unpaired_worlds_and_merges_kinds() {
     let dir = tempfile::tempdir().unwrap();
     let worlds = worlds(dir.path(), 6);
     let [a, b] = two_methods(dir.path(), &worlds);
@@ -329,6 +329,59 @@ fn a_runs_csv_names_the_same_runs_and_unpaired_worlds_are_listed() {
     assert_eq!(unpaired[0]["missing_from"], "lio-2x");
     assert_eq!(paired(&x, "trajectory.final_drift_percent")["n"], 5);
     read_with_python(&["numpy", "scipy"], "report_check.py", &[arg(&from_csv)]);
+    // An artifact score of the same runs (score.json, as `score --reports` writes it) adds
+    // its numbers to lio's trajectory scores: two kinds, one run per world.
+    let mut csv = std::fs::read_to_string(dir.path().join("runs.csv")).unwrap();
+    for (i, w) in worlds.iter().enumerate() {
+        let name = w.file_name().unwrap().to_str().unwrap();
+        let folder = dir.path().join("runs/lio-artifacts").join(name);
+        std::fs::create_dir_all(&folder).unwrap();
+        let doc = json!({
+            "format": "subtgraph-score/1",
+            "world": arg(w),
+            "score": i % 4,
+            "artifacts_total": 5,
+            "outcomes": {"scored": i % 4, "duplicate": 0, "wrong_class": i % 2, "false_reports": 1},
+            "mean_error_m": 0.5 + 0.1 * i as f64,
+            "artifacts": [{"id": 0, "found": true}],
+            "map": null,
+        });
+        let text = serde_json::to_string_pretty(&doc).unwrap() + "\n";
+        std::fs::write(folder.join("score.json"), &text).unwrap();
+        std::fs::write(
+            folder.join(".subtgraph-files"),
+            format!("complete score\n{} score.json\n", text.len()),
+        )
+        .unwrap();
+        let _ = writeln!(csv, ",lio,runs/lio-artifacts/{name}");
+    }
+    std::fs::write(dir.path().join("runs.csv"), csv).unwrap();
+    let mixed = dir.path().join("mixed");
+    let printed = ok(&[
+        "report",
+        "--runs",
+        arg(&dir.path().join("runs.csv")),
+        "--out",
+        arg(&mixed),
+    ]);
+    assert!(printed.contains("6 world(s), 11 run(s)"), "{printed}");
+    let m = report(&mixed);
+    let lio = m["runs"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|r| r["method"] == "lio")
+        .unwrap();
+    assert_eq!(lio["score_folders"].as_array().unwrap().len(), 2);
+    for k in [
+        "score.score",
+        "score.mean_error_m",
+        "trajectory.final_drift_percent",
+    ] {
+        assert!(lio["metrics"].get(k).is_some(), "{k} in {lio}");
+    }
+    assert_eq!(m["constant"]["score.artifacts_total"], 5.0);
+    read_with_python(&["numpy", "scipy"], "report_check.py", &[arg(&mixed)]);
 }
 
 #[test]
