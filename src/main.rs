@@ -9,7 +9,9 @@ use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
 
-use commands::{dataset, generate, plugins, presets, preview, score, sense, stats, validate};
+use commands::{
+    dataset, generate, plugins, presets, preview, report, score, sense, stats, validate,
+};
 
 /// Procedural subterranean worlds with controlled topology, for robot simulation.
 #[derive(Parser)]
@@ -53,6 +55,12 @@ enum Command {
     /// against a ground-truth one: APE, RPE, drift, points, as evo computes them. JSON, CSV,
     /// pictures.
     Score(score::Args),
+    /// Statistics over whole datasets from score folders: per method the mean, median and a
+    /// seeded bootstrap 95 % interval of every metric (over worlds and per preset) and the
+    /// success rate with a Wilson interval; two methods' paired differences with Wilcoxon's
+    /// signed-rank test; each metric against the worlds' parameters. JSON, CSV, PNG and an
+    /// index.html that opens offline.
+    Report(report::Args),
     /// Draw a shaded perspective picture of a world's mesh (no GPU needed).
     Preview(preview::Args),
     /// Record a sensor sequence along a route through a world: a LiDAR, an IMU and ground-truth
@@ -72,6 +80,7 @@ fn main() -> ExitCode {
         Command::Plugins { command } => plugins::run(command),
         Command::Presets => presets::run(),
         Command::Score(a) => score::run(a),
+        Command::Report(a) => report::run(a),
         Command::Preview(a) => preview::run(a),
         Command::Sense(a) => sense::run(*a),
     };

@@ -5,6 +5,7 @@ pub mod generate;
 pub mod plugins;
 pub mod presets;
 pub mod preview;
+pub mod report;
 pub mod score;
 pub mod sense;
 pub mod stats;

@@ -33,6 +33,7 @@ mod plugins;
 mod preview;
 mod ramps;
 mod reliability;
+mod report;
 mod room_and_pillar;
 mod rubble;
 mod score;

@@ -11,7 +11,7 @@
 //!   tell a dead run's leftovers (removed) from a live run's work (left alone).
 //!
 //! - **ownership by command**: its `complete` line names what the folder is (`complete world`,
-//!   `complete stats`, `complete score`, `complete sense`), so each command's `--force`
+//!   `complete stats`, `complete score`, `complete sense`, `complete report`), so each command's `--force`
 //!   replaces only a folder that command wrote: `stats` never replaces a world, `score` never
 //!   replaces a world or a stats report, `generate` never replaces a report or a sensor
 //!   sequence, `sense` never replaces a world.
@@ -37,11 +37,19 @@ pub enum Kind {
     Score,
     /// A `sense` sensor sequence.
     Sense,
+    /// A `report` over many score folders.
+    Report,
 }
 
 impl Kind {
     /// Every kind.
-    pub const ALL: [Kind; 4] = [Kind::World, Kind::Stats, Kind::Score, Kind::Sense];
+    pub const ALL: [Kind; 5] = [
+        Kind::World,
+        Kind::Stats,
+        Kind::Score,
+        Kind::Sense,
+        Kind::Report,
+    ];
 
     /// Its word on the manifest's `complete` line.
     pub fn token(self) -> &'static str {
@@ -50,6 +58,7 @@ impl Kind {
             Kind::Stats => "stats",
             Kind::Score => "score",
             Kind::Sense => "sense",
+            Kind::Report => "report",
         }
     }
 
@@ -60,6 +69,7 @@ impl Kind {
             Kind::Stats => "stats report",
             Kind::Score => "score report",
             Kind::Sense => "sensor sequence",
+            Kind::Report => "dataset report",
         }
     }
 
@@ -70,6 +80,7 @@ impl Kind {
             Kind::Stats => "subtgraph stats",
             Kind::Score => "subtgraph score",
             Kind::Sense => "subtgraph sense",
+            Kind::Report => "subtgraph report",
         }
     }
 
@@ -82,6 +93,7 @@ impl Kind {
             (Kind::Stats, "stats.json"),
             (Kind::Score, "score.json"),
             (Kind::Sense, "sequence.json"),
+            (Kind::Report, "report.json"),
         ]
         .into_iter()
         .find(|(_, f)| has(f))
