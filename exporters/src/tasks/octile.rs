@@ -128,13 +128,17 @@ impl<'a> Search<'a> {
         self.round += 1;
         let round = self.round;
         let map = self.map;
-        // Costs are non-negative, so their bit patterns order as the numbers do.
+        // Costs are non-negative, so their bit patterns order as the numbers do. Among equal
+        // estimates the cell farther along is taken first (fewer cells opened on open floors).
         let mut open = BinaryHeap::new();
         self.stamp[start as usize] = round;
         self.cost[start as usize] = 0.0;
-        open.push(Reverse((octile(map, start, goal).to_bits(), start)));
-        while let Some(Reverse((_, c))) = open.pop() {
+        open.push(Reverse((octile(map, start, goal).to_bits(), Reverse(0u64), start)));
+        while let Some(Reverse((_, Reverse(g_bits), c))) = open.pop() {
             let g = self.cost[c as usize];
+            if g.to_bits() != g_bits {
+                continue; // Reached more cheaply since it was queued.
+            }
             if c == goal {
                 return Some(g);
             }
@@ -145,7 +149,7 @@ impl<'a> Search<'a> {
                     self.stamp[n as usize] = round;
                     self.cost[n as usize] = ng;
                     let f = ng + octile(map, n, goal);
-                    open.push(Reverse((f.to_bits(), n)));
+                    open.push(Reverse((f.to_bits(), Reverse(ng.to_bits()), n)));
                 }
             }
         }
