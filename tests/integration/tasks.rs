@@ -22,7 +22,11 @@ fn preset_with_tasks(dir: &Path, preset: &str, seed: u64, keys: &str) -> PathBuf
     let text = subtgraph::presets::text(preset).unwrap();
     let path = dir.join(format!("{preset}.toml"));
     let text = text.replacen("seed = ", &format!("seed = {seed} # was "), 1);
-    std::fs::write(&path, format!("{text}\n[[export]]\ntype = \"tasks\"\n{keys}")).unwrap();
+    std::fs::write(
+        &path,
+        format!("{text}\n[[export]]\ntype = \"tasks\"\n{keys}"),
+    )
+    .unwrap();
     path
 }
 
@@ -30,7 +34,12 @@ fn preset_with_tasks(dir: &Path, preset: &str, seed: u64, keys: &str) -> PathBuf
 fn every_presets_optimal_lengths_agree_with_an_independent_astar_and_cells_are_free() {
     let dir = temp("presets");
     for (preset, seed) in [("mine", 3), ("cave", 4), ("lava-tube", 5)] {
-        let p = preset_with_tasks(&dir, preset, seed, "problems = 12\nagents = 6\ninstances = 2\n");
+        let p = preset_with_tasks(
+            &dir,
+            preset,
+            seed,
+            "problems = 12\nagents = 6\ninstances = 2\n",
+        );
         let out = dir.join(preset);
         ok(&["generate", arg(&p), "--out", arg(&out)]);
         let meta = std::fs::read_to_string(out.join("tasks/tasks.json")).unwrap();
@@ -39,7 +48,10 @@ fn every_presets_optimal_lengths_agree_with_an_independent_astar_and_cells_are_f
         if let Some(said) = read_with_python(READERS, "tasks_check.py", &[arg(&out), "mesh"]) {
             eprintln!("{preset}:\n{said}");
             assert!(said.contains("12 problems and 2 x 6 agents"), "{said}");
-            assert!(said.contains("passable cells inside the collision surface"), "{said}");
+            assert!(
+                said.contains("passable cells inside the collision surface"),
+                "{said}"
+            );
         }
         let _ = std::fs::remove_dir_all(&out);
     }
@@ -84,7 +96,8 @@ fn bad_knobs_and_huge_maps_are_refused_naming_the_key_and_nothing_is_written() {
         ("robots = 3\n", "robots"),
         ("resolution = 0.01\n", "resolution = 0.01"),
     ] {
-        let p = common::small_cave_pipeline(&dir, 1, &format!("[[export]]\ntype = \"tasks\"\n{keys}"));
+        let p =
+            common::small_cave_pipeline(&dir, 1, &format!("[[export]]\ntype = \"tasks\"\n{keys}"));
         let out = dir.join("world");
         let err = fails(&["generate", arg(&p), "--no-mesh", "--out", arg(&out)]);
         assert!(err.contains(says), "{keys}: {err}");

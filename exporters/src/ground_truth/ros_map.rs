@@ -61,7 +61,14 @@ impl RosMap {
 
     /// The pixel grid of a world's maps.
     fn pixels(&self, world: &World) -> Result<Columns, ExportError> {
-        grid(world, self.resolution, 0.25, DEFAULT_PIXELS, MAX_PIXELS, "ros-map")
+        grid(
+            world,
+            self.resolution,
+            0.25,
+            DEFAULT_PIXELS,
+            MAX_PIXELS,
+            "ros-map",
+        )
     }
 
     /// Each level's slice on the grid `px`: `rows[j][level][i]` is [`FREE`], [`OCCUPIED`] or

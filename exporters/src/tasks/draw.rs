@@ -52,11 +52,7 @@ impl<'a> Places<'a> {
 
     /// A start uniform over the places and a goal uniform over the rest of its group, neither
     /// among the cells `taken` refuses; `None` after [`TRIES`] draws.
-    fn pair(
-        &self,
-        rng: &mut WorldRng,
-        taken: impl Fn(u32, u32) -> bool,
-    ) -> Option<(u32, u32)> {
+    fn pair(&self, rng: &mut WorldRng, taken: impl Fn(u32, u32) -> bool) -> Option<(u32, u32)> {
         if self.starts.is_empty() {
             return None;
         }

@@ -274,7 +274,10 @@ mod tests {
         assert_eq!(lines.next(), Some("map"));
         let json: serde_json::Value =
             serde_json::from_slice(out.get("tasks/tasks.json").unwrap()).unwrap();
-        let origin = [json["origin"][0].as_f64().unwrap(), json["origin"][1].as_f64().unwrap()];
+        let origin = [
+            json["origin"][0].as_f64().unwrap(),
+            json["origin"][1].as_f64().unwrap(),
+        ];
         for (y, row) in lines.enumerate() {
             assert_eq!(row.len(), w);
             for (x, ch) in row.bytes().enumerate() {
@@ -302,7 +305,11 @@ mod tests {
             ..Tasks::default()
         };
         let e = tasks
-            .export(&world, &crate::survey_of(&world), &mut MemoryWriter::default())
+            .export(
+                &world,
+                &crate::survey_of(&world),
+                &mut MemoryWriter::default(),
+            )
             .unwrap_err();
         assert!(e.to_string().contains("resolution = 0.001"), "{e}");
     }

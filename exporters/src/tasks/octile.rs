@@ -50,7 +50,10 @@ impl Octile {
 
     /// The cells one move from `c` and each move's cost.
     fn moves(&self, c: u32) -> impl Iterator<Item = (u32, f64)> + '_ {
-        let (x, y) = ((c as usize % self.width) as i64, (c as usize / self.width) as i64);
+        let (x, y) = (
+            (c as usize % self.width) as i64,
+            (c as usize / self.width) as i64,
+        );
         MOVES.iter().filter_map(move |&(dx, dy)| {
             let (nx, ny) = (x + dx, y + dy);
             let diagonal = dx != 0 && dy != 0;
@@ -133,7 +136,11 @@ impl<'a> Search<'a> {
         let mut open = BinaryHeap::new();
         self.stamp[start as usize] = round;
         self.cost[start as usize] = 0.0;
-        open.push(Reverse((octile(map, start, goal).to_bits(), Reverse(0u64), start)));
+        open.push(Reverse((
+            octile(map, start, goal).to_bits(),
+            Reverse(0u64),
+            start,
+        )));
         while let Some(Reverse((_, Reverse(g_bits), c))) = open.pop() {
             let g = self.cost[c as usize];
             if g.to_bits() != g_bits {
@@ -165,7 +172,10 @@ mod tests {
         Octile {
             width: rows[0].len(),
             height: rows.len(),
-            free: rows.iter().flat_map(|r| r.bytes().map(|b| b == b'.')).collect(),
+            free: rows
+                .iter()
+                .flat_map(|r| r.bytes().map(|b| b == b'.'))
+                .collect(),
         }
     }
 
