@@ -89,12 +89,27 @@ fn grid_worlds_get_tasks_too_and_the_files_repeat_on_any_thread_count() {
 fn bad_knobs_and_huge_maps_are_refused_naming_the_key_and_nothing_is_written() {
     let dir = temp("bad");
     for (keys, says) in [
-        ("resolution = 0.0\n", "resolution"),
-        ("problems = 1000000\n", "problems"),
-        ("agents = -1\n", "agents"),
-        ("instances = 1000\n", "instances"),
-        ("robots = 3\n", "robots"),
-        ("resolution = 0.01\n", "resolution = 0.01"),
+        (
+            "resolution = 0.0\n",
+            "export[0].resolution: must be a positive number",
+        ),
+        (
+            "problems = 1000000\n",
+            "export[0].problems: must be from 0 to 100000",
+        ),
+        ("agents = -1\n", "export[0].agents"),
+        (
+            "instances = 1000\n",
+            "export[0].instances: must be from 0 to 100",
+        ),
+        (
+            "robots = 3\n",
+            "this component takes: resolution, problems, agents, instances",
+        ),
+        (
+            "resolution = 0.01\n",
+            "resolution = 0.01 makes maps of 1024.0 million cells per level (at most 16 million); use a larger resolution",
+        ),
     ] {
         let p =
             common::small_cave_pipeline(&dir, 1, &format!("[[export]]\ntype = \"tasks\"\n{keys}"));

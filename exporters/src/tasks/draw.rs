@@ -1,6 +1,7 @@
 //! Drawing a level's problems from its seeded streams: single-agent start/goal pairs and
 //! multi-agent instances, each pair inside one connected group of free cells.
 
+use rayon::prelude::*;
 use subtgraph_core::rng::WorldRng;
 
 use super::octile::{Groups, Octile, Search};
@@ -69,22 +70,37 @@ impl<'a> Places<'a> {
 
     /// `count` single-agent problems, sorted by bucket (draw order within one).
     pub fn problems(&self, rng: &mut WorldRng, count: u32) -> Vec<Problem> {
-        let mut search = Search::new(self.map);
-        let mut out: Vec<Problem> = (0..count)
+        let pairs: Vec<(u32, u32)> = (0..count)
             .map_while(|_| self.pair(rng, |_, _| false))
-            .map(|(start, goal)| solve(&mut search, start, goal))
             .collect();
+        let mut out = self.solve_all(&pairs);
         out.sort_by_key(Problem::bucket);
         out
+    }
+
+    /// The optimal length of every pair, in order: on every thread (a length does not depend
+    /// on which thread finds it, so the files do not either).
+    fn solve_all(&self, pairs: &[(u32, u32)]) -> Vec<Problem> {
+        // A chunk per thread: each search's scratch is a whole map's worth of costs.
+        let chunk = pairs.len().div_ceil(rayon::current_num_threads()).max(1);
+        let solved: Vec<Vec<Problem>> = pairs
+            .par_chunks(chunk)
+            .map(|part| {
+                let mut search = Search::new(self.map);
+                part.iter()
+                    .map(|&(s, g)| solve(&mut search, s, g))
+                    .collect()
+            })
+            .collect();
+        solved.concat()
     }
 
     /// One multi-agent instance: up to `agents` agents, no two sharing a start or a goal,
     /// in draw order (planners take the first n).
     pub fn instance(&self, rng: &mut WorldRng, agents: u32) -> Vec<Problem> {
-        let mut search = Search::new(self.map);
         let mut start_taken = vec![false; self.map.free.len()];
         let mut goal_taken = vec![false; self.map.free.len()];
-        let mut out = Vec::new();
+        let mut pairs = Vec::new();
         for _ in 0..agents {
             let Some((s, g)) = self.pair(rng, |s, g| {
                 start_taken[s as usize] || goal_taken[g as usize]
@@ -93,9 +109,9 @@ impl<'a> Places<'a> {
             };
             start_taken[s as usize] = true;
             goal_taken[g as usize] = true;
-            out.push(solve(&mut search, s, g));
+            pairs.push((s, g));
         }
-        out
+        self.solve_all(&pairs)
     }
 }
 
