@@ -272,12 +272,11 @@ mod tests {
         let h: usize = lines.next().unwrap()[7..].parse().unwrap();
         let w: usize = lines.next().unwrap()[6..].parse().unwrap();
         assert_eq!(lines.next(), Some("map"));
-        let json: serde_json::Value =
-            serde_json::from_slice(out.get("tasks/tasks.json").unwrap()).unwrap();
-        let origin = [
-            json["origin"][0].as_f64().unwrap(),
-            json["origin"][1].as_f64().unwrap(),
-        ];
+        // Read back through the schema, as a reader would.
+        let doc: Document = subtgraph_schema::read(out.get("tasks/tasks.json").unwrap()).unwrap();
+        assert_eq!((doc.levels[1].width, doc.levels[1].height), (w, h));
+        assert_eq!(doc.levels[1].problems, 100);
+        let origin = doc.origin;
         for (y, row) in lines.enumerate() {
             assert_eq!(row.len(), w);
             for (x, ch) in row.bytes().enumerate() {
