@@ -4,9 +4,10 @@ subtgraph's code: an octile map ('.' and 'G' passable, '@' 'O' 'T' not; (0, 0) t
 corner), eight moves, straight ones costing 1 and diagonal ones sqrt(2), no corner cutting (a
 diagonal move needs both cells it passes between passable). A plain heapq A* with the octile
 distance reproduces every optimal length to the files' 8 decimals; every start and goal is
-passable; MAPF instances have distinct starts and distinct goals. With `mesh`, a few hundred
-passable cells per level are checked to be inside the collision surface 1 m above the floor
-(numpy ray parity on mesh/collision.obj, as ground_truth_check.py checks the ROS maps).
+passable; MAPF instances have distinct starts and distinct goals. With `mesh`, 300 passable
+cells per level are checked to be inside the collision surface 1 m above the floor, and 300 rock
+cells beside passable ones outside it (numpy ray parity on mesh/collision.obj, as
+ground_truth_check.py checks the ROS maps).
 
 usage: tasks_check.py WORLD_DIR mesh|grid
 Prints one line per level; exits non-zero (AssertionError) on the first disagreement.
@@ -168,21 +169,32 @@ for lv in meta["levels"]:
         rng = np.random.default_rng(level)
         ys, xs = np.nonzero(free)
         pick = rng.choice(len(xs), min(300, len(xs)), replace=False)
-        px = ox + (xs[pick] + 0.5) * res
-        py = oy + (h - ys[pick] - 0.5) * res
-        pts = np.column_stack([px, py, np.zeros(len(pick))])
+        # Rock cells beside free ones, where a map that shrank or grew the passages would err.
+        grown = free.copy()
+        grown[1:, :] |= free[:-1, :]
+        grown[:-1, :] |= free[1:, :]
+        grown[:, 1:] |= free[:, :-1]
+        grown[:, :-1] |= free[:, 1:]
+        rys, rxs = np.nonzero(grown & ~free)
+        rpick = rng.choice(len(rxs), min(300, len(rxs)), replace=False)
+        cx = np.concatenate([xs[pick], rxs[rpick]])
+        cy = np.concatenate([ys[pick], rys[rpick]])
+        says = np.concatenate([np.ones(len(pick), bool), np.zeros(len(rpick), bool)])
+        pts = np.column_stack([ox + (cx + 0.5) * res, oy + (h - cy - 0.5) * res, np.zeros(len(cx))])
         nominal = level * lh
         near = 0
-        for p, zs in zip(pts, crossings(pts)):
+        for p, zs, say in zip(pts, crossings(pts), says):
             assert len(zs) % 2 == 0, f"level {level}: the surface is open above {p}"
             stretches = [(zs[k], zs[k + 1]) for k in range(0, len(zs), 2) if zs[k] < nominal + 0.75 * lh]
             slices = [max(z0, nominal) + meta["slice_height_m"] for z0, _ in stretches]
             if any(min(abs(z - z0), abs(z - z1)) < 1e-3 for (z0, z1), z in zip(stretches, slices)):
                 near += 1
                 continue
-            assert any(z0 < z < z1 for (z0, z1), z in zip(stretches, slices)), \
-                f"level {level}: passable cell at {p[:2]} is not inside a passage 1 m above its floor"
-        checked = f"; {len(pick)} passable cells inside the collision surface ({near} within 1 mm)"
+            inside = any(z0 < z < z1 for (z0, z1), z in zip(stretches, slices))
+            assert inside == say, \
+                f"level {level}: the cell at {p[:2]} is {'inside' if inside else 'outside'} a passage 1 m above its floor, the map says {'free' if say else 'rock'}"
+        checked = (f"; {len(pick)} passable cells inside the collision surface and {len(rpick)} rock "
+                   f"cells beside them outside ({near} within 1 mm)")
     print(f"tasks level {level}: {w} x {h} at {res} m, {lv['problems']} problems and "
           f"{len(lv['instances'])} x {lv['agents']} agents reproduced by A*{checked}")
 print(f"tasks: {total} optimal lengths reproduced")
