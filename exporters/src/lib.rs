@@ -36,6 +36,7 @@ mod obj;
 mod occupancy_npy;
 pub mod parts;
 mod sdf;
+mod tasks;
 mod text;
 mod topology_json;
 mod urdf;
@@ -53,6 +54,7 @@ pub use mjcf::Mjcf;
 pub use obj::Obj;
 pub use occupancy_npy::OccupancyNpy;
 pub use sdf::{Lights, Sdf};
+pub use tasks::Tasks;
 pub use topology_json::TopologyJson;
 pub use urdf::Urdf;
 pub use usd::Usd;
@@ -110,6 +112,11 @@ pub fn register(registry: &mut Registry) -> Result<(), DuplicateName> {
         "ground-truth",
         "ground truth: graph, ros-map, free-space, semantic-labels and spawn-poses with their keys",
         |p| Ok(Box::new(GroundTruth::from_params(p)?) as Box<dyn Exporter>),
+    )?;
+    e.add(
+        "tasks",
+        "planning benchmarks: MovingAI octile maps and scenarios per level, single- and multi-agent (tasks/level-N.map, .scen, level-N-random-K.scen, tasks.json); `resolution`, `problems`, `agents`, `instances`",
+        |p| Ok(Box::new(Tasks::from_params(p)?) as Box<dyn Exporter>),
     )?;
     e.add(
         "mjcf",

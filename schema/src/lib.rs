@@ -14,6 +14,7 @@
 //! | `ground_truth/semantic_labels.json` | [`SemanticLabels`] |
 //! | `ground_truth/spawn_poses.json` | [`SpawnPoses`] |
 //! | `ground_truth/free_space.json` | [`FreeSpace`] |
+//! | `tasks/tasks.json` | [`Tasks`] |
 //!
 //! (`world.toml` is the core's [`subtgraph_core::Pipeline`], `occupancy.npy` and
 //! `free_space.npy` are numpy arrays read by [`subtgraph_core::npy`].)
@@ -34,6 +35,7 @@ mod graph;
 mod hazards;
 mod semantic_labels;
 mod spawn_poses;
+mod tasks;
 mod topology;
 
 pub use artifacts::{ArtifactEntry, Artifacts, GraphPlace, Hidden};
@@ -42,6 +44,7 @@ pub use graph::{Graph, GraphEdge, GraphNode};
 pub use hazards::{HazardPatch, Hazards};
 pub use semantic_labels::{SemanticLabels, TileLabel};
 pub use spawn_poses::{Goal, Pose, Robot, SpawnPoses};
+pub use tasks::{TaskLevel, Tasks};
 pub use topology::{StructureCounts, Topology, structure_counts};
 
 /// A document of a world folder: its path inside the folder and the `format` it carries.

@@ -39,5 +39,6 @@ mod rubble;
 mod score;
 mod sense;
 mod stats;
+mod tasks;
 mod tilesets;
 mod trajectory;

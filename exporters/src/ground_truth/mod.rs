@@ -29,7 +29,7 @@ pub(crate) mod artifacts;
 mod free_space;
 mod graph;
 pub(crate) mod hazards;
-mod ros_map;
+pub(crate) mod ros_map;
 mod semantic_labels;
 mod spawn_poses;
 

@@ -19,7 +19,7 @@
 
 use subtgraph_core::World;
 use subtgraph_core::export::{ExportError, Exporter, WorldWriter, write_file};
-use subtgraph_core::survey::{Columns, Survey};
+use subtgraph_core::survey::{Columns, Raster, Survey};
 
 use super::{FRAME, Settings, extent};
 use crate::text::push_uint;
@@ -61,51 +61,25 @@ impl RosMap {
 
     /// The pixel grid of a world's maps.
     fn pixels(&self, world: &World) -> Result<Columns, ExportError> {
-        let [x0, y0, x1, y1] = extent(world);
-        let count = |r: f64| ((x1 - x0) / r).ceil() * ((y1 - y0) / r).ceil();
-        let step = match self.resolution {
-            Some(r) => {
-                if count(r) > MAX_PIXELS {
-                    return Err(ExportError::Unsupported(format!(
-                        "ros-map: resolution = {r} makes maps of {:.0} million pixels per level; use a larger resolution",
-                        count(r) / 1e6
-                    )));
-                }
-                r
-            }
-            None => {
-                let mut r = 0.25;
-                while count(r) > DEFAULT_PIXELS {
-                    r *= 2.0;
-                }
-                r
-            }
-        };
-        Ok(Columns {
-            x0,
-            y0,
-            step,
-            nx: ((x1 - x0) / step).ceil() as usize,
-            ny: ((y1 - y0) / step).ceil() as usize,
-        })
+        grid(
+            world,
+            self.resolution,
+            0.25,
+            DEFAULT_PIXELS,
+            MAX_PIXELS,
+            "ros-map",
+        )
     }
-}
 
-/// Free and occupied pixel values (map_server's trinary convention with `negate: 0`).
-const FREE: u8 = 254;
-const OCCUPIED: u8 = 0;
-/// Where the vertical line crossed an open surface (a tile set whose collision meshes do not
-/// close), so inside and outside cannot be told.
-const UNKNOWN: u8 = 205;
-
-impl Exporter for RosMap {
-    fn export(
+    /// Each level's slice on the grid `px`: `rows[j][level][i]` is [`FREE`], [`OCCUPIED`] or
+    /// [`UNKNOWN`] for line `i` of row `j` (rows south to north). The `tasks` exporter's
+    /// MovingAI maps are these slices on their own grid.
+    pub(crate) fn slices(
         &self,
         world: &World,
         survey: &dyn Survey,
-        out: &mut dyn WorldWriter,
-    ) -> Result<(), ExportError> {
-        let px = self.pixels(world)?;
+        px: &Columns,
+    ) -> Raster<Vec<Vec<u8>>> {
         let levels = world.occupancy.levels();
         let lh = world.resolved.level_height;
         let height = self.height;
@@ -123,7 +97,7 @@ impl Exporter for RosMap {
                 .cell_at(l, px.x(i as usize), px.y(j))
                 .map_or(0.0, |c| world.floor_lift(c)[1])
         };
-        let raster = survey.raster(&px, |j, spans, open| {
+        survey.raster(px, |j, spans, open| {
             let mut rows = vec![vec![OCCUPIED; px.nx]; levels];
             for s in spans {
                 for (l, row) in rows.iter_mut().enumerate() {
@@ -147,7 +121,69 @@ impl Exporter for RosMap {
                 }
             }
             rows
-        });
+        })
+    }
+}
+
+/// A grid of square cells over the world's extent ([`extent`]) for `exporter`: `resolution`
+/// metres per cell if given (refused above `max` cells per level, naming the key), else
+/// `default` doubled until a level has at most `default_max` cells.
+pub(crate) fn grid(
+    world: &World,
+    resolution: Option<f64>,
+    default: f64,
+    default_max: f64,
+    max: f64,
+    exporter: &str,
+) -> Result<Columns, ExportError> {
+    let [x0, y0, x1, y1] = extent(world);
+    let count = |r: f64| ((x1 - x0) / r).ceil() * ((y1 - y0) / r).ceil();
+    let step = match resolution {
+        Some(r) => {
+            if count(r) > max {
+                return Err(ExportError::Unsupported(format!(
+                    "{exporter}: resolution = {r} makes maps of {:.1} million cells per level (at most {:.0} million); use a larger resolution",
+                    count(r) / 1e6,
+                    max / 1e6
+                )));
+            }
+            r
+        }
+        None => {
+            let mut r = default;
+            while count(r) > default_max {
+                r *= 2.0;
+            }
+            r
+        }
+    };
+    Ok(Columns {
+        x0,
+        y0,
+        step,
+        nx: ((x1 - x0) / step).ceil() as usize,
+        ny: ((y1 - y0) / step).ceil() as usize,
+    })
+}
+
+/// Free and occupied pixel values (map_server's trinary convention with `negate: 0`).
+pub(crate) const FREE: u8 = 254;
+const OCCUPIED: u8 = 0;
+/// Where the vertical line crossed an open surface (a tile set whose collision meshes do not
+/// close), so inside and outside cannot be told.
+const UNKNOWN: u8 = 205;
+
+impl Exporter for RosMap {
+    fn export(
+        &self,
+        world: &World,
+        survey: &dyn Survey,
+        out: &mut dyn WorldWriter,
+    ) -> Result<(), ExportError> {
+        let px = self.pixels(world)?;
+        let levels = world.occupancy.levels();
+        let lh = world.resolved.level_height;
+        let raster = self.slices(world, survey, &px);
         for level in 0..levels {
             let mut pgm = format!(
                 "P5\n# subtgraph ground truth: level {level}, seed {}, {} m per pixel, sliced {} m above the floor; row 0 is north\n{} {}\n255\n",
