@@ -112,11 +112,18 @@ def corners(points):
     return out
 
 
-def gap_cell(points, turning):
-    """The waypoint, on a straight stretch near the middle of the route, whose tile loses its floor."""
+def gap_cell(points, turning, centre, pitch):
+    """The waypoint, on a straight stretch near the middle of the route and at least 2 m inside
+    its tile (a waypoint on a seam between two tiles would keep the neighbour's floor under it),
+    whose tile loses its floor. `centre` is any tile's centre (a node's position in topology.json: cell centres)."""
     middle = len(points) // 2
+
+    def inside(p):
+        off = (np.asarray(p[:2]) - np.asarray(centre[:2]) + pitch / 2) % pitch - pitch / 2
+        return bool(np.all(np.abs(off) < pitch / 2 - 2.0))
+
     for k in sorted(range(1, len(points) - 1), key=lambda i: (abs(i - middle), i)):
-        if k not in turning:
+        if k not in turning and inside(points[k]):
             return k
     sys.exit("FAIL: the route is too short to cut a gap in")
 
@@ -263,7 +270,7 @@ def main():
                 points[-1] = robot["goal"]["pose"]["position"]
             print("start and goal from ground_truth/spawn_poses.json")
     turning = corners(points)
-    k = gap_cell(points, turning)
+    k = gap_cell(points, turning, topology["nodes"][0]["position"], pitch)
     gap = points[k] if "--gap" in argv else None
     wall = wall_box(points, k, pitch) if "--wall" in argv else None
     print(f"route: {len(points)} waypoints, {length:.0f} m by the graph, to dead end {goal}"
