@@ -554,3 +554,41 @@ fn index_html_renders_offline_in_headless_chromium() {
         "the first plot is not on the screenshot ({coloured} pixels of its colours)"
     );
 }
+
+/// A score of a real sensor sequence is placed on the world the sequence was made from (the
+/// sequence's `sequence.json` records it as `{"folder": ...}`): before, `report` refused it as
+/// "not a world folder nor a sensor sequence of one".
+#[test]
+fn a_score_of_a_sensor_sequence_is_placed_on_its_world() {
+    let dir = tempfile::tempdir().unwrap();
+    let pipeline = common::small_cave_pipeline(dir.path(), 1, "");
+    let world = dir.path().join("world");
+    ok(&[
+        "generate",
+        arg(&pipeline),
+        "--format",
+        "ground-truth",
+        "--out",
+        arg(&world),
+    ]);
+    let seq = dir.path().join("seq");
+    ok(&["sense", arg(&world), "--duration", "2", "--out", arg(&seq)]);
+    let runs = dir.path().join("runs/exact");
+    let score = runs.join("small-cave");
+    ok(&[
+        "score",
+        arg(&seq),
+        "--trajectory",
+        arg(&seq.join("ground_truth.tum")),
+        "--out",
+        arg(&score),
+    ]);
+    let out = dir.path().join("report");
+    let method = format!("exact={}", runs.display());
+    ok(&["report", &method, "--out", arg(&out)]);
+    let r = report(&out);
+    assert_eq!(r["worlds"].as_array().unwrap().len(), 1, "{}", r["worlds"]);
+    assert_eq!(r["worlds"][0]["name"], "world", "{}", r["worlds"]);
+    assert_eq!(r["runs"][0]["world"], 0, "{}", r["runs"]);
+    assert_eq!(r["runs"][0]["method"], "exact");
+}

@@ -121,7 +121,11 @@ fn recorded_world(doc: &Value, score: &Path, file: &str) -> Result<Option<PathBu
     if let Ok(bytes) = std::fs::read(&seq) {
         let v: Value =
             serde_json::from_slice(&bytes).map_err(|e| input(format!("{}: {e}", seq.display())))?;
-        let world = v.get("world").and_then(Value::as_str);
+        // `sense` records its world as `{"folder": ..., "seed": ...}`.
+        let world = v.get("world").and_then(|w| {
+            w.as_str()
+                .or_else(|| w.get("folder").and_then(Value::as_str))
+        });
         if let Some(w) = world.and_then(|w| locate(w, &found)) {
             if w.join("world.toml").is_file() {
                 return Ok(Some(w));
