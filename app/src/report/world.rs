@@ -71,7 +71,8 @@ pub fn read(world: &Path) -> Result<WorldInfo, Error> {
         .iter()
         .filter(|e| e.kind != EdgeKind::Corridor)
         .map(|e| e.length_m)
-        .sum();
+        // Not `sum`: an empty f64 sum is -0.0, which report.json would print as such.
+        .fold(0.0, |a, b| a + b);
     let sloped_share = if total > 0.0 { sloped / total } else { 0.0 };
     let hazards = document::<Hazards>(world)?.map_or(0, |h| h.patches.len());
     let toml_path = world.join("world.toml");
