@@ -278,24 +278,8 @@ impl<'a> Sequence<'a> {
             let write_this = || -> Result<(labels::Label, Pose), SenseError> {
                 let publish = scan.start + period;
                 // Everything logged before this scan's cloud arrives.
-                loop {
-                    let t = imu.peek_time();
-                    if t > publish {
-                        break;
-                    }
-                    let s = imu.sample();
-                    if s.stamp < 0.0 {
-                        continue;
-                    }
-                    if let Some(b) = &mut bag {
-                        b.imu(s.stamp, s.gyroscope, s.accelerometer, variances)
-                            .map_err(io("writing", dir))?;
-                    }
-                    if let Some(kt) = &mut kitti {
-                        kt.imu(s.stamp, s.gyroscope, s.accelerometer)
-                            .map_err(io("writing", dir))?;
-                    }
-                }
+                log_imu(&mut imu, publish, &mut bag, &mut kitti, variances)
+                    .map_err(io("writing", dir))?;
                 while (odometry_next as f64) / ODOMETRY_HZ <= publish {
                     let t = odometry_next as f64 / ODOMETRY_HZ;
                     odometry_next += 1;
@@ -358,20 +342,7 @@ impl<'a> Sequence<'a> {
         }
         // The IMU and odometry to the end of the last scan.
         let end = self.scans as f64 * period;
-        while imu.peek_time() <= end {
-            let s = imu.sample();
-            if s.stamp < 0.0 {
-                continue;
-            }
-            if let Some(b) = &mut bag {
-                b.imu(s.stamp, s.gyroscope, s.accelerometer, variances)
-                    .map_err(io("writing", dir))?;
-            }
-            if let Some(kt) = &mut kitti {
-                kt.imu(s.stamp, s.gyroscope, s.accelerometer)
-                    .map_err(io("writing", dir))?;
-            }
-        }
+        log_imu(&mut imu, end, &mut bag, &mut kitti, variances).map_err(io("writing", dir))?;
         if let Some(b) = bag {
             summary.bytes += b.finish().map_err(io("writing", dir))?;
         }
@@ -478,4 +449,28 @@ impl Wheel {
         let pose = Pose::from_euler([self.pose[0], self.pose[1], 0.0], [self.pose[2], 0.0, 0.0]);
         (t, pose, [speed, 0.0, 0.0], [0.0, 0.0, yaw_rate])
     }
+}
+
+/// Writes every IMU sample of `imu` stamped up to `until` (seconds) to the outputs asked for;
+/// samples before the sequence's start (the stream's warm-up, stamped below 0) are dropped.
+fn log_imu(
+    imu: &mut ImuStream,
+    until: f64,
+    bag: &mut Option<Bag>,
+    kitti: &mut Option<Kitti>,
+    variances: [f64; 2],
+) -> std::io::Result<()> {
+    while imu.peek_time() <= until {
+        let s = imu.sample();
+        if s.stamp < 0.0 {
+            continue;
+        }
+        if let Some(b) = bag {
+            b.imu(s.stamp, s.gyroscope, s.accelerometer, variances)?;
+        }
+        if let Some(kt) = kitti {
+            kt.imu(s.stamp, s.gyroscope, s.accelerometer)?;
+        }
+    }
+    Ok(())
 }
