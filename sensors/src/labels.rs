@@ -212,19 +212,7 @@ mod tests {
         let mut tube = Scan::default();
         let mut room = Scan::default();
         let add = |scan: &mut Scan, q: [f64; 3], n: [f64; 3]| {
-            let r = [
-                q[1] * n[2] - q[2] * n[1],
-                q[2] * n[0] - q[0] * n[2],
-                q[0] * n[1] - q[1] * n[0],
-            ];
-            let j = [r[0], r[1], r[2], n[0], n[1], n[2]];
-            let mut k = 0;
-            for a in 0..6 {
-                for b in a..6 {
-                    scan.hessian[k] += j[a] * j[b];
-                    k += 1;
-                }
-            }
+            crate::lidar::scan::accumulate(&mut scan.hessian, q, n);
             scan.range2 += q.iter().map(|x| x * x).sum::<f64>();
             scan.returns += 1;
         };

@@ -224,7 +224,7 @@ impl<'a> Scanner<'a> {
 
 /// Adds one return's point-to-plane row `J = [q x n, n]` (the point `q` relative to the
 /// sensor, the normal `n`) to the upper triangle of `J^T J`.
-fn accumulate(h: &mut [f64; 21], q: V3, n: V3) {
+pub(crate) fn accumulate(h: &mut [f64; 21], q: V3, n: V3) {
     let r = [
         q[1] * n[2] - q[2] * n[1],
         q[2] * n[0] - q[0] * n[2],
