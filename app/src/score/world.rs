@@ -148,7 +148,7 @@ fn read_file(world: &Path, file: &str, hint: &str) -> Result<Vec<u8>, Error> {
 }
 
 /// Reads and checks a document of a world folder; `hint` says what to do when it is missing.
-fn read_doc<D: Document>(world: &Path, hint: &str) -> Result<D, Error> {
+pub(crate) fn read_doc<D: Document>(world: &Path, hint: &str) -> Result<D, Error> {
     parse_doc(&read_file(world, D::PATH, hint)?, world)
 }
 
@@ -242,6 +242,25 @@ fn edge_kind(k: subtgraph_core::graph::EdgeKind) -> &'static str {
         EdgeKind::Shaft => "shaft",
         EdgeKind::Ramp => "ramp",
     }
+}
+
+/// The graph's nodes from `topology.json`: `(level, kind, id, [x, y])`.
+pub fn nodes(world: &Path) -> Result<Vec<(usize, &'static str, usize, [f64; 2])>, Error> {
+    let t: Topology = read_doc(
+        world,
+        "is it a world folder written by `subtgraph generate`?",
+    )?;
+    Ok(t.nodes
+        .iter()
+        .map(|n| {
+            (
+                n.cell.level,
+                n.kind.name(),
+                n.id,
+                [n.position[0], n.position[1]],
+            )
+        })
+        .collect())
 }
 
 /// Reads `ground_truth/artifacts.json`.
