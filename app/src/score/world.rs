@@ -244,21 +244,32 @@ fn edge_kind(k: subtgraph_core::graph::EdgeKind) -> &'static str {
     }
 }
 
-/// The graph's nodes from `topology.json`: `(level, kind, id, [x, y])`.
-pub fn nodes(world: &Path) -> Result<Vec<(usize, &'static str, usize, [f64; 2])>, Error> {
+/// A graph node as the segmentation score matches it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct GraphNode {
+    /// Its id.
+    pub id: usize,
+    /// Its level.
+    pub level: usize,
+    /// Its tile kind (`t-junction`, `dead-end`, ...).
+    pub kind: &'static str,
+    /// Its world position in the plane, metres.
+    pub xy: [f64; 2],
+}
+
+/// The graph's nodes from `topology.json`.
+pub fn nodes(world: &Path) -> Result<Vec<GraphNode>, Error> {
     let t: Topology = read_doc(
         world,
         "is it a world folder written by `subtgraph generate`?",
     )?;
     Ok(t.nodes
         .iter()
-        .map(|n| {
-            (
-                n.cell.level,
-                n.kind.name(),
-                n.id,
-                [n.position[0], n.position[1]],
-            )
+        .map(|n| GraphNode {
+            id: n.id,
+            level: n.cell.level,
+            kind: n.kind.name(),
+            xy: [n.position[0], n.position[1]],
         })
         .collect())
 }

@@ -255,14 +255,14 @@ impl SegmentationRequest {
         let radius = self.node_radius.unwrap_or(0.5 * cells.pitch);
         let graph: Vec<(usize, [f64; 2])> = crate::score::world::nodes(&self.world)?
             .into_iter()
-            .filter(|(l, kind, _, _)| {
-                *l == level
+            .filter(|n| {
+                n.level == level
                     && matches!(
-                        read::class_of_kind(kind),
+                        read::class_of_kind(n.kind),
                         JUNCTION | INTERSECTION | DEAD_END
                     )
             })
-            .map(|(_, _, id, p)| (id, p))
+            .map(|n| (n.id, n.xy))
             .collect();
         let found = detected(&pred, &grid);
         let positions: Vec<[f64; 2]> = graph.iter().map(|g| g.1).collect();
