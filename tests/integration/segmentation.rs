@@ -202,7 +202,7 @@ fn bad_segmentations_are_refused_naming_the_file_and_nothing_is_written() {
     ]);
     let doc: Value =
         serde_json::from_slice(&std::fs::read(out.join("segmentation.json")).unwrap()).unwrap();
-    assert_eq!(doc["level"], 1);
+    assert_eq!(doc["options"]["level"], 1);
     assert_eq!(doc["iou.corridor"], 0.0);
     let _ = std::fs::remove_dir_all(&dir);
 }

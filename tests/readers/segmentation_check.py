@@ -141,7 +141,7 @@ def check(world, level, map_path, score_dir):
     topo = json.load(open(Path(world) / "topology.json"))
     nodes = [n["position"][:2] for n in topo["nodes"]
              if n["cell"]["level"] == level and TABLE.get(n["kind"], 0) in (2, 3, 4)]
-    radius = doc["node_radius_m"]
+    radius = doc["options"]["node_radius_m"]
     pairs = sorted((math.dist(a, b), i, j) for i, a in enumerate(found)
                    for j, b in enumerate(nodes) if math.dist(a, b) <= radius)
     ua, ub, matched = set(), set(), []
