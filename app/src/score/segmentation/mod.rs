@@ -361,3 +361,47 @@ impl SegmentationRequest {
         })
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_level_is_read_from_the_file_name() {
+        assert_eq!(level_in_name(Path::new("out/level-3.png")), Some(3));
+        assert_eq!(level_in_name(Path::new("run2-level-12.npy")), Some(12));
+        assert_eq!(level_in_name(Path::new("level-.png")), None);
+        assert_eq!(level_in_name(Path::new("map.png")), None);
+    }
+
+    #[test]
+    fn nodes_match_closest_pair_first_each_once_within_the_radius() {
+        let found = [[0.0, 0.0], [1.0, 0.0], [50.0, 0.0]];
+        let truth = [[0.9, 0.0], [3.0, 0.0]];
+        // (1, 0) is closest (0.1 m); detection 0 then takes node 1 at 3 m; 50 m is too far.
+        let m = matches(&found, &truth, 8.0);
+        let pairs: Vec<(usize, usize)> = m.iter().map(|x| (x.0, x.1)).collect();
+        assert_eq!(pairs, vec![(1, 0), (0, 1)]);
+        assert!((m[0].2 - 0.1).abs() < 1e-12 && (m[1].2 - 3.0).abs() < 1e-12);
+        assert_eq!(matches(&found, &truth, 1.0).len(), 1);
+    }
+
+    #[test]
+    fn each_connected_region_of_one_node_class_is_one_detection() {
+        let grid = read::MapGrid {
+            width: 4,
+            height: 2,
+            resolution: 1.0,
+            origin: [0.0, 0.0],
+            free: vec![true; 8],
+        };
+        // Row 0 (north): two junction pixels, then a dead end touching them; row 1: one
+        // junction pixel under the first.
+        let pred = [2, 2, 4, 0, 2, 0, 0, 0];
+        let found = detected(&pred, &grid);
+        assert_eq!(found.len(), 2);
+        assert!((found[0][0] - (0.5 + 1.5 + 0.5) / 3.0).abs() < 1e-12);
+        assert!((found[0][1] - (1.5 + 1.5 + 0.5) / 3.0).abs() < 1e-12);
+        assert_eq!(found[1], [2.5, 1.5]);
+    }
+}
