@@ -52,8 +52,9 @@ enum Command {
     /// Grade a robot's run against a world's ground truth: artifact reports by the DARPA
     /// rule (same class within 5 m, each artifact once), and a map's coverage of the free
     /// space (per level and graph edge) and error; or an estimated trajectory (--trajectory)
-    /// against a ground-truth one: APE, RPE, drift, points, as evo computes them. JSON, CSV,
-    /// pictures.
+    /// against a ground-truth one: APE, RPE, drift, points, as evo computes them; or a
+    /// topometric segmentation of a level (--segmentation): per-class IoU, precision, recall,
+    /// confusion and node detection against the world's tile kinds. JSON, CSV, pictures.
     Score(score::Args),
     /// Statistics over whole datasets from score folders: per method the mean, median and a
     /// seeded bootstrap 95 % interval of every metric (over worlds and per preset) and the

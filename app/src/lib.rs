@@ -57,6 +57,7 @@ pub use plugins::{PluginsRequest, registry, registry_with};
 pub use preview::PreviewRequest;
 pub use report::ReportRequest;
 pub use score::ScoreRequest;
+pub use score::segmentation::SegmentationRequest;
 pub use score::trajectory::{Align, TrajectoryRequest};
 pub use sense::SenseRequest;
 pub use stats::StatsRequest;

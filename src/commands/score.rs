@@ -1,8 +1,9 @@
-//! `subtgraph score`: a run's artifact reports and map, or a trajectory (`--trajectory`).
+//! `subtgraph score`: a run's artifact reports and map, a trajectory (`--trajectory`) or a
+//! topometric segmentation (`--segmentation`).
 
 use std::path::PathBuf;
 
-use subtgraph::app::{Align, Error, ScoreRequest, TrajectoryRequest};
+use subtgraph::app::{Align, Error, ScoreRequest, SegmentationRequest, TrajectoryRequest};
 
 /// `score`'s arguments.
 #[derive(clap::Args)]
@@ -13,7 +14,7 @@ pub struct Args {
     #[arg(value_name = "WORLD_OR_SEQUENCE")]
     world: PathBuf,
     /// The team's reports: CSV with columns time,class,x,y,z, or a JSON list of them.
-    #[arg(long, required_unless_present = "trajectory")]
+    #[arg(long, required_unless_present_any = ["trajectory", "segmentation"])]
     reports: Option<PathBuf>,
     /// The robot's map in the world frame: a PLY or PCD point cloud, or an occupancy .npy
     /// on the grid of ground_truth/free_space.npy.
@@ -75,6 +76,18 @@ pub struct Args {
         requires = "trajectory"
     )]
     fail_jump: f64,
+    /// Score a topometric segmentation instead: an 8-bit greyscale PNG or an integer 2-D
+    /// .npy on the grid of the world's ground_truth/maps/level-N.pgm, each pixel 0 (not
+    /// labelled), 1 corridor, 2 junction, 3 intersection, 4 dead end or 5 shaft/ramp.
+    #[arg(long, value_name = "FILE", conflicts_with_all = ["reports", "map", "trajectory"])]
+    segmentation: Option<PathBuf>,
+    /// The segmentation's level, when its file name does not say (level-N.png).
+    #[arg(long, value_name = "N", requires = "segmentation")]
+    level: Option<usize>,
+    /// A detected node within this many metres of a graph node may match it (default: half
+    /// the tile pitch).
+    #[arg(long, value_name = "METRES", requires = "segmentation")]
+    node_radius: Option<f64>,
     /// The score folder (must not exist, unless --force and the tool wrote it).
     #[arg(long)]
     out: PathBuf,
@@ -85,6 +98,19 @@ pub struct Args {
 
 /// Scores the run and prints the summary.
 pub fn run(a: Args) -> Result<(), Error> {
+    if let Some(segmentation) = a.segmentation {
+        let scored = SegmentationRequest {
+            world: a.world,
+            segmentation,
+            level: a.level,
+            node_radius: a.node_radius,
+            out: a.out,
+            force: a.force,
+        }
+        .run()?;
+        super::print(&format!("{scored}\n"));
+        return Ok(());
+    }
     if let Some(estimate) = a.trajectory {
         let scored = TrajectoryRequest {
             world_or_sequence: a.world,

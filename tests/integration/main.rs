@@ -37,6 +37,7 @@ mod report;
 mod room_and_pillar;
 mod rubble;
 mod score;
+mod segmentation;
 mod sense;
 mod stats;
 mod tasks;

@@ -19,6 +19,7 @@ pub mod coverage;
 mod picture;
 mod report;
 pub mod reports;
+pub mod segmentation;
 pub mod trajectory;
 pub mod world;
 

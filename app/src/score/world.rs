@@ -148,7 +148,7 @@ fn read_file(world: &Path, file: &str, hint: &str) -> Result<Vec<u8>, Error> {
 }
 
 /// Reads and checks a document of a world folder; `hint` says what to do when it is missing.
-fn read_doc<D: Document>(world: &Path, hint: &str) -> Result<D, Error> {
+pub(crate) fn read_doc<D: Document>(world: &Path, hint: &str) -> Result<D, Error> {
     parse_doc(&read_file(world, D::PATH, hint)?, world)
 }
 
@@ -242,6 +242,36 @@ fn edge_kind(k: subtgraph_core::graph::EdgeKind) -> &'static str {
         EdgeKind::Shaft => "shaft",
         EdgeKind::Ramp => "ramp",
     }
+}
+
+/// A graph node as the segmentation score matches it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct GraphNode {
+    /// Its id.
+    pub id: usize,
+    /// Its level.
+    pub level: usize,
+    /// Its tile kind (`t-junction`, `dead-end`, ...).
+    pub kind: &'static str,
+    /// Its world position in the plane, metres.
+    pub xy: [f64; 2],
+}
+
+/// The graph's nodes from `topology.json`.
+pub fn nodes(world: &Path) -> Result<Vec<GraphNode>, Error> {
+    let t: Topology = read_doc(
+        world,
+        "is it a world folder written by `subtgraph generate`?",
+    )?;
+    Ok(t.nodes
+        .iter()
+        .map(|n| GraphNode {
+            id: n.id,
+            level: n.cell.level,
+            kind: n.kind.name(),
+            xy: [n.position[0], n.position[1]],
+        })
+        .collect())
 }
 
 /// Reads `ground_truth/artifacts.json`.
