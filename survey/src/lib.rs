@@ -82,9 +82,9 @@ pub struct WorldSurvey<'w> {
     all_axes: OnceLock<()>,
     edges: OnceLock<Vec<EdgeLine>>,
     /// The ray-cast structure over the collision surface, built once, when first needed:
-    /// today the cubes of [`Sections`] (the edges' widths and heights). The sensor
-    /// simulation's acceleration structure (`core::raycast`) is to be built and held here,
-    /// so that widths, lines of sight and sensor rays share one.
+    /// today the cubes of [`Sections`] (the edges' widths and heights). The sensors build
+    /// `core::raycast`'s hierarchy themselves (`subtgraph-sensors`' `Scene`); holding that one
+    /// here, for widths, lines of sight and sensor rays alike, is still to do.
     rays: OnceLock<Option<Sections<'w>>>,
     sections: OnceLock<Vec<Option<(f64, f64)>>>,
     artifacts: Option<PlacedArtifacts>,
