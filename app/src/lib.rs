@@ -58,7 +58,7 @@ pub use preview::PreviewRequest;
 pub use report::ReportRequest;
 pub use score::ScoreRequest;
 pub use score::segmentation::SegmentationRequest;
-pub use score::trajectory::{Align, TrajectoryRequest};
+pub use score::trajectory::{Align, Associate, TrajectoryRequest};
 pub use sense::SenseRequest;
 pub use stats::StatsRequest;
 pub use validate::ValidateRequest;

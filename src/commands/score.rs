@@ -3,7 +3,9 @@
 
 use std::path::PathBuf;
 
-use subtgraph::app::{Align, Error, ScoreRequest, SegmentationRequest, TrajectoryRequest};
+use subtgraph::app::{
+    Align, Associate, Error, ScoreRequest, SegmentationRequest, TrajectoryRequest,
+};
 
 /// `score`'s arguments.
 #[derive(clap::Args)]
@@ -26,19 +28,40 @@ pub struct Args {
     /// A mapped point farther than this many metres from the surface is a map error.
     #[arg(long, default_value_t = 0.5, value_name = "METRES")]
     tolerance: f64,
-    /// Score an estimated trajectory instead: TUM (t x y z qx qy qz qw) or KITTI (3x4 pose
-    /// rows, times from --times or times.txt beside it).
+    /// Score an estimated trajectory instead: TUM (t x y z qx qy qz qw), KITTI (3x4 pose
+    /// rows, times from --times or times.txt beside it), or a ROS 2 bag in MCAP storage (a
+    /// pose topic: nav_msgs/Odometry, geometry_msgs/PoseStamped, PoseWithCovarianceStamped
+    /// or TransformStamped).
     #[arg(long, value_name = "FILE", conflicts_with_all = ["reports", "map"])]
     trajectory: Option<PathBuf>,
     /// The estimate's times file (one time a line), when it is KITTI.
     #[arg(long, value_name = "FILE", requires = "trajectory")]
     times: Option<PathBuf>,
-    /// The ground-truth trajectory (TUM or KITTI), when WORLD_OR_SEQUENCE is not one.
+    /// The estimate's topic, when it is a bag with more than one pose topic.
+    #[arg(long, value_name = "TOPIC", requires = "trajectory")]
+    topic: Option<String>,
+    /// The ground-truth trajectory (TUM, KITTI or a bag), when WORLD_OR_SEQUENCE is not one.
     #[arg(long, value_name = "FILE", requires = "trajectory")]
     reference: Option<PathBuf>,
     /// The reference's times file, when it is KITTI.
     #[arg(long, value_name = "FILE", requires = "trajectory")]
     reference_times: Option<PathBuf>,
+    /// The reference's topic, when it is a bag with more than one pose topic.
+    #[arg(long, value_name = "TOPIC", requires = "trajectory")]
+    reference_topic: Option<String>,
+    /// nearest: each pose paired with the nearest in time within --max-diff (evo's
+    /// association); interpolate: the reference interpolated at each estimate pose's time.
+    #[arg(long, default_value = "nearest", value_parser = ["nearest", "interpolate"], requires = "trajectory")]
+    associate: String,
+    /// With --associate interpolate: reference poses further apart than this are not
+    /// interpolated between (a gap in the ground truth).
+    #[arg(
+        long,
+        default_value_t = 1.0,
+        value_name = "SECONDS",
+        requires = "trajectory"
+    )]
+    max_gap: f64,
     /// Poses further apart in time than this are not associated (evo's --t_max_diff).
     #[arg(
         long,
@@ -118,7 +141,14 @@ pub fn run(a: Args) -> Result<(), Error> {
             times: a.times,
             reference: a.reference,
             reference_times: a.reference_times,
+            topic: a.topic,
+            reference_topic: a.reference_topic,
+            associate: match a.associate.as_str() {
+                "interpolate" => Associate::Interpolate,
+                _ => Associate::Nearest,
+            },
             max_diff: a.max_diff,
+            max_gap: a.max_gap,
             align: match a.align.as_str() {
                 "se3" => Align::Se3,
                 "sim3" => Align::Sim3,

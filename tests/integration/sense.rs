@@ -120,6 +120,26 @@ fn other_sensors_platforms_and_routes_are_read_back_too() {
     assert!(phases.contains(&"drive"), "{phases:?}");
     let meta = json(&dir.path().join("loop/sequence.json"));
     assert!(meta["wheel_odometry"].as_bool().unwrap());
+    // The bag's wheel odometry scored against its ground-truth odometry (LZ4 chunks, two
+    // Odometry topics of one bag), the numbers checked against `evo_ape bag2` on the bag.
+    let bag = dir.path().join("loop/bag");
+    let score = dir.path().join("wheel-score");
+    let said = ok(&[
+        "score",
+        arg(&bag),
+        "--reference-topic",
+        "/ground_truth/odom",
+        "--trajectory",
+        arg(&bag),
+        "--topic",
+        "/wheel/odom",
+        "--out",
+        arg(&score),
+    ]);
+    assert!(said.contains("pose pairs"), "{said}");
+    let j = json(&score.join("trajectory.json"));
+    assert!(j["associated_poses"].as_u64().unwrap() > 100, "{j}");
+    read_with_python(&["evo"], "trajectory_check.py", &[arg(&score)]);
 }
 
 #[test]

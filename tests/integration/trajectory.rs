@@ -731,3 +731,221 @@ fn with_a_world_the_error_increase_is_placed_on_its_graph_edge() {
         "sum of the increases",
     );
 }
+
+/// Writes `topics` (`topic:type:file.tum`) into a ROS 2 bag with rosbags; `false` when the
+/// Python readers are missing (the test then skips, as [`read_with_python`] says).
+fn write_bag(bag: &Path, zstd: bool, topics: &[String]) -> bool {
+    let mut args = vec![arg(bag)];
+    if zstd {
+        args.push("--zstd");
+    }
+    args.extend(topics.iter().map(String::as_str));
+    read_with_python(&["rosbags"], "write_bag.py", &args).is_some()
+}
+
+#[test]
+fn a_ros2_bag_scores_as_the_same_poses_in_tum_and_as_evo_reads_it() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let rows = reference(300);
+    let est: Vec<Row> = rows
+        .iter()
+        .enumerate()
+        .map(|(k, &(t, p, q))| {
+            let k = k as f64;
+            (
+                t + 0.004,
+                [p[0] + 0.01 * k, p[1] + 0.1 * (0.05 * k).sin(), p[2]],
+                mul(q, yaw(0.0008 * k)),
+            )
+        })
+        .collect();
+    let r = write_tum(&d.join("ref.tum"), &rows);
+    let e = write_tum(&d.join("est.tum"), &est);
+    let spec = |topic: &str, kind: &str, file: &Path| format!("{topic}:{kind}:{}", arg(file));
+    // One zstd bag with both trajectories (as Odometry and PoseStamped) and a topic that is no
+    // pose; one uncompressed bag of the estimate alone, as a TransformStamped.
+    let both = d.join("both");
+    let alone = d.join("alone");
+    if !write_bag(
+        &both,
+        true,
+        &[
+            spec("/ground_truth", "nav_msgs/msg/Odometry", &r),
+            spec("/slam/pose", "geometry_msgs/msg/PoseStamped", &e),
+            spec("/notes", "std_msgs/msg/String", &e),
+        ],
+    ) || !write_bag(
+        &alone,
+        false,
+        &[spec(
+            "/tf_estimate",
+            "geometry_msgs/msg/TransformStamped",
+            &e,
+        )],
+    ) {
+        return;
+    }
+    let from_tum = score(d, "tum", &r, &e, &["--align", "se3"]);
+    // Both topics of one bag: checked against `evo_ape bag2` too.
+    let from_bag = score(
+        d,
+        "bag",
+        &both,
+        &both,
+        &[
+            "--topic",
+            "/slam/pose",
+            "--reference-topic",
+            "/ground_truth",
+            "--align",
+            "se3",
+        ],
+    );
+    // The estimate's only pose topic is found without --topic.
+    let mixed = score(d, "mixed", &r, &alone, &["--align", "se3"]);
+    assert_eq!(mixed["estimate"]["topic"], "/tf_estimate");
+    assert_eq!(from_bag["estimate"]["format"], "ros2-bag");
+    for j in [&from_bag, &mixed] {
+        assert_eq!(j["associated_poses"], 300);
+        for what in [
+            "ape_m.rmse",
+            "ape_m.max",
+            "rpe.translation_m.mean",
+            "final_drift_m",
+        ] {
+            near(num(j, what), num(&from_tum, what), 1e-12, what);
+        }
+    }
+    // Which topic, when there are two; a topic that is not a pose; a cut file; SQLite storage.
+    let out = d.join("refused");
+    let e1 = fails(&[
+        "score",
+        arg(&r),
+        "--trajectory",
+        arg(&both),
+        "--out",
+        arg(&out),
+    ]);
+    assert!(
+        e1.contains("2 pose topics") && e1.contains("--topic") && e1.contains("/slam/pose"),
+        "{e1}"
+    );
+    let e2 = fails(&[
+        "score",
+        arg(&r),
+        "--trajectory",
+        arg(&both),
+        "--topic",
+        "/notes",
+        "--out",
+        arg(&out),
+    ]);
+    assert!(
+        e2.contains("/notes is std_msgs/msg/String, not a pose"),
+        "{e2}"
+    );
+    let mcap = std::fs::read_dir(&alone)
+        .unwrap()
+        .flatten()
+        .map(|f| f.path())
+        .find(|p| p.extension().is_some_and(|x| x == "mcap"))
+        .unwrap();
+    let bytes = std::fs::read(&mcap).unwrap();
+    let cut = d.join("cut.mcap");
+    std::fs::write(&cut, &bytes[..bytes.len() / 2]).unwrap();
+    let e3 = fails(&[
+        "score",
+        arg(&r),
+        "--trajectory",
+        arg(&cut),
+        "--out",
+        arg(&out),
+    ]);
+    assert!(
+        e3.contains("cut.mcap") && e3.contains("not a readable MCAP file"),
+        "{e3}"
+    );
+    let sqlite = d.join("sqlite");
+    std::fs::create_dir(&sqlite).unwrap();
+    std::fs::write(
+        sqlite.join("metadata.yaml"),
+        "rosbag2_bagfile_information:\n  relative_file_paths:\n    - sqlite_0.db3\n",
+    )
+    .unwrap();
+    std::fs::write(sqlite.join("sqlite_0.db3"), b"SQLite format 3\0").unwrap();
+    let e4 = fails(&[
+        "score",
+        arg(&r),
+        "--trajectory",
+        arg(&sqlite),
+        "--out",
+        arg(&out),
+    ]);
+    assert!(
+        e4.contains("SQLite storage") && e4.contains("ros2 bag convert"),
+        "{e4}"
+    );
+    assert!(!out.exists(), "nothing written for refused input");
+}
+
+#[test]
+fn interpolated_association_scores_every_estimate_pose_as_scipy_interpolates() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    // A reference on which interpolation is exact: constant velocity along a line, constant
+    // turn rate about z, at 10 Hz; an estimate at 7 Hz on the same motion, plus a drift.
+    let truth = |t: f64| -> Row { (t, [6.0 * t, 2.0 * t, 0.4 * t], yaw(0.3 * t)) };
+    let rows: Vec<Row> = (0..300).map(|k| truth(k as f64 * 0.1)).collect();
+    let on_it: Vec<Row> = (0..200).map(|k| truth(0.05 + k as f64 / 7.0)).collect();
+    let drifted: Vec<Row> = on_it
+        .iter()
+        .enumerate()
+        .map(|(k, &(t, p, q))| (t, [p[0], p[1] + 0.002 * k as f64, p[2]], q))
+        .collect();
+    let r = write_tum(&d.join("ref.tum"), &rows);
+    let exact = write_tum(&d.join("exact.tum"), &on_it);
+    let e = write_tum(&d.join("est.tum"), &drifted);
+    let j = score(d, "exact", &r, &exact, &["--associate", "interpolate"]);
+    assert_eq!(
+        j["associated_poses"], 200,
+        "every estimate pose in the span"
+    );
+    near(
+        num(&j, "ape_m.max"),
+        0.0,
+        1e-9,
+        "interpolation is exact here",
+    );
+    // Nearest association of the same poses pairs fewer, and each with an error.
+    let n = score(d, "nearest", &r, &exact, &["--max-diff", "0.05"]);
+    assert!(num(&n, "ape_m.mean") > 0.05, "{n}");
+    for align in ["none", "se3"] {
+        let j = score(
+            d,
+            &format!("drift-{align}"),
+            &r,
+            &e,
+            &["--associate", "interpolate", "--align", align],
+        );
+        if align == "none" {
+            near(num(&j, "final_drift_m"), 0.002 * 199.0, 1e-9, "drift");
+        }
+    }
+    // A gap in the reference longer than --max-gap: the estimate poses inside it are left out.
+    let gappy: Vec<Row> = rows
+        .iter()
+        .filter(|row| !(10.0..20.0).contains(&row.0))
+        .copied()
+        .collect();
+    let g = write_tum(&d.join("gappy.tum"), &gappy);
+    let j = score(
+        d,
+        "gap",
+        &g,
+        &e,
+        &["--associate", "interpolate", "--max-gap", "0.5"],
+    );
+    let inside = on_it.iter().filter(|r| r.0 > 9.9 && r.0 < 20.0).count();
+    assert_eq!(j["associated_poses"], (200 - inside) as u64);
+}

@@ -5,6 +5,12 @@
 //!   fewer poses (the estimate when both have as many) is walked, and each of its poses is
 //!   paired with the nearest pose of the other within `max_diff` seconds (the earlier on a tie);
 //!   a pose with none is left out.
+//! - Or interpolated (`--associate interpolate`, which evo does not do): the reference is
+//!   interpolated at each estimate pose's time (linearly in position, by slerp in
+//!   orientation) between the two reference poses around it, when they are at most
+//!   `max_gap` seconds apart; estimate poses outside the reference's span or across a longer
+//!   gap (the ground truth dropped out) are left out. For estimates at a rate of their own
+//!   against a denser ground truth, every estimate pose is scored, none shifted in time.
 //! - Alignment of the estimate onto the reference: Umeyama's least-squares rigid (SE(3)) or
 //!   similarity (Sim(3)) transform of the paired positions (evo's `-a` and `-as`), solved with
 //!   Horn's quaternion method, which gives the same transform without an SVD; or origin
@@ -45,6 +51,59 @@ pub fn associate(reference: &[f64], estimate: &[f64], max_diff: f64) -> Vec<(usi
         out.push(if est_longer { (i, best) } else { (best, i) });
     }
     out
+}
+
+/// The reference interpolated at the estimate's times: `(estimate index, time, pose)` for
+/// each estimate pose within the reference's span whose neighbouring reference poses are at
+/// most `max_gap` seconds apart (a pose at a reference time takes that pose as it is).
+pub fn interpolate(
+    reference_times: &[f64],
+    reference: &[Pose],
+    estimate_times: &[f64],
+    max_gap: f64,
+) -> Vec<(usize, f64, Pose)> {
+    let mut out = Vec::new();
+    for (i, &t) in estimate_times.iter().enumerate() {
+        let j = reference_times.partition_point(|&x| x < t);
+        if j == reference_times.len() {
+            continue;
+        }
+        if reference_times[j] == t {
+            out.push((i, t, reference[j]));
+            continue;
+        }
+        if j == 0 || reference_times[j] - reference_times[j - 1] > max_gap {
+            continue;
+        }
+        let (t0, t1) = (reference_times[j - 1], reference_times[j]);
+        let a = (t - t0) / (t1 - t0);
+        let (p, q) = (&reference[j - 1], &reference[j]);
+        out.push((
+            i,
+            t,
+            Pose {
+                q: slerp(p.q, q.q, a),
+                t: add(p.t, scale(a, sub(q.t, p.t))),
+            },
+        ));
+    }
+    out
+}
+
+/// The rotation a share `a` of the way from `p` to `q`, along the shorter arc.
+fn slerp(p: Quat, q: Quat, a: f64) -> Quat {
+    let d: f64 = (0..4).map(|k| p[k] * q[k]).sum();
+    let (q, d) = if d < 0.0 { (q.map(|x| -x), -d) } else { (q, d) };
+    let (wp, wq) = if d > 1.0 - 1e-12 {
+        (1.0 - a, a)
+    } else {
+        let theta = d.min(1.0).acos();
+        let s = theta.sin();
+        (((1.0 - a) * theta).sin() / s, (a * theta).sin() / s)
+    };
+    let r: Quat = std::array::from_fn(|k| wp * p[k] + wq * q[k]);
+    let n = (0..4).map(|k| r[k] * r[k]).sum::<f64>().sqrt();
+    r.map(|x| x / n)
 }
 
 /// A similarity transform `x ↦ s R x + t` applied to the estimate.

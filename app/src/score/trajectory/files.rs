@@ -15,6 +15,8 @@ use super::{Align, POINTS, Scored, TrajectoryRequest, TrajectoryScore, UNIT_TOLE
 struct FileJson {
     file: String,
     format: &'static str,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    topic: Option<String>,
     poses: usize,
     start_s: f64,
     end_s: f64,
@@ -25,6 +27,7 @@ impl From<&Trajectory> for FileJson {
         FileJson {
             file: t.file.display().to_string(),
             format: t.format,
+            topic: t.topic.clone(),
             poses: t.poses.len(),
             start_s: t.times[0],
             end_s: t.times[t.times.len() - 1],
@@ -36,7 +39,10 @@ impl From<&Trajectory> for FileJson {
 struct Options {
     align: Align,
     evo_align_option: &'static str,
+    associate: super::Associate,
     max_diff_s: f64,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    max_gap_s: Option<f64>,
     delta_frames: usize,
     fail_ape_m: f64,
     fail_jump_m: f64,
@@ -97,6 +103,14 @@ fn command(r: &TrajectoryRequest) -> String {
     flag(&mut c, "times", &r.times);
     flag(&mut c, "reference", &r.reference);
     flag(&mut c, "reference-times", &r.reference_times);
+    for (name, topic) in [("topic", &r.topic), ("reference-topic", &r.reference_topic)] {
+        if let Some(t) = topic {
+            let _ = write!(c, " --{name} {}", quoted(std::path::Path::new(t)));
+        }
+    }
+    if r.associate == super::Associate::Interpolate {
+        let _ = write!(c, " --associate interpolate --max-gap {}", r.max_gap);
+    }
     let _ = write!(
         c,
         " --max-diff {} --align {} --delta {} --fail-ape {} --fail-jump {} --out {}",
@@ -125,14 +139,16 @@ pub(super) fn files(
         options: Options {
             align: r.align,
             evo_align_option: r.align.evo_option(),
+            associate: r.associate,
             max_diff_s: r.max_diff,
+            max_gap_s: (r.associate == super::Associate::Interpolate).then_some(r.max_gap),
             delta_frames: r.delta,
             fail_ape_m: r.fail_ape,
             fail_jump_m: r.fail_jump,
             quaternion_tolerance: UNIT_TOLERANCE,
             points_thresholds_m: POINTS.to_vec(),
         },
-        associated_poses: s.pairs.len(),
+        associated_poses: s.times.len(),
         failed: s.summary.failure.is_some(),
         graph: s.stretches.as_ref().map(|st| GraphJson {
             world: r.world_or_sequence.display().to_string(),
@@ -151,8 +167,8 @@ pub(super) fn files(
     let mut csv = String::from(
         "pose,time,time_estimate,x,y,z,x_estimate,y_estimate,z_estimate,ape_m,rpe_m,rpe_deg\n",
     );
-    for (k, &(i, j)) in s.pairs.iter().enumerate() {
-        let q = reference.poses[i].t;
+    for (k, &j) in s.estimate_index.iter().enumerate() {
+        let q = s.refs[k].t;
         let p = s.aligned[k].t;
         let (rt, ra) = match s.rpe_at[k] {
             Some((t, a)) => (t.to_string(), a.to_string()),
@@ -161,13 +177,13 @@ pub(super) fn files(
         let _ = writeln!(
             csv,
             "{k},{},{},{},{},{},{},{},{},{},{rt},{ra}",
-            reference.times[i], estimate.times[j], q[0], q[1], q[2], p[0], p[1], p[2], s.ape[k]
+            s.times[k], estimate.times[j], q[0], q[1], q[2], p[0], p[1], p[2], s.ape[k]
         );
     }
     let mut list = vec![
         ("trajectory.json".to_owned(), json.into_bytes()),
         ("errors.csv".to_owned(), csv.into_bytes()),
-        ("trajectory.png".to_owned(), picture(reference, s)),
+        ("trajectory.png".to_owned(), picture(s)),
     ];
     if let Some(st) = &s.stretches {
         list.push(("graph.csv".to_owned(), super::graph::csv(st).into_bytes()));
@@ -180,8 +196,8 @@ const BLACK: Rgb = [0, 0, 0];
 
 /// Top down (x east, y north): the reference in grey, the aligned estimate coloured by APE
 /// (viridis, dark 0 to yellow at the largest), on one scale for both axes.
-fn picture(reference: &Trajectory, s: &Scored) -> Vec<u8> {
-    let refs: Vec<[f64; 3]> = s.pairs.iter().map(|&(i, _)| reference.poses[i].t).collect();
+fn picture(s: &Scored) -> Vec<u8> {
+    let refs: Vec<[f64; 3]> = s.refs.iter().map(|p| p.t).collect();
     let all = refs.iter().chain(s.aligned.iter().map(|p| &p.t));
     let (mut x0, mut y0, mut x1, mut y1) = (f64::MAX, f64::MAX, f64::MIN, f64::MIN);
     for p in all {

@@ -2,8 +2,10 @@
 //! trajectory (a SLAM or odometry run) against a ground-truth one, with the numbers evo gives
 //! on the same files and options.
 //!
-//! - Reading (`read.rs`): TUM or KITTI files, every row checked.
-//! - Association and alignment (`align.rs`): nearest in time within `--max-diff`; Umeyama
+//! - Reading (`read.rs`, `bag.rs`): TUM or KITTI files or a ROS 2 bag's pose topic, every
+//!   row or message checked.
+//! - Association and alignment (`align.rs`): nearest in time within `--max-diff`, or the
+//!   reference interpolated at the estimate's times (`--associate interpolate`); Umeyama
 //!   SE(3) or Sim(3), or origin alignment.
 //! - Scores (`metrics.rs`): APE, RPE over frames and over 10 m and 100 m of travel, final
 //!   drift, HILTI-style points, a failure flag.
@@ -13,6 +15,7 @@
 //!   in a score folder written atomically, like every folder the tool writes.
 
 mod align;
+pub mod bag;
 mod files;
 pub mod graph;
 mod metrics;
@@ -65,6 +68,27 @@ impl Align {
     }
 }
 
+/// How estimate poses are paired with reference poses.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Associate {
+    /// The nearest reference pose within `--max-diff` (evo's association).
+    Nearest,
+    /// The reference interpolated at the estimate's time, between reference poses at most
+    /// `--max-gap` apart.
+    Interpolate,
+}
+
+impl Associate {
+    /// Its name on the command line.
+    pub fn name(self) -> &'static str {
+        match self {
+            Associate::Nearest => "nearest",
+            Associate::Interpolate => "interpolate",
+        }
+    }
+}
+
 /// The travelled distances RPE is also measured over, metres (as KITTI's odometry benchmark
 /// reports drift per distance).
 pub const SEGMENTS_M: [f64; 2] = [10.0, 100.0];
@@ -74,16 +98,26 @@ pub const SEGMENTS_M: [f64; 2] = [10.0, 100.0];
 pub struct TrajectoryRequest {
     /// The world or sensor sequence folder, or the reference trajectory file itself.
     pub world_or_sequence: PathBuf,
-    /// The estimated trajectory (TUM or KITTI).
+    /// The estimated trajectory (TUM, KITTI, or a ROS 2 bag in MCAP storage).
     pub estimate: PathBuf,
+    /// The estimate's topic, when it is a bag with more than one pose topic.
+    pub topic: Option<String>,
     /// The estimate's times file, when it is KITTI (else `times.txt` beside it).
     pub times: Option<PathBuf>,
     /// The ground-truth trajectory, when the positional argument is not one (or a sequence).
     pub reference: Option<PathBuf>,
     /// The reference's times file, when it is KITTI.
     pub reference_times: Option<PathBuf>,
-    /// Poses further apart in time are not associated, seconds (evo's `--t_max_diff`).
+    /// The reference's topic, when it is a bag with more than one pose topic.
+    pub reference_topic: Option<String>,
+    /// How poses are paired.
+    pub associate: Associate,
+    /// Poses further apart in time are not associated, seconds (evo's `--t_max_diff`;
+    /// nearest association).
     pub max_diff: f64,
+    /// Reference poses further apart than this are not interpolated between, seconds
+    /// (interpolated association).
+    pub max_gap: f64,
     /// The alignment.
     pub align: Align,
     /// RPE's pose distance in frames (evo's `--delta N --delta_unit f`).
@@ -209,7 +243,7 @@ impl TrajectoryRequest {
         }
         read::reference_in(&self.world_or_sequence).ok_or_else(|| {
             Error::Usage(format!(
-                "{} is neither a trajectory file nor a sensor sequence folder (one with {SEQUENCE_GROUND_TRUTH}): give the ground truth with --reference FILE",
+                "{} is neither a trajectory file, a ROS 2 bag nor a sensor sequence folder (one with {SEQUENCE_GROUND_TRUTH}): give the ground truth with --reference FILE",
                 self.world_or_sequence.display()
             ))
         })
@@ -220,12 +254,13 @@ impl TrajectoryRequest {
     pub fn run(&self) -> Result<TrajectoryScore, Error> {
         for (what, v) in [
             ("--max-diff", self.max_diff),
+            ("--max-gap", self.max_gap),
             ("--fail-ape", self.fail_ape),
             ("--fail-jump", self.fail_jump),
         ] {
             if !(v.is_finite() && v >= 0.0) {
                 return Err(Error::Usage(format!(
-                    "{what} must be a number, 0 or more (seconds for --max-diff, metres for the others)"
+                    "{what} must be a number, 0 or more (seconds for --max-diff and --max-gap, metres for the others)"
                 )));
             }
         }
@@ -244,8 +279,13 @@ impl TrajectoryRequest {
             reading: &reading,
         };
         out.check()?;
-        let reference = read::read(&reference_file, self.reference_times.as_deref())?;
-        let estimate = read::read(&self.estimate, self.times.as_deref())?;
+        let reference = read::read_any(
+            &reference_file,
+            self.reference_times.as_deref(),
+            self.reference_topic.as_deref(),
+        )?;
+        let estimate =
+            read::read_any(&self.estimate, self.times.as_deref(), self.topic.as_deref())?;
         let world = self.world_or_sequence.join("topology.json").is_file();
         let cells = match world {
             true => Some(crate::score::world::cells(&self.world_or_sequence)?),
@@ -266,8 +306,13 @@ impl TrajectoryRequest {
 
 /// Everything computed, per pose and in summary.
 pub(crate) struct Scored {
-    /// Associated `(reference, estimate)` indices.
-    pairs: Vec<(usize, usize)>,
+    /// The time of each associated pair (the reference's, or the estimate's when
+    /// interpolated).
+    times: Vec<f64>,
+    /// The reference pose of each pair (interpolated, or as read).
+    refs: Vec<pose::Pose>,
+    /// The estimate's index of each pair.
+    estimate_index: Vec<usize>,
     /// The estimate's associated poses, aligned.
     aligned: Vec<pose::Pose>,
     /// APE per associated pose.
@@ -285,24 +330,42 @@ fn score(
     estimate: &read::Trajectory,
     cells: Option<&crate::score::world::Cells>,
 ) -> Result<Scored, Error> {
-    let pairs = align::associate(&reference.times, &estimate.times, r.max_diff);
+    let (times, refs, estimate_index): (Vec<f64>, Vec<pose::Pose>, Vec<usize>) = match r.associate {
+        Associate::Nearest => align::associate(&reference.times, &estimate.times, r.max_diff)
+            .into_iter()
+            .map(|(i, j)| (reference.times[i], reference.poses[i], j))
+            .collect(),
+        Associate::Interpolate => align::interpolate(
+            &reference.times,
+            &reference.poses,
+            &estimate.times,
+            r.max_gap,
+        )
+        .into_iter()
+        .map(|(j, t, p)| (t, p, j))
+        .collect(),
+    };
     let need = if r.align == Align::None { 2 } else { 3 };
-    if pairs.len() < need {
+    if times.len() < need {
+        let within = match r.associate {
+            Associate::Nearest => format!("within --max-diff {} s", r.max_diff),
+            Associate::Interpolate => format!(
+                "inside the reference's span (with reference poses at most --max-gap {} s apart)",
+                r.max_gap
+            ),
+        };
         let span =
             |t: &read::Trajectory| format!("{} to {} s", t.times[0], t.times[t.times.len() - 1]);
         return Err(Error::Input(format!(
-            "{} pose pair(s) within --max-diff {} s between {} ({}) and {} ({}); scoring needs at least {need}: are both in seconds on the same clock? (widen --max-diff for sparser poses)",
-            pairs.len(),
-            r.max_diff,
+            "{} pose pair(s) {within} between {} ({}) and {} ({}); scoring needs at least {need}: are both in seconds on the same clock? (widen --max-diff or --max-gap for sparser poses)",
+            times.len(),
             reference.file.display(),
             span(reference),
             estimate.file.display(),
             span(estimate)
         )));
     }
-    let refs: Vec<pose::Pose> = pairs.iter().map(|&(i, _)| reference.poses[i]).collect();
-    let ests: Vec<pose::Pose> = pairs.iter().map(|&(_, j)| estimate.poses[j]).collect();
-    let times: Vec<f64> = pairs.iter().map(|&(i, _)| reference.times[i]).collect();
+    let ests: Vec<pose::Pose> = estimate_index.iter().map(|&j| estimate.poses[j]).collect();
     let alignment = match r.align {
         Align::None => align::origin(&ests[0], &refs[0]),
         Align::Se3 | Align::Sim3 => {
@@ -362,7 +425,7 @@ fn score(
     let points: Vec<u32> = ape.iter().map(|&e| metrics::points(e)).collect();
     let stretches = cells.map(|c| graph::stretches(c, &times, &refs, &ape));
     let summary = TrajectoryScore {
-        poses: [estimate.poses.len(), reference.poses.len(), pairs.len()],
+        poses: [estimate.poses.len(), reference.poses.len(), times.len()],
         alignment,
         ape_m: Stats::of(&ape),
         rpe: rpe(r.delta as f64, "frames", &frame_rpe),
@@ -383,7 +446,9 @@ fn score(
         out: r.out.clone(),
     };
     Ok(Scored {
-        pairs,
+        times,
+        refs,
+        estimate_index,
         aligned,
         ape,
         rpe_at,

@@ -27,8 +27,10 @@ pub const SEQUENCE_GROUND_TRUTH: &str = "ground_truth.tum";
 pub struct Trajectory {
     /// The file it was read from.
     pub file: PathBuf,
-    /// `"tum"` or `"kitti"`.
+    /// `"tum"`, `"kitti"` or `"ros2-bag"`.
     pub format: &'static str,
+    /// The bag's topic the poses were read from (bags only).
+    pub topic: Option<String>,
     /// Times, seconds.
     pub times: Vec<f64>,
     /// Poses, one per time.
@@ -37,14 +39,18 @@ pub struct Trajectory {
     pub lines: Vec<usize>,
 }
 
-/// The trajectory file a positional argument names: the file itself, or a sensor sequence
-/// folder's `ground_truth.tum`; `None` for a folder without one (a world folder).
+/// The trajectory a positional argument names: the file itself, a sensor sequence folder's
+/// `ground_truth.tum`, or a ROS 2 bag folder; `None` for a folder without one (a world
+/// folder).
 pub fn reference_in(path: &Path) -> Option<PathBuf> {
     if path.is_file() {
         return Some(path.to_path_buf());
     }
     let gt = path.join(SEQUENCE_GROUND_TRUTH);
-    gt.is_file().then_some(gt)
+    if gt.is_file() {
+        return Some(gt);
+    }
+    super::bag::is_bag(path).then(|| path.to_path_buf())
 }
 
 fn bad(file: &Path, line: usize, what: impl std::fmt::Display) -> Error {
@@ -99,6 +105,7 @@ pub fn read(file: &Path, times: Option<&Path>) -> Result<Trajectory, Error> {
     let mut traj = Trajectory {
         file: file.to_path_buf(),
         format: if kitti { "kitti" } else { "tum" },
+        topic: None,
         times: Vec::with_capacity(rows.len()),
         poses: Vec::with_capacity(rows.len()),
         lines: Vec::with_capacity(rows.len()),
@@ -117,21 +124,9 @@ pub fn read(file: &Path, times: Option<&Path>) -> Result<Trajectory, Error> {
         let pose = if kitti {
             kitti_pose(v, file, *line)?
         } else {
-            let (t, q) = (v[0], [v[7], v[4], v[5], v[6]]);
-            traj.times.push(t);
-            let n = q.iter().map(|x| x * x).sum::<f64>().sqrt();
-            if (n - 1.0).abs() > UNIT_TOLERANCE {
-                return Err(bad(
-                    file,
-                    *line,
-                    format!(
-                        "the quaternion (qx qy qz qw) = ({} {} {} {}) has norm {n:.6}, not 1 within {UNIT_TOLERANCE}: columns out of order, or not a rotation",
-                        v[4], v[5], v[6], v[7]
-                    ),
-                ));
-            }
+            traj.times.push(v[0]);
             Pose {
-                q: q.map(|x| x / n),
+                q: unit([v[4], v[5], v[6], v[7]]).map_err(|why| bad(file, *line, why))?,
                 t: [v[1], v[2], v[3]],
             }
         };
@@ -145,15 +140,37 @@ pub fn read(file: &Path, times: Option<&Path>) -> Result<Trajectory, Error> {
     } else {
         (file.to_path_buf(), traj.lines.clone())
     };
-    if traj.poses.len() < 2 {
+    let (time_file, time_lines) = time_source;
+    increasing(&traj, |k, why| bad(&time_file, time_lines[k], why))?;
+    Ok(traj)
+}
+
+/// `[w x y z]`, normalised, of a `[x y z w]` quaternion within [`UNIT_TOLERANCE`] of unit
+/// norm; else why not.
+fn unit(q: [f64; 4]) -> Result<[f64; 4], String> {
+    let n = q.iter().map(|x| x * x).sum::<f64>().sqrt();
+    if (n - 1.0).abs() > UNIT_TOLERANCE {
+        return Err(format!(
+            "the quaternion (qx qy qz qw) = ({} {} {} {}) has norm {n:.6}, not 1 within {UNIT_TOLERANCE}: columns out of order, or not a rotation",
+            q[0], q[1], q[2], q[3]
+        ));
+    }
+    Ok([q[3] / n, q[0] / n, q[1] / n, q[2] / n])
+}
+
+/// At least two poses, at strictly increasing times; `at(k, why)` words the error at pose `k`.
+fn increasing(t: &Trajectory, at: impl Fn(usize, String) -> Error) -> Result<(), Error> {
+    if t.poses.len() < 2 {
         return Err(Error::Input(format!(
-            "{}: {} pose(s): a trajectory needs at least 2",
-            file.display(),
-            traj.poses.len()
+            "{}{}: {} pose(s): a trajectory needs at least 2",
+            t.file.display(),
+            t.topic
+                .as_ref()
+                .map_or(String::new(), |x| format!(": topic {x}")),
+            t.poses.len()
         )));
     }
-    let (time_file, time_lines) = time_source;
-    for (k, w) in traj.times.windows(2).enumerate() {
+    for (k, w) in t.times.windows(2).enumerate() {
         let (before, now) = (w[0], w[1]);
         if now <= before {
             let word = if now == before {
@@ -161,15 +178,61 @@ pub fn read(file: &Path, times: Option<&Path>) -> Result<Trajectory, Error> {
             } else {
                 "unsorted"
             };
-            return Err(bad(
-                &time_file,
-                time_lines[k + 1],
+            return Err(at(
+                k + 1,
                 format!(
                     "{word} time {now} (the pose before is at {before}): times must increase strictly"
                 ),
             ));
         }
     }
+    Ok(())
+}
+
+/// Reads a trajectory file ([`read`]) or a ROS 2 bag's pose topic (`topic`, or the bag's
+/// only pose topic), with the same checks: the header stamps must increase strictly and the
+/// quaternions be unit within [`UNIT_TOLERANCE`].
+pub fn read_any(
+    file: &Path,
+    times: Option<&Path>,
+    topic: Option<&str>,
+) -> Result<Trajectory, Error> {
+    if !super::bag::is_bag(file) {
+        return read(file, times);
+    }
+    let (topic, messages) = super::bag::read(file, topic)?;
+    let at = |number: usize, why: String| {
+        Error::Input(format!(
+            "{}: topic {topic}: message {number}: {why}",
+            file.display()
+        ))
+    };
+    let mut traj = Trajectory {
+        file: file.to_path_buf(),
+        format: "ros2-bag",
+        topic: Some(topic.clone()),
+        times: Vec::with_capacity(messages.len()),
+        poses: Vec::with_capacity(messages.len()),
+        lines: Vec::with_capacity(messages.len()),
+    };
+    for m in &messages {
+        if !(m.time.is_finite()
+            && m.position
+                .iter()
+                .chain(&m.orientation)
+                .all(|x| x.is_finite()))
+        {
+            return Err(at(
+                m.number,
+                "a NaN or infinite value: every stamp and pose value must be finite".to_owned(),
+            ));
+        }
+        let q = unit(m.orientation).map_err(|why| at(m.number, why))?;
+        traj.times.push(m.time);
+        traj.poses.push(Pose { q, t: m.position });
+        traj.lines.push(m.number);
+    }
+    increasing(&traj, |k, why| at(traj.lines[k], why))?;
     Ok(traj)
 }
 
