@@ -345,6 +345,35 @@ fn pcd(data: &str) -> Vec<u8> {
 }
 
 /// A small world folder with artifacts and its free space, made once.
+/// A small MCAP file as `subtgraph sense` writes them (LZ4 chunks): a topic `/poseK` of each
+/// type, 20 stamped poses each.
+fn mcap(types: &[&str]) -> Vec<u8> {
+    use subtgraph_sensors::write::{cdr::Cdr, mcap::Mcap};
+    let mut m = Mcap::new(Vec::new()).unwrap();
+    let mut channels = Vec::new();
+    for (k, ty) in types.iter().enumerate() {
+        let schema = m.schema(ty, "").unwrap();
+        let channel = m.channel(schema, &format!("/pose{k}"), &[]).unwrap();
+        channels.push((channel, *ty));
+    }
+    for i in 0..20u64 {
+        for &(channel, ty) in &channels {
+            let t = 1_000_000_000 + i * 100_000_000;
+            m.message(channel, t, t, |buf| {
+                let mut c = Cdr::new(buf);
+                c.header(t, "map");
+                if ty == "nav_msgs/msg/Odometry" {
+                    c.string("base_link");
+                }
+                c.vector([i as f64, 0.5 * i as f64, 0.0]);
+                c.quaternion([0.0, 0.0, 0.0, 1.0]);
+            })
+            .unwrap();
+        }
+    }
+    m.finish().unwrap().0
+}
+
 fn world_folder(dir: &Path) -> PathBuf {
     let text = "[world]\nseed = 5\nlevels = 2\nrows = 20\ncols = 20\ntile_pitch = 16.0\nlevel_height = 16.0\n\n\
         [topology]\nloops = 1\nt_junctions = 1\nintersections = 1\n\n[route]\ntype = \"parabolic\"\n\n\
@@ -598,6 +627,20 @@ fn every_reader_answers_mutated_files_with_a_clean_error_in_bounded_memory() {
                 let path = scratch.join("tile.obj");
                 std::fs::write(&path, b).unwrap();
                 let _ = subtgraph_tilesets::mesh_files::load(&path);
+            }),
+        ),
+        (
+            "ros2 bag (mcap)",
+            vec![mcap(&[
+                "geometry_msgs/msg/PoseStamped",
+                "nav_msgs/msg/Odometry",
+            ])],
+            Box::new(|b: &[u8]| {
+                let _ = subtgraph_app::score::trajectory::bag::parse(
+                    b,
+                    Path::new("fuzz.mcap"),
+                    Some("/pose0"),
+                );
             }),
         ),
         (

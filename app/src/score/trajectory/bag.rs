@@ -30,8 +30,9 @@ pub const POSE_TYPES: [&str; 4] = [
     "geometry_msgs/msg/TransformStamped",
 ];
 
-/// A chunk larger than this uncompressed is refused (a crafted size, not a bag): 1 GiB.
-const MAX_CHUNK: u64 = 1 << 30;
+/// A chunk larger than this uncompressed is refused (a crafted size, not a bag: rosbag2's
+/// chunks are a few megabytes): 256 MiB.
+const MAX_CHUNK: u64 = 1 << 28;
 
 /// Whether `path` is a bag: a folder with `metadata.yaml` or `.mcap`/`.db3` files, or an
 /// `.mcap` file.
@@ -43,6 +44,7 @@ pub fn is_bag(path: &Path) -> bool {
 }
 
 /// One pose message: its stamp, pose and number in the topic (1-based, for messages).
+#[derive(Clone, Debug)]
 pub struct Stamped {
     /// `header.stamp`, seconds.
     pub time: f64,
@@ -233,7 +235,7 @@ fn chunk(file: &Path, r: &mut Cursor, at: usize, out: &mut Records) -> Result<()
     let plain: Vec<u8> = match compression.as_str() {
         "" => data.to_vec(),
         "lz4" => {
-            let mut v = Vec::with_capacity(size as usize);
+            let mut v = Vec::with_capacity(size.min(16 * data.len() as u64) as usize);
             lz4_flex::frame::FrameDecoder::new(data)
                 .take(size)
                 .read_to_end(&mut v)
@@ -241,7 +243,7 @@ fn chunk(file: &Path, r: &mut Cursor, at: usize, out: &mut Records) -> Result<()
             v
         }
         "zstd" => {
-            let mut v = Vec::with_capacity(size as usize);
+            let mut v = Vec::with_capacity(size.min(16 * data.len() as u64) as usize);
             ruzstd::decoding::StreamingDecoder::new(data)
                 .map_err(|e| bad(&format!("a Zstandard chunk: {e}")))?
                 .take(size)
@@ -331,6 +333,19 @@ fn decode(data: &[u8], schema: &str) -> Option<(f64, [f64; 3], [f64; 4])> {
     Some((time, [v[0], v[1], v[2]], [v[3], v[4], v[5], v[6]]))
 }
 
+/// The records of one MCAP file's bytes.
+fn records_of(file: &Path, bytes: &[u8]) -> Result<Records, Error> {
+    if bytes.len() < 8 || &bytes[..8] != MAGIC {
+        return Err(Error::Input(format!(
+            "{}: not an MCAP file (it does not start with the MCAP magic bytes)",
+            file.display()
+        )));
+    }
+    let mut one = Records::default();
+    records(file, &bytes[8..], 8, &mut one)?;
+    Ok(one)
+}
+
 /// The pose messages of `topic` in `bag` (any pose topic when `None` and the bag has exactly
 /// one), in the order they were logged.
 pub fn read(bag: &Path, topic: Option<&str>) -> Result<(String, Vec<Stamped>), Error> {
@@ -338,16 +353,26 @@ pub fn read(bag: &Path, topic: Option<&str>) -> Result<(String, Vec<Stamped>), E
     for file in mcap_files(bag)? {
         let bytes =
             std::fs::read(&file).map_err(Error::io(format!("reading {}", file.display())))?;
-        if bytes.len() < 16 || &bytes[..8] != MAGIC {
-            return Err(Error::Input(format!(
-                "{}: not an MCAP file (it does not start with the MCAP magic bytes)",
-                file.display()
-            )));
-        }
-        let mut one = Records::default();
-        records(&file, &bytes[8..], 8, &mut one)?;
-        by_file.push(one);
+        by_file.push(records_of(&file, &bytes)?);
     }
+    select(bag, by_file, topic)
+}
+
+/// [`read`] of one MCAP file's bytes, `file` naming it in messages.
+pub fn parse(
+    bytes: &[u8],
+    file: &Path,
+    topic: Option<&str>,
+) -> Result<(String, Vec<Stamped>), Error> {
+    select(file, vec![records_of(file, bytes)?], topic)
+}
+
+/// The pose messages of `topic` among the records of a bag's files.
+fn select(
+    bag: &Path,
+    by_file: Vec<Records>,
+    topic: Option<&str>,
+) -> Result<(String, Vec<Stamped>), Error> {
     // Channel ids are per file: resolve each file's messages to (topic, schema) first.
     let mut topics: BTreeMap<String, String> = BTreeMap::new();
     let mut messages: Vec<(u64, String, String, Vec<u8>)> = Vec::new();
@@ -434,6 +459,37 @@ mod tests {
     fn the_file_list_of_a_metadata_yaml_is_read() {
         let yaml = "rosbag2_bagfile_information:\n  version: 5\n  relative_file_paths:\n    - run_0.mcap\n    - \"run_1.mcap\"\n  duration:\n    nanoseconds: 5\n";
         assert_eq!(relative_file_paths(yaml), ["run_0.mcap", "run_1.mcap"]);
+    }
+
+    #[test]
+    fn what_the_sensor_bags_write_is_read_back() {
+        use subtgraph_sensors::write::{cdr::Cdr, mcap::Mcap};
+        let mut m = Mcap::new(Vec::new()).unwrap();
+        let odom = m.schema("nav_msgs/msg/Odometry", "").unwrap();
+        let text = m.schema("std_msgs/msg/String", "").unwrap();
+        let a = m.channel(odom, "/odom", &[]).unwrap();
+        let b = m.channel(text, "/text", &[]).unwrap();
+        for i in 0..5u64 {
+            let t = 7_000_000_000 + i * 250_000_000;
+            m.message(a, t, t, |buf| {
+                let mut c = Cdr::new(buf);
+                c.header(t, "map");
+                c.string("base_link");
+                c.vector([i as f64, -1.5, 0.25]);
+                c.quaternion([0.0, 0.0, 0.6, 0.8]);
+            })
+            .unwrap();
+            m.message(b, t, t, |buf| Cdr::new(buf).string("x")).unwrap();
+        }
+        let bytes = m.finish().unwrap().0;
+        let (topic, poses) = parse(&bytes, Path::new("t.mcap"), None).unwrap();
+        assert_eq!(topic, "/odom");
+        assert_eq!(poses.len(), 5);
+        assert_eq!(poses[3].time, 7.75);
+        assert_eq!(poses[3].position, [3.0, -1.5, 0.25]);
+        assert_eq!(poses[3].orientation, [0.0, 0.0, 0.6, 0.8]);
+        let e = parse(&bytes, Path::new("t.mcap"), Some("/text")).unwrap_err();
+        assert!(e.to_string().contains("not a pose"), "{e}");
     }
 
     #[test]
