@@ -717,6 +717,26 @@ fn with_a_world_the_error_increase_is_placed_on_its_graph_edge() {
         "no other stretch grew",
     );
     assert!(printed.contains("largest APE increase: edge"), "{printed}");
+    // The level's picture: its tiles, and the estimate from dark (0 m) to yellow (2 m).
+    assert!(!out.join("trajectory-level-1.png").exists(), "one level");
+    let mut reader = png::Decoder::new(std::io::BufReader::new(
+        std::fs::File::open(out.join("trajectory-level-0.png")).unwrap(),
+    ))
+    .read_info()
+    .unwrap();
+    let mut buf = vec![0; reader.output_buffer_size().unwrap()];
+    let info = reader.next_frame(&mut buf).unwrap();
+    let channels = info.color_type.samples();
+    let px: Vec<&[u8]> = buf[..info.buffer_size()].chunks_exact(channels).collect();
+    let count = |f: &dyn Fn(&[u8]) -> bool| px.iter().filter(|c| f(c)).count();
+    let tiles = count(&|c| c[..3] == [222, 222, 222]);
+    let yellow = count(&|c| c[0] > 220 && c[1] > 200 && c[2] < 90);
+    let dark = count(&|c| c[0] < 80 && c[1] < 40 && c[2] > 60 && c[2] < 110);
+    assert!(
+        tiles > px.len() / 50 && yellow > 10 && dark > 10,
+        "{tiles} tile, {yellow} yellow and {dark} dark pixels of {}",
+        px.len()
+    );
     // The increases add up to the final APE.
     let csv = std::fs::read_to_string(out.join("graph.csv")).unwrap();
     let total: f64 = csv

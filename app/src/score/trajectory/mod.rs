@@ -10,7 +10,7 @@
 //! - Scores (`metrics.rs`): APE, RPE over frames and over 10 m and 100 m of travel, final
 //!   drift, HILTI-style points, a failure flag.
 //! - With a world folder (`graph.rs`): the run cut into stretches per graph node and edge,
-//!   with the APE increase of each.
+//!   with the APE increase of each; a picture per level (`levels.rs`).
 //! - Output (`files.rs`): `trajectory.json`, `errors.csv`, `trajectory.png` (and `graph.csv`)
 //!   in a score folder written atomically, like every folder the tool writes.
 
@@ -18,6 +18,7 @@ mod align;
 pub mod bag;
 mod files;
 pub mod graph;
+mod levels;
 mod metrics;
 pub mod pose;
 pub mod read;
@@ -292,7 +293,14 @@ impl TrajectoryRequest {
             false => None,
         };
         let scored = score(self, &reference, &estimate, cells.as_ref())?;
-        let files = files::files(self, &reference, &estimate, &scored);
+        let mut files = files::files(self, &reference, &estimate, &scored);
+        if let Some(cells) = &cells {
+            for (level, png) in levels::pictures(cells, &scored) {
+                files
+                    .list
+                    .push((format!("trajectory-level-{level}.png"), png));
+            }
+        }
         crate::folder::write_atomically(&out, |w| {
             for (name, bytes) in &files.list {
                 std::fs::write(w.root().join(name), bytes)
