@@ -16,18 +16,44 @@ use crate::text::{mtl, write_obj};
 /// Writes the world's meshes as Wavefront OBJ: `mesh/world.obj` (visual, one object, grouped
 /// by material), `mesh/world.mtl` and `mesh/collision.obj`. Every world folder with geometry
 /// has these; as an `[[export]]` with a `split`, it also writes one OBJ pair per part under
-/// `mesh/parts/<split>/`.
-#[derive(Clone, Copy, Debug, Default)]
+/// `mesh/parts/<split>/`, and with `visual = "none"` only the collision surface.
+#[derive(Clone, Copy, Debug)]
 pub struct Obj {
     /// Also write per-part meshes cut this way.
     pub split: Option<Split>,
+    /// Write `mesh/world.obj` and its `.mtl` (`visual = "full"`, the default); without, only
+    /// `mesh/collision.obj`: what ray casting, planning and physics read, a quarter of the
+    /// bytes (a lava tube's visual OBJ is about 500 MB).
+    pub visual: bool,
+}
+
+impl Default for Obj {
+    fn default() -> Self {
+        Obj {
+            split: None,
+            visual: true,
+        }
+    }
 }
 
 impl Obj {
-    /// From an `[[export]] type = "obj"` table: an optional `split` (and `region_tiles`).
+    /// From an `[[export]] type = "obj"` table: an optional `split` (and `region_tiles`) and
+    /// `visual` (`"full"` or `"none"`).
     pub fn from_params(params: &Params) -> Result<Obj, ConfigError> {
-        params.expect_known(&Split::KEYS)?;
+        params.expect_known(&[Split::KEYS[0], Split::KEYS[1], "visual"])?;
+        let visual = match params.raw("visual") {
+            None => true,
+            Some(toml::Value::String(s)) if s == "full" => true,
+            Some(toml::Value::String(s)) if s == "none" => false,
+            Some(_) => {
+                return Err(params.error(
+                    "visual",
+                    "visual must be \"full\" (mesh/world.obj and its .mtl beside mesh/collision.obj) or \"none\" (mesh/collision.obj alone: a quarter of the bytes, for ray casting, planning and physics)",
+                ));
+            }
+        };
         Ok(Obj {
+            visual,
             split: match params.raw("split") {
                 Some(_) => Some(Split::from_params(params)?),
                 None => None,
@@ -48,7 +74,7 @@ impl Exporter for Obj {
                 "the OBJ exporter needs geometry: add a [tileset] to the pipeline (or drop --no-mesh)".into(),
             ));
         };
-        if !out.contains("mesh/world.obj") {
+        if self.visual && !out.contains("mesh/world.obj") {
             write_file(out, "mesh/world.mtl", mtl(&mesh.materials).as_bytes())?;
             stream_file(out, "mesh/world.obj", |w| {
                 write_obj(
@@ -58,6 +84,8 @@ impl Exporter for Obj {
                     Some((&mesh.materials, "world.mtl")),
                 )
             })?;
+        }
+        if !out.contains("mesh/collision.obj") {
             stream_file(out, "mesh/collision.obj", |w| {
                 write_obj(w, &mesh.collision, "collision", None)
             })?;

@@ -3,7 +3,7 @@
 For each world folder given: every corridor and ramp edge of ground_truth/graph.json, sampled
 every metre along its polyline (horizontal distance), turns at most LIMIT degrees from one
 metre to the next, away from NEAR metres of its two end nodes; and every point of every
-corridor's polyline stands on a floor of mesh/collision.obj (read with trimesh), with room
+corridor's polyline stands on a floor of mesh/collision.obj (read with numpy), with room
 above it: the vertical line through the point crosses the surface at most TOL below and
 above it on a triangle facing up (a floor seen from the passage), and nothing else within a
 metre above that floor. Facing, not parity, so the open surfaces of mesh tiles (the DARPA
@@ -19,7 +19,6 @@ import sys
 from pathlib import Path
 
 import numpy as np
-import trimesh
 
 NEAR = 12.5
 TOL = 0.3
@@ -57,21 +56,52 @@ def worst_turn(graph):
     return worst
 
 
+def obj_triangles(path):
+    """The triangles of an OBJ file, (n, 3, 3): its `v` lines and its `f` lines' vertex
+    indices (1-based, or negative from the end; `v/vt/vn` forms), read with numpy. Polygons
+    are fanned into triangles."""
+    vs, faces = [], []
+    with open(path, "rb") as f:
+        for line in f:
+            if line.startswith(b"v "):
+                vs.append(line[2:])
+            elif line.startswith(b"f "):
+                faces.append([int(w.split(b"/")[0]) for w in line[2:].split()])
+    v = np.array(b" ".join(vs).split(), dtype=float).reshape(-1, 3)
+    tris = []
+    for n in sorted({len(f) for f in faces}):
+        idx = np.array([f for f in faces if len(f) == n])
+        idx = np.where(idx < 0, idx + len(v), idx - 1)
+        for k in range(1, n - 1):
+            tris.append(v[idx[:, [0, k, k + 1]]])
+    return np.concatenate(tris) if tris else np.zeros((0, 3, 3))
+
+
 class Soup:
     """The collision surface's triangles, bucketed by squares of the plane."""
 
-    def __init__(self, mesh):
-        self.tri = np.asarray(mesh.triangles, dtype=float)
+    def __init__(self, triangles):
+        self.tri = np.asarray(triangles, dtype=float)
         a, b, c = self.tri[:, 0], self.tri[:, 1], self.tri[:, 2]
         self.area = (b[:, 0] - a[:, 0]) * (c[:, 1] - a[:, 1]) - (b[:, 1] - a[:, 1]) * (c[:, 0] - a[:, 0])
-        lo = np.floor(self.tri[:, :, :2].min(axis=1) / BUCKET).astype(int)
-        hi = np.floor(self.tri[:, :, :2].max(axis=1) / BUCKET).astype(int)
-        self.buckets = {}
-        for t in np.nonzero(self.area != 0)[0]:
-            for bx in range(lo[t, 0], hi[t, 0] + 1):
-                for by in range(lo[t, 1], hi[t, 1] + 1):
-                    self.buckets.setdefault((bx, by), []).append(t)
-        self.buckets = {k: np.asarray(v) for k, v in self.buckets.items()}
+        lo = np.floor(self.tri[:, :, :2].min(axis=1) / BUCKET).astype(np.int64)
+        hi = np.floor(self.tri[:, :, :2].max(axis=1) / BUCKET).astype(np.int64)
+        # Every (triangle, bucket) pair its bounding box covers, without a Python loop.
+        keep = np.nonzero(self.area != 0)[0]
+        nx = hi[keep, 0] - lo[keep, 0] + 1
+        ny = hi[keep, 1] - lo[keep, 1] + 1
+        count = nx * ny
+        t = np.repeat(keep, count)
+        k = np.arange(count.sum()) - np.repeat(np.cumsum(count) - count, count)
+        bx = lo[t, 0] + k // np.repeat(ny, count)
+        by = lo[t, 1] + k % np.repeat(ny, count)
+        order = np.lexsort((t, by, bx))
+        t, bx, by = t[order], bx[order], by[order]
+        starts = np.nonzero(np.r_[True, (bx[1:] != bx[:-1]) | (by[1:] != by[:-1])])[0]
+        ends = np.r_[starts[1:], len(t)]
+        self.buckets = {
+            (int(bx[s]), int(by[s])): t[s:e] for s, e in zip(starts, ends)
+        }
 
     def crossings(self, x, y):
         """(height, faces up) of every crossing of the vertical line through (x, y), sorted."""
@@ -105,8 +135,7 @@ for world in map(Path, sys.argv[2:]):
     graph = json.loads((world / "ground_truth/graph.json").read_text())
     turn, edge, at = worst_turn(graph)
     assert turn <= limit, f"{world.name}: edge {edge} turns {turn:.1f} degrees in a metre at {at}"
-    mesh = trimesh.load(world / "mesh/collision.obj", process=False, force="mesh")
-    soup = Soup(mesh)
+    soup = Soup(obj_triangles(world / "mesh/collision.obj"))
     checked = 0
     for e in graph["edges"]:
         if e["kind"] != "corridor":
