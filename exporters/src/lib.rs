@@ -46,8 +46,8 @@ mod world_toml;
 pub use gltf::Gltf;
 
 pub use ground_truth::{
-    FreeSpace, GraphFiles, GroundTruth, RosMap, SemanticLabels, Settings as GroundTruthSettings,
-    SpawnPoses,
+    Comms, FreeSpace, GraphFiles, GroundTruth, RosMap, SemanticLabels,
+    Settings as GroundTruthSettings, SpawnPoses,
 };
 pub use level_maps::{LevelMaps, kind_colour};
 pub use mjcf::Mjcf;
@@ -112,6 +112,11 @@ pub fn register(registry: &mut Registry) -> Result<(), DuplicateName> {
         "ground-truth",
         "ground truth: graph, ros-map, free-space, semantic-labels and spawn-poses with their keys",
         |p| Ok(Box::new(GroundTruth::from_params(p)?) as Box<dyn Exporter>),
+    )?;
+    e.add(
+        "comms",
+        "ground truth: line of sight between every two passage tiles within `range` (ground_truth/comms.csv + .json), the DARPA comms question; `range`, `antenna`",
+        |p| Ok(Box::new(Comms::from_params(p)?) as Box<dyn Exporter>),
     )?;
     e.add(
         "tasks",

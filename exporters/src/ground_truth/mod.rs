@@ -10,6 +10,7 @@
 //! | `semantic-labels` | `semantic_labels.json`, `.csv` | place categorisation (junction, dead end, ...) |
 //! | `spawn-poses` | `spawn_poses.json` | multi-robot start and goal poses |
 //! | `ground-truth` | all of the above | |
+//! | `comms` | `comms.csv`, `comms.json` | radio line of sight between tiles (not in `ground-truth`) |
 //!
 //! None needs geometry: with the world's collision mesh they use its exact surface (the
 //! survey's passages, `survey/src/passages.rs`), without one (`--no-mesh`, no `[tileset]`) the
@@ -26,6 +27,7 @@ use subtgraph_core::params::Params;
 use subtgraph_core::survey::Survey;
 
 pub(crate) mod artifacts;
+mod comms;
 mod free_space;
 mod graph;
 pub(crate) mod hazards;
@@ -33,6 +35,7 @@ pub(crate) mod ros_map;
 mod semantic_labels;
 mod spawn_poses;
 
+pub use comms::Comms;
 pub use free_space::FreeSpace;
 pub use graph::GraphFiles;
 pub use ros_map::RosMap;
