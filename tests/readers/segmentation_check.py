@@ -2,7 +2,8 @@
 
     segmentation_check.py write WORLD LEVEL DIR
         writes, from the world's own files, DIR/level-N.png (the perfect map: each free pixel
-        of ground_truth/maps/level-N.pgm labelled from ground_truth/semantic_labels.json),
+        of ground_truth/maps/level-N.pgm labelled from ground_truth/semantic_labels.json by
+        the tile square it is in),
         DIR/shifted-level-N.png (the same moved 8 pixels east) and DIR/corrupt-level-N.npy
         (int16; a seeded tenth of the pixels relabelled 0, 1 or 5, one junction tile erased, a
         dead end painted on a straight tile).
@@ -58,12 +59,22 @@ def ros_map(world, level):
 def truth(world, level):
     free, xs, ys = ros_map(world, level)
     labels = json.load(open(Path(world) / "ground_truth" / "semantic_labels.json"))
-    half = labels["tile_pitch_m"] / 2
+    pitch = labels["tile_pitch_m"]
+    half = pitch / 2
+    # Each tile's square on the grid: its cell's centre, placed by the level's offset, read from
+    # a node of topology.json on that level (its cell, and its position rounded to the grid:
+    # a node stands on its own passage, within its tile). Not the tile's node position, which
+    # with a mesh is where its passage runs, not the middle of its square.
+    topo = json.load(open(Path(world) / "topology.json"))
+    nrows = topo["rows"]
+    node = next(n for n in topo["nodes"] if n["cell"]["level"] == level)
+    oc = round(node["position"][0] / pitch) - node["cell"]["col"]
+    orow = nrows - 1 - round(node["position"][1] / pitch) - node["cell"]["row"]
     out = np.zeros(free.shape, dtype=np.uint8)
     for t in labels["tiles"]:
         if t["level"] != level:
             continue
-        cx, cy = t["position"][0], t["position"][1]
+        cx, cy = (t["col"] + oc) * pitch, (nrows - 1 - (t["row"] + orow)) * pitch
         cols = (xs >= cx - half) & (xs < cx + half)
         rows = (ys >= cy - half) & (ys < cy + half)
         out[np.ix_(rows, cols)] = TABLE[t["kind"]]
