@@ -546,6 +546,16 @@ fn bad_input_is_refused_naming_the_file_and_line() {
             "1 0 0 0 0 1 0 0 0 0 1 0\n2 0 0 0 0 1 0 0 0 0 1 0\n",
             "line 2: the 3x3 part is not a rotation",
         ),
+        (
+            "millimetres",
+            "0 0 0 0 0 0 0 1\n1 1000 0 0 0 0 0 1\n2 2000 0 0 0 0 0 1\n3 3000 0 0 0 0 0 1\n",
+            "millimetres where metres are expected? Give both in metres, or score with --align sim3",
+        ),
+        (
+            "nanoseconds",
+            "0 0 0 0 0 0 0 1\n1000000000 1 0 0 0 0 0 1\n2000000000 2 0 0 0 0 0 1\n3000000000 3 0 0 0 0 0 1\n",
+            "nanoseconds where seconds are expected? Give both in seconds",
+        ),
     ];
     for (name, text, message) in cases {
         let e = dir.path().join(format!("{}.txt", name.replace(' ', "-")));
@@ -750,6 +760,34 @@ fn with_a_world_the_error_increase_is_placed_on_its_graph_edge() {
         1e-9,
         "sum of the increases",
     );
+    // The same run in millimetres, or in an odometry frame 10 km away, is not in the world's
+    // frame: refused, saying so, and nothing written.
+    for (name, f) in [("mm", 1000.0), ("far", 1.0)] {
+        let moved: Vec<Row> = reference
+            .iter()
+            .map(|&(t, p, q)| {
+                let shift = if name == "far" { 10_000.0 } else { 0.0 };
+                (t, [p[0] * f + shift, p[1] * f, p[2] * f], q)
+            })
+            .collect();
+        let m = write_tum(&dir.path().join(format!("{name}.tum")), &moved);
+        let out = dir.path().join(format!("scored-{name}"));
+        let e = fails(&[
+            "score",
+            arg(&world),
+            "--trajectory",
+            arg(&m),
+            "--reference",
+            arg(&m),
+            "--out",
+            arg(&out),
+        ]);
+        assert!(
+            e.contains("outside the world") && e.contains("must be in the world frame in metres"),
+            "{name}: {e}"
+        );
+        assert!(!out.exists());
+    }
 }
 
 /// Writes `topics` (`topic:type:file.tum`) into a ROS 2 bag with rosbags; `false` when the

@@ -312,6 +312,94 @@ impl TrajectoryRequest {
     }
 }
 
+/// Powers of ten a unit slip makes, with their likely cause.
+const SLIPS: [(f64, &str); 6] = [
+    (1e3, "millimetres where metres are expected"),
+    (1e2, "centimetres where metres are expected"),
+    (1e-3, "kilometres where metres are expected"),
+    (1e9, "nanoseconds where seconds are expected"),
+    (1e6, "microseconds where seconds are expected"),
+    (1e-9, "seconds where nanoseconds are expected"),
+];
+
+/// The power-of-ten slip `ratio` is nearest to (within a factor of 3), if any.
+fn slip(ratio: f64) -> Option<(f64, &'static str)> {
+    SLIPS
+        .into_iter()
+        .find(|&(k, _)| ratio.is_finite() && ratio > 0.0 && (ratio / k).ln().abs() < 3f64.ln())
+}
+
+/// What to say when too few poses pair: the times' units, if they differ by a power of ten.
+fn clock_guess(reference: &read::Trajectory, estimate: &read::Trajectory) -> String {
+    let mid = |t: &read::Trajectory| 0.5 * (t.times[0] + t.times[t.times.len() - 1]);
+    let (a, b) = (mid(estimate), mid(reference));
+    let seconds = [(a / b, "the estimate's"), (b / a, "the reference's")];
+    for (ratio, whose) in seconds {
+        if let Some((k, what)) = slip(ratio).filter(|(k, _)| *k >= 1e6) {
+            return format!(
+                "{whose} times are about {k:e} times the other's: {what}? Give both in seconds on the same clock"
+            );
+        }
+    }
+    "are both in seconds on the same clock? (widen --max-diff or --max-gap for sparser poses)"
+        .to_owned()
+}
+
+/// Refuses an estimate whose path is a power of ten longer or shorter than the reference's
+/// (over the pairs): a unit slip, not drift, which no method makes. Sim(3) alignment, which
+/// fits a scale, is not checked.
+fn unit_guess(
+    refs: &[pose::Pose],
+    ests: &[pose::Pose],
+    reference: &read::Trajectory,
+    estimate: &read::Trajectory,
+) -> Result<(), Error> {
+    let (a, b) = (metrics::path_length(ests), metrics::path_length(refs));
+    if b < 1.0 || a < 1e-9 {
+        return Ok(());
+    }
+    let ratio = a / b;
+    if let Some((k, what)) = slip(ratio).filter(|(k, _)| *k <= 1e3) {
+        return Err(Error::Input(format!(
+            "{}: its path over the paired poses is {a:.3} m, {ratio:.4} times the {b:.3} m of {} (about {k:e}): {what}? Give both in metres, or score with --align sim3 when the estimate's scale is unknown (monocular methods)",
+            estimate.file.display(),
+            reference.file.display()
+        )));
+    }
+    Ok(())
+}
+
+/// Refuses a reference that is not in the world folder's frame: most of its poses more than a
+/// tile outside the world's grid (another origin, or another unit).
+fn frame_guess(
+    cells: &crate::score::world::Cells,
+    refs: &[pose::Pose],
+    reference: &read::Trajectory,
+) -> Result<(), Error> {
+    let [x0, y0, x1, y1] = cells.extent();
+    let m = cells.pitch;
+    let top = cells.levels as f64 * cells.level_height;
+    let outside = refs
+        .iter()
+        .filter(|p| {
+            let [x, y, z] = p.t;
+            x < x0 - m || x > x1 + m || y < y0 - m || y > y1 + m || z < -m || z > top + m
+        })
+        .count();
+    if 2 * outside > refs.len() {
+        let p = refs[0].t;
+        return Err(Error::Input(format!(
+            "{}: {outside} of its {} paired poses lie more than a tile ({m} m) outside the world (x {x0:.1} to {x1:.1}, y {y0:.1} to {y1:.1}, z 0 to {top:.1} m; the first at ({:.1}, {:.1}, {:.1})): the reference must be in the world frame in metres (x east, y north, z up, as topology.json), not in millimetres or the robot's odometry frame",
+            reference.file.display(),
+            refs.len(),
+            p[0],
+            p[1],
+            p[2]
+        )));
+    }
+    Ok(())
+}
+
 /// Everything computed, per pose and in summary.
 pub(crate) struct Scored {
     /// The time of each associated pair (the reference's, or the estimate's when
@@ -355,6 +443,7 @@ fn score(
     };
     let need = if r.align == Align::None { 2 } else { 3 };
     if times.len() < need {
+        let clock = clock_guess(reference, estimate);
         let within = match r.associate {
             Associate::Nearest => format!("within --max-diff {} s", r.max_diff),
             Associate::Interpolate => format!(
@@ -365,7 +454,7 @@ fn score(
         let span =
             |t: &read::Trajectory| format!("{} to {} s", t.times[0], t.times[t.times.len() - 1]);
         return Err(Error::Input(format!(
-            "{} pose pair(s) {within} between {} ({}) and {} ({}); scoring needs at least {need}: are both in seconds on the same clock? (widen --max-diff or --max-gap for sparser poses)",
+            "{} pose pair(s) {within} between {} ({}) and {} ({}); scoring needs at least {need}: {clock}",
             times.len(),
             reference.file.display(),
             span(reference),
@@ -374,6 +463,12 @@ fn score(
         )));
     }
     let ests: Vec<pose::Pose> = estimate_index.iter().map(|&j| estimate.poses[j]).collect();
+    if r.align != Align::Sim3 {
+        unit_guess(&refs, &ests, reference, estimate)?;
+    }
+    if let Some(cells) = cells {
+        frame_guess(cells, &refs, reference)?;
+    }
     let alignment = match r.align {
         Align::None => align::origin(&ests[0], &refs[0]),
         Align::Se3 | Align::Sim3 => {
