@@ -308,24 +308,22 @@ impl Builder {
 /// nodes appended: the nodes one thread would have made, in the same order.
 fn graft(nodes: &mut Vec<Node>, at: usize, b: &[Node]) {
     let base = nodes.len();
-    let to = |i: u32| {
-        if i == 0 {
-            at as u32
-        } else {
-            (base + i as usize - 1) as u32
-        }
-    };
     let moved = |n: &Node| {
         if n.count > 0 {
-            *n
-        } else {
-            Node {
-                index: to(n.index),
-                ..*n
-            }
+            return *n;
+        }
+        // Its root becomes `at`, its other nodes follow the ones already there.
+        let index = match n.index {
+            0 => at,
+            i => base + i as usize - 1,
+        };
+        Node {
+            index: index as u32,
+            ..*n
         }
     };
-    nodes[at] = moved(&b[0]);
+    let root = moved(&b[0]);
+    nodes[at] = root;
     nodes.extend(b[1..].iter().map(moved));
 }
 
