@@ -40,7 +40,8 @@ pub struct PyWorld {
     plugins: Vec<PathBuf>,
     codes: OnceLock<Vec<u8>>,
     tiles: OnceLock<Vec<u8>>,
-    /// The collision surface's ray caster and reflectivities, built on the first cast.
+    /// The collision surface's ray caster (the world survey's) and reflectivities, built on
+    /// the first cast.
     scene: OnceLock<subtgraph_sensors::Scene>,
 }
 
@@ -63,8 +64,11 @@ fn scene_of(w: &PyWorld) -> PyResult<&subtgraph_sensors::Scene> {
     if let Some(s) = w.scene.get() {
         return Ok(s);
     }
-    let scene = subtgraph_sensors::Scene::of_world(&w.world)
-        .map_err(|e| pyo3::exceptions::PyValueError::new_err(e.to_string()))?;
+    // The world's survey holds the one ray-cast hierarchy; the scene keeps it (an `Arc`).
+    let value_error =
+        |e: &dyn std::fmt::Display| pyo3::exceptions::PyValueError::new_err(e.to_string());
+    let survey = subtgraph_survey::WorldSurvey::new(&w.world).map_err(|e| value_error(&e))?;
+    let scene = subtgraph_sensors::Scene::of_survey(&survey).map_err(|e| value_error(&e))?;
     Ok(w.scene.get_or_init(|| scene))
 }
 

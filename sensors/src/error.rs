@@ -128,6 +128,10 @@ pub enum SenseError {
         /// Why, as the application says it.
         source: HostError,
     },
+    /// The rebuilt world's survey failed (its artifacts found no room: the message says
+    /// which key to change).
+    #[error("surveying the world: {0}")]
+    Survey(#[from] subtgraph_survey::SurveyError),
     /// The application could not place the folder (the cause is its error).
     #[error("{0}")]
     Host(#[source] HostError),

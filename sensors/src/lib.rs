@@ -9,10 +9,11 @@
 //! world's collision surface and its ground-truth graph suffice. A route is planned on the
 //! graph ([`route`]) and timed into a smooth trajectory ([`trajectory`]); a LiDAR model
 //! ([`lidar`]) casts its rays into the surface with the core's ray caster
-//! ([`subtgraph_core::raycast`]) from the pose the sensor has at each ray's instant; an IMU
+//! ([`subtgraph_core::raycast`]), the one the world's survey holds
+//! ([`subtgraph_survey::WorldSurvey::rays`]), from the pose the sensor has at each ray's instant; an IMU
 //! ([`imu`]) reads the trajectory's exact derivatives; and the writers ([`write`](mod@write)) stream it all
 //! to disk. [`request::SenseRequest`] is the `subtgraph sense` command; a dataset worker that
-//! already holds a world calls [`scene::Scene::of_world`], [`sequence::Sequence::plan`] and
+//! already holds a world and its survey calls [`scene::Scene::of_survey`], [`sequence::Sequence::plan`] and
 //! [`sequence::Sequence::write`] directly.
 //!
 //! Everything is deterministic: the same world, options and seed give byte-identical folders

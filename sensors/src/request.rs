@@ -4,6 +4,7 @@
 use std::path::{Path, PathBuf};
 
 use subtgraph_core::World;
+use subtgraph_survey::WorldSurvey;
 
 use crate::error::{HostError, SenseError};
 use crate::graph::RouteGraph;
@@ -195,7 +196,9 @@ impl SenseRequest {
                 })?;
             check_graph(&world, &graph, &self.world)?;
             let options = options(self, world.resolved.seed)?;
-            let scene = Scene::of_world(&world)?;
+            // The survey of the world: its one ray-cast hierarchy is what the scans ask.
+            let survey = WorldSurvey::new(&world)?;
+            let scene = Scene::of_survey(&survey)?;
             let sequence = Sequence::plan(&scene, &graph, options)?;
             sequence.check_disk(limit)?;
             let about = serde_json::json!({

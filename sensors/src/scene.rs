@@ -1,16 +1,22 @@
 //! What the sensors see of a world: its collision surface in a ray caster, how strongly each
 //! triangle reflects a LiDAR's near-infrared light, and where its floor hazards are.
+//!
+//! The ray caster is the world survey's ([`WorldSurvey::rays`]): one hierarchy over the
+//! collision surface, built once per world and shared (an `Arc`) by every question about
+//! what a ray hits, the survey's own widths and heights as well as the sensors' rays.
 
-use subtgraph_core::World;
+use std::sync::Arc;
+
 use subtgraph_core::mesh::Mesh;
 use subtgraph_core::raycast::RayCaster;
+use subtgraph_survey::WorldSurvey;
 
 use crate::error::SenseError;
 
 /// A world made ready for sensing: built once, then shared by every scan.
 pub struct Scene {
-    /// The collision surface's hierarchy.
-    pub caster: RayCaster,
+    /// The collision surface's hierarchy (the survey's, shared).
+    pub caster: Arc<RayCaster>,
     /// Each triangle's reflectivity in `[0, 1]` (index: the mesh's triangle).
     pub reflectivity: Vec<f32>,
     /// Floor hazards (rubble fields, drops) as `[x0, y0, x1, y1, z0, z1]`.
@@ -20,9 +26,11 @@ pub struct Scene {
 }
 
 impl Scene {
-    /// The scene of a world with geometry.
-    pub fn of_world(world: &World) -> Result<Scene, SenseError> {
+    /// The scene of a surveyed world with geometry: its ray caster is the survey's.
+    pub fn of_survey(survey: &WorldSurvey<'_>) -> Result<Scene, SenseError> {
+        let world = survey.world();
         let mesh = world.mesh().ok_or(SenseError::NoMesh)?;
+        let caster = survey.rays().ok_or(SenseError::NoMesh)?;
         let reflectivity: Vec<f32> = mesh.materials.iter().map(material_reflectivity).collect();
         let hazards = mesh
             .hazards
@@ -38,7 +46,8 @@ impl Scene {
                 ]
             })
             .collect();
-        Ok(Scene::new(
+        Ok(Scene::with_caster(
+            Arc::clone(caster),
             &mesh.collision,
             &reflectivity,
             hazards,
@@ -46,9 +55,22 @@ impl Scene {
         ))
     }
 
-    /// A scene of any mesh: `reflectivity` per material index (the triangles' `materials`;
-    /// 0.3 for an index without one).
+    /// A scene of any mesh, not a world's (tests, a mesh read from elsewhere): builds a
+    /// hierarchy over it. `reflectivity` per material index (the triangles' `materials`; 0.3
+    /// for an index without one).
     pub fn new(
+        mesh: &Mesh,
+        reflectivity: &[f32],
+        hazards: Vec<[f64; 6]>,
+        tile_pitch: f64,
+    ) -> Scene {
+        let caster = Arc::new(RayCaster::new(mesh));
+        Scene::with_caster(caster, mesh, reflectivity, hazards, tile_pitch)
+    }
+
+    /// A scene of `mesh` whose hierarchy `caster` is already built (over that mesh).
+    fn with_caster(
+        caster: Arc<RayCaster>,
         mesh: &Mesh,
         reflectivity: &[f32],
         hazards: Vec<[f64; 6]>,
@@ -61,7 +83,7 @@ impl Scene {
             })
             .collect();
         Scene {
-            caster: RayCaster::new(mesh),
+            caster,
             reflectivity: per_triangle,
             hazards,
             tile_pitch,

@@ -10,6 +10,7 @@
 //! | each tile's passage axis: where its node stands, its paths to its openings, its grade | [`axis`] | per tile, when first asked for (artifact placement asks for a few, the ground truth for all, in parallel) |
 //! | each edge's centreline and its length | [`centrelines`] | when first asked for |
 //! | each edge's least width and height on the collision surface | [`sections`] | when first asked for |
+//! | what a ray hits: one hierarchy over the collision surface, shared by the widths and heights and by the sensors (`subtgraph sense`, Python's `World.raycast`) | [`WorldSurvey::rays`] | built when first asked for |
 //! | the artifacts' poses and whether each is seen from its tile's passage | [`artifacts`], [`sight`] | when the survey is made (a pipeline with `[artifacts]` always writes them) |
 //! | the floor patches of `[hazards] friction` | [`hazards`] | when the survey is made |
 //! | MuJoCo's height fields and convex slabs | [`heightfields`], [`convex_pieces`] | when MuJoCo's writer asks, with its settings |
@@ -33,13 +34,14 @@ pub mod passages;
 pub mod sections;
 pub mod sight;
 
-use std::sync::OnceLock;
+use std::sync::{Arc, OnceLock};
 
 use subtgraph_core::World;
 use subtgraph_core::artifacts::PlacedArtifacts;
 use subtgraph_core::config::Pipeline;
 use subtgraph_core::grid::Cell;
 use subtgraph_core::hazards::Patch;
+use subtgraph_core::raycast::RayCaster;
 use subtgraph_core::survey::{Columns, EdgeLine, RowVisitor, Source, Survey};
 
 use crate::axis::{Axes, AxisCache};
@@ -81,11 +83,10 @@ pub struct WorldSurvey<'w> {
     /// Set once every tile's axis is found (in parallel): what the ground truth reads.
     all_axes: OnceLock<()>,
     edges: OnceLock<Vec<EdgeLine>>,
-    /// The ray-cast structure over the collision surface, built once, when first needed:
-    /// today the cubes of [`Sections`] (the edges' widths and heights). The sensors build
-    /// `core::raycast`'s hierarchy themselves (`subtgraph-sensors`' `Scene`); holding that one
-    /// here, for widths, lines of sight and sensor rays alike, is still to do.
-    rays: OnceLock<Option<Sections<'w>>>,
+    /// The one ray-cast structure over the collision surface (`core::raycast`'s hierarchy),
+    /// built once, when first needed: by the edges' widths and heights ([`Sections`]) or by
+    /// the sensors (`subtgraph-sensors`' `Scene` holds the same `Arc`). `None` without a mesh.
+    rays: OnceLock<Option<Arc<RayCaster>>>,
     sections: OnceLock<Vec<Option<(f64, f64)>>>,
     artifacts: Option<PlacedArtifacts>,
     patches: Option<Vec<Patch>>,
@@ -134,8 +135,25 @@ impl<'w> WorldSurvey<'w> {
         axes
     }
 
-    fn rays(&self) -> Option<&Sections<'w>> {
-        self.rays.get_or_init(|| Sections::of(self.world)).as_ref()
+    /// What a ray hits: the hierarchy over the world's collision surface (what a robot's body
+    /// and its sensors meet), built on the first call (about half a second for the 1.2 M
+    /// triangles of the lava-tube preset, on two cores) and shared from then on; `None` for a world
+    /// without a mesh. Every ray question about the world asks this one: the edges' widths
+    /// and heights here, the LiDAR and the routes' clearances in `subtgraph sense`, and
+    /// Python's `World.raycast` and `World.lidar_scan`.
+    pub fn rays(&self) -> Option<&Arc<RayCaster>> {
+        self.rays
+            .get_or_init(|| {
+                let mesh = self.world.mesh()?;
+                Some(Arc::new(RayCaster::new(&mesh.collision)))
+            })
+            .as_ref()
+    }
+
+    /// The edges' widths and heights, measured by rays into [`rays`](Self::rays).
+    fn sections_of(&self) -> Option<Sections<'_>> {
+        let rays = self.rays()?;
+        Sections::of(self.world, rays)
     }
 }
 
@@ -177,11 +195,11 @@ impl Survey for WorldSurvey<'_> {
 
     fn sections(&self) -> &[Option<(f64, f64)>] {
         self.sections.get_or_init(|| {
-            let rays = self.rays();
+            let sections = self.sections_of();
             self.edges()
                 .iter()
                 .zip(&self.world.graph.edges)
-                .map(|(line, e)| rays.and_then(|r| r.edge(e.kind, &line.points)))
+                .map(|(line, e)| sections.as_ref().and_then(|s| s.edge(e.kind, &line.points)))
                 .collect()
         })
     }

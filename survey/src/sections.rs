@@ -11,21 +11,23 @@
 //! the least over its points. A shaft's are measured across the shaft at half way up (width,
 //! the lesser of the spans along x and y) and along it (height: the free span there).
 //!
-//! Rays are cast against the triangles of a uniform grid of cubes (an eighth of the pitch) by
-//! Möller and Trumbore's test, two-sided, in `f64`; a ray finding no surface within a pitch
-//! counts a pitch. Deterministic: no parallelism, no hashing order in the results.
-
-use std::collections::HashMap;
+//! Rays are cast into the survey's one hierarchy over the collision surface
+//! ([`WorldSurvey::rays`](crate::WorldSurvey::rays), `core::raycast`), which finds the
+//! triangle each ray meets first; the distance to it is then computed again in `f64` from
+//! the ray's own origin (the hierarchy traces in `f32`, a tenth of a millimetre at a
+//! kilometre from the origin), so widths are as exact as the surface. A ray finding no
+//! surface within a pitch counts a pitch. Deterministic: no parallelism, no hashing order in
+//! the results.
 
 use subtgraph_core::World;
 use subtgraph_core::graph::EdgeKind;
 use subtgraph_core::mesh::Mesh;
+use subtgraph_core::raycast::RayCaster;
 
-/// Triangles of the collision surface by the cubes they touch.
+/// The collision surface's hierarchy, asked across and along the edges' passages.
 pub(crate) struct Sections<'a> {
+    caster: &'a RayCaster,
     mesh: &'a Mesh,
-    cubes: HashMap<[i64; 3], Vec<u32>>,
-    size: f64,
     reach: f64,
 }
 
@@ -33,40 +35,17 @@ pub(crate) struct Sections<'a> {
 const WIDTH_AT: f64 = 1.0;
 
 impl<'a> Sections<'a> {
-    /// The world's collision surface, if it has one.
-    pub fn of(world: &'a World) -> Option<Self> {
+    /// The world's collision surface, if it has one, in `caster` (built over it).
+    pub fn of(world: &'a World, caster: &'a RayCaster) -> Option<Self> {
         let pitch = world.resolved.tile_pitch;
-        Some(Self::new(&world.mesh()?.collision, pitch / 8.0, pitch))
+        Some(Self::new(caster, &world.mesh()?.collision, pitch))
     }
 
-    /// A surface's triangles in cubes of `size`, for rays up to `reach` long. A triangle is
-    /// listed in every cube its box grown by a quarter cube touches, so a ray sampled every
-    /// half cube finds it in the cube of the sample nearest its crossing.
-    fn new(mesh: &'a Mesh, size: f64, reach: f64) -> Self {
-        let grow = 0.25 * size;
-        let mut cubes: HashMap<[i64; 3], Vec<u32>> = HashMap::new();
-        for (t, tri) in mesh.triangles.iter().enumerate() {
-            let p = tri.map(|v| mesh.positions[v as usize]);
-            let lo: [i64; 3] = std::array::from_fn(|k| {
-                ((p.iter().map(|q| f64::from(q[k])).fold(f64::MAX, f64::min) - grow) / size).floor()
-                    as i64
-            });
-            let hi: [i64; 3] = std::array::from_fn(|k| {
-                ((p.iter().map(|q| f64::from(q[k])).fold(f64::MIN, f64::max) + grow) / size).floor()
-                    as i64
-            });
-            for x in lo[0]..=hi[0] {
-                for y in lo[1]..=hi[1] {
-                    for z in lo[2]..=hi[2] {
-                        cubes.entry([x, y, z]).or_default().push(t as u32);
-                    }
-                }
-            }
-        }
+    /// Rays into `caster` (built over `mesh`) up to `reach` long.
+    fn new(caster: &'a RayCaster, mesh: &'a Mesh, reach: f64) -> Self {
         Sections {
+            caster,
             mesh,
-            cubes,
-            size,
             reach,
         }
     }
@@ -74,25 +53,12 @@ impl<'a> Sections<'a> {
     /// Distance along the unit direction `d` from `o` to the first crossing of the surface, or
     /// [`reach`](Self) when there is none that near.
     pub fn ray(&self, o: [f64; 3], d: [f64; 3]) -> f64 {
-        let mut best = self.reach;
-        let mut last: Option<[i64; 3]> = None;
-        let step = 0.5 * self.size;
-        let mut s = 0.0;
-        // Walk the cubes along the ray; a cube's triangles can cross it up to a cube beyond.
-        while s <= best + self.size && s <= self.reach + self.size {
-            let q = [0, 1, 2].map(|k| o[k] + s * d[k]);
-            let key = q.map(|v| (v / self.size).floor() as i64);
-            if last != Some(key) {
-                last = Some(key);
-                for &t in self.cubes.get(&key).map(Vec::as_slice).unwrap_or(&[]) {
-                    if let Some(h) = hit(self.mesh, t, o, d) {
-                        best = best.min(h);
-                    }
-                }
-            }
-            s += step;
+        match self.caster.cast(o, d, self.reach) {
+            Some(h) => distance(self.mesh, h.triangle, o, d)
+                .unwrap_or(h.t)
+                .min(self.reach),
+            None => self.reach,
         }
-        best
     }
 
     /// `(width, height)` at a floor point `p` of a passage running along the horizontal unit
@@ -141,40 +107,19 @@ impl<'a> Sections<'a> {
     }
 }
 
-/// Möller-Trumbore: distance along `d` from `o` to triangle `t`, either side.
-fn hit(mesh: &Mesh, t: u32, o: [f64; 3], d: [f64; 3]) -> Option<f64> {
+/// The distance along `d` from `o` to the plane of triangle `t` (Möller and Trumbore's, in
+/// `f64`), or `None` when the ray runs along it.
+fn distance(mesh: &Mesh, t: u32, o: [f64; 3], d: [f64; 3]) -> Option<f64> {
+    use subtgraph_core::vec3::{cross, dot, sub};
     let [a, b, c] = mesh.triangles[t as usize].map(|v| mesh.positions[v as usize].map(f64::from));
-    let sub = |p: [f64; 3], q: [f64; 3]| [p[0] - q[0], p[1] - q[1], p[2] - q[2]];
-    let cross = |p: [f64; 3], q: [f64; 3]| {
-        [
-            p[1] * q[2] - p[2] * q[1],
-            p[2] * q[0] - p[0] * q[2],
-            p[0] * q[1] - p[1] * q[0],
-        ]
-    };
-    let dot = |p: [f64; 3], q: [f64; 3]| p[0] * q[0] + p[1] * q[1] + p[2] * q[2];
     let (e1, e2) = (sub(b, a), sub(c, a));
     let h = cross(d, e2);
     let det = dot(e1, h);
     if det.abs() < 1e-12 {
         return None;
     }
-    let s = sub(o, a);
-    // A little slack on the barycentric bounds: a ray through an edge shared by two
-    // triangles (axis-aligned rays meet the lattice's edges exactly) must not slip between
-    // them by rounding.
-    const EDGE: f64 = 1e-9;
-    let u = dot(s, h) / det;
-    if !(-EDGE..=1.0 + EDGE).contains(&u) {
-        return None;
-    }
-    let q = cross(s, e1);
-    let v = dot(d, q) / det;
-    if v < -EDGE || u + v > 1.0 + EDGE {
-        return None;
-    }
-    let dist = dot(e2, q) / det;
-    (dist > 1e-9).then_some(dist)
+    let q = cross(sub(o, a), e1);
+    Some(dot(e2, q) / det)
 }
 
 #[cfg(test)]
@@ -184,7 +129,8 @@ mod tests {
     #[test]
     fn a_box_passage_is_as_wide_and_high_as_the_box() {
         let box_mesh = crate::passages::tests::box_mesh([0.0, 0.0, 0.0], [4.0, 10.0, 3.0]);
-        let s = Sections::new(&box_mesh, 0.7, 25.0);
+        let caster = RayCaster::new(&box_mesh);
+        let s = Sections::new(&caster, &box_mesh, 25.0);
         let (w, h) = s.at([1.0, 5.0, 0.0], [0.0, 1.0]);
         assert!((w - 4.0).abs() < 1e-9 && (h - 3.0).abs() < 1e-9, "{w} {h}");
         // Across a diagonal direction the span is longer; the edge's least is the box's.

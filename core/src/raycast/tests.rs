@@ -273,3 +273,32 @@ fn empty_meshes_and_degenerate_rays_hit_nothing() {
         assert!(caster.cast([0.0; 3], d, 10.0).is_some());
     }
 }
+
+#[test]
+fn the_hierarchy_is_the_same_built_on_one_thread_or_many() {
+    // Spheres far apart and overlapping, so the tree has subtrees of every size.
+    let mut mesh = sphere([0.0, 0.0, 0.0], 5.0, 4);
+    for (k, c) in [[30.0, 0.0, 0.0], [2.0, 1.0, 0.5], [0.0, -40.0, 7.0]]
+        .into_iter()
+        .enumerate()
+    {
+        let s = sphere(c, 3.0 + k as f64, 3);
+        let base = mesh.positions.len() as u32;
+        mesh.positions.extend(&s.positions);
+        mesh.triangles
+            .extend(s.triangles.iter().map(|t| t.map(|v| v + base)));
+    }
+    let one = build::tree_with(&mesh, usize::MAX);
+    for parallel_min in [1, 16, 1000] {
+        let many = build::tree_with(&mesh, parallel_min);
+        assert_eq!(
+            one.1, many.1,
+            "triangle order, parallel from {parallel_min}"
+        );
+        assert_eq!(
+            format!("{:?}", one.0),
+            format!("{:?}", many.0),
+            "nodes, parallel from {parallel_min}"
+        );
+    }
+}
