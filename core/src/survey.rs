@@ -163,6 +163,13 @@ pub trait Survey: Send + Sync {
     /// The floor patches of `[hazards] friction`, in raster order of their cells; `None`
     /// without `[hazards]`.
     fn patches(&self) -> Option<&[Patch]>;
+
+    /// What a ray hits: the one hierarchy over the collision surface the survey holds, built
+    /// on first use; `None` without a mesh (or from a survey that keeps none: the caller then
+    /// builds its own).
+    fn ray_caster(&self) -> Option<&crate::raycast::RayCaster> {
+        None
+    }
 }
 
 impl dyn Survey + '_ {

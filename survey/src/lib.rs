@@ -211,6 +211,10 @@ impl Survey for WorldSurvey<'_> {
     fn patches(&self) -> Option<&[Patch]> {
         self.patches.as_deref()
     }
+
+    fn ray_caster(&self) -> Option<&RayCaster> {
+        self.rays().map(|r| &**r)
+    }
 }
 
 /// Small worlds for the crate's tests.

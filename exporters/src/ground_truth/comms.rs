@@ -116,13 +116,18 @@ impl Exporter for Comms {
                 [p[0], p[1], p[2] + self.antenna]
             })
             .collect();
-        let caster = world.mesh().map(|m| RayCaster::new(&m.collision));
+        // The survey's own hierarchy when it holds one (built once per world, shared with the
+        // widths and the sensors); else one of our own.
+        let own = match survey.ray_caster() {
+            Some(_) => None,
+            None => world.mesh().map(|m| RayCaster::new(&m.collision)),
+        };
+        let caster = survey.ray_caster().or(own.as_ref());
         let range = self.range;
         let grid = |p: [f64; 3], dir: [f64; 3], distance: f64| grid_cast(world, p, dir, distance);
         let links: Vec<Link> = (0..antennas.len())
             .into_par_iter()
             .flat_map_iter(|a| {
-                let caster = caster.as_ref();
                 let antennas = &antennas;
                 let grid = &grid;
                 (a + 1..antennas.len()).filter_map(move |b| {
