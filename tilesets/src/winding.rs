@@ -14,7 +14,7 @@
 //! *taper*), so the leads meet the spiral tangentially on their floors as before.
 //!
 //! The amplitudes are drawn, then halved until the steepest grade on the drawn line is within
-//! `world.ramp_grade` and the turns keep their rock ([`crate::ramp::Helix::separated`]); the
+//! `world.ramp_grade` and the turns keep their rock (the plan's own check); the
 //! phases are drawn from the world's seed and the ramp's foot cell alone.
 
 use std::f64::consts::{PI, TAU};
