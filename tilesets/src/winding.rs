@@ -81,15 +81,15 @@ impl Winding {
     };
 
     /// The winding of the ramp whose foot has key `key` in a world seeded `seed`, at its full
-    /// drawn amplitude: an inset of 8 to 14 % of the radius, but leaving `pillar` metres of
-    /// the circle's radius free, and a swing of 25 to 45 % of the grade.
+    /// drawn amplitude: an inset of 5 to 9 % of the radius, but leaving `pillar` metres of
+    /// the circle's radius free, and a swing of 20 to 40 % of the grade.
     pub fn draw(seed: u64, key: u64, radius: f64, pillar: f64) -> Winding {
         let mut rng = WorldRng::new(seed, "ramp-winding", key);
-        let inset = (rng.float_in(0.08, 0.14) * radius).min((radius - pillar).max(0.0));
+        let inset = (rng.float_in(0.05, 0.09) * radius).min((radius - pillar).max(0.0));
         Winding {
             inset,
             radius_phase: [rng.float_in(0.0, TAU), rng.float_in(0.0, TAU)],
-            swing: rng.float_in(0.25, 0.45),
+            swing: rng.float_in(0.2, 0.4),
             grade_phase: [rng.float_in(0.0, TAU), rng.float_in(0.0, TAU)],
         }
     }
@@ -155,7 +155,7 @@ mod tests {
     #[test]
     fn the_winding_is_zero_at_both_ends_and_inward_only() {
         let w = Winding::draw(7, 3, 16.0, 5.0);
-        assert!(w.inset > 0.9 && w.inset < 2.3, "{w:?}");
+        assert!(w.inset > 0.7 && w.inset < 1.5, "{w:?}");
         let s = span();
         for end in [0.0, 2.0, 4.0, 400.0, 410.0] {
             assert_eq!(w.inset_at(&s, end), 0.0);
