@@ -138,8 +138,10 @@ pub trait Survey: Send + Sync {
     fn column(&self, x: f64, y: f64) -> Vec<[f64; 2]>;
 
     /// Where the node of the tile at `cell` stands, on its floor: where its passage meets its
-    /// openings (a dead end's half way along its passage, a shaft end's nearest the shaft),
-    /// the tile's centre without a mesh or where the tile has no drivable floor.
+    /// openings (a dead end's half way along its passage, a shaft's foot nearest the shaft),
+    /// the tile's centre without a mesh or where the tile has no drivable floor. A vertical
+    /// shaft's landing in a procedural tile set stands over the shaft's axis at its floor's
+    /// height (the shaft's collar: no floor under it), so the line up the shaft is straight.
     fn position(&self, cell: Cell) -> [f64; 3];
 
     /// The steepest grade along the tile's passage, degrees (`None` without a mesh).

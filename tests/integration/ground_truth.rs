@@ -306,8 +306,20 @@ fn world_points_stand_on_floors(world: &subtgraph::core::World, what: &str) -> u
     let doc = crate::common::graph_json(world);
     let point = crate::common::json_point;
     let mut checked = 0;
+    // A vertical shaft's landing node stands over the shaft's hole (its collar, issue 24): in
+    // free space, not on a floor.
+    let mut collars = Vec::new();
     for n in doc["nodes"].as_array().unwrap() {
         let p = point(&n["position"]);
+        if n["kind"] == "shaft-landing" {
+            assert!(
+                soup.segment_is_free([p[0], p[1], p[2] + 0.5], [p[0], p[1], p[2] + 1.5]),
+                "{what}: landing {} at {p:?} not in free space",
+                n["id"]
+            );
+            collars.push(p);
+            continue;
+        }
         assert!(
             soup.stands_on_a_floor(p),
             "{what}: node {} at {p:?}",
@@ -321,6 +333,9 @@ fn world_points_stand_on_floors(world: &subtgraph::core::World, what: &str) -> u
         }
         for v in e["polyline"].as_array().unwrap() {
             let p = point(v);
+            if collars.contains(&p) {
+                continue;
+            }
             // A seam point lies on a tile border: the floor is the one just beside it.
             let near = [
                 [0.0, 0.0],

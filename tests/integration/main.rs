@@ -13,6 +13,7 @@ mod centrelines;
 mod chambers;
 mod cli;
 mod dataset;
+mod declines;
 mod doc_commands;
 mod drive;
 mod elevation;

@@ -6,7 +6,7 @@ metre to the next, away from NEAR metres of its two end nodes; and every point o
 corridor's polyline stands on a floor of mesh/collision.obj (read with numpy), with room
 above it: the vertical line through the point crosses the surface at most TOL below and
 above it on a triangle facing up (a floor seen from the passage), and nothing else within a
-metre above that floor. Facing, not parity, so the open surfaces of mesh tiles (the DARPA
+metre above that floor (but a vertical shaft's landing node, over the shaft's hole). Facing, not parity, so the open surfaces of mesh tiles (the DARPA
 tiles') are read too. Our own vertical ray test, on triangles bucketed in the plane.
 
 usage: centreline_check.py LIMIT WORLD_DIR...
@@ -137,10 +137,17 @@ for world in map(Path, sys.argv[2:]):
     assert turn <= limit, f"{world.name}: edge {edge} turns {turn:.1f} degrees in a metre at {at}"
     soup = Soup(obj_triangles(world / "mesh/collision.obj"))
     checked = 0
+    # A vertical shaft's landing node stands over the shaft's hole (its collar, issue 24): not
+    # on a floor.
+    collars = {n["id"] for n in graph["nodes"] if n["kind"] == "shaft-landing"}
     for e in graph["edges"]:
         if e["kind"] != "corridor":
             continue
-        for p in e["polyline"]:
+        line = e["polyline"]
+        ends = {0: e["from"], len(line) - 1: e["to"]}
+        for k, p in enumerate(line):
+            if ends.get(k) in collars:
+                continue
             # A point on a tile's seam may lie between two tiles' surfaces: the floor just
             # beside it counts.
             near = [(0, 0), (0.05, 0), (-0.05, 0), (0, 0.05), (0, -0.05)]

@@ -126,15 +126,24 @@ assert g["seed"] == seed and "x east" in g["frame"]
 assert len(g["nodes"]) == len(topo["nodes"]) and len(g["edges"]) == len(topo["edges"])
 
 
-def on_floor(points, what):
+def on_floor(points, what, collars=()):
     """Issue 15: every point stands in free space on a floor: half a metre above it is inside
-    the passages (parity), and a ray down from there hits the surface within a metre."""
+    the passages (parity), and a ray down from there hits the surface within a metre. The
+    points numbered in `collars` (a vertical shaft's landing, issue 24: over the shaft's axis at
+    its floor's height) need only be in free space."""
     points = np.asarray(points, dtype=float)
     above = points + [0, 0, 0.5]
-    for p, zs in zip(points, crossings(above)):
+    for k, (p, zs) in enumerate(zip(points, crossings(above))):
+        if k in collars:
+            continue
         below = zs[zs <= p[2] + 0.5]
         assert len(below) and p[2] + 0.5 - below.max() <= 1.0, f"{what}: no floor under {p.tolist()}"
     agree_with_mesh(above, np.ones(len(above), dtype=bool), what)
+
+
+def collars_of(items):
+    """The indices of the shaft landings among graph nodes or label tiles."""
+    return {k for k, n in enumerate(items) if n["kind"] == "shaft-landing"}
 
 
 for n, t in zip(g["nodes"], topo["nodes"]):
@@ -146,7 +155,7 @@ for n, t in zip(g["nodes"], topo["nodes"]):
         # On the floor of the tile's own passage, inside the tile's square.
         assert np.abs(np.array(n["position"][:2]) - c[:2]).max() <= pitch / 2 + 1e-6
 if mesh is not None:
-    on_floor([n["position"] for n in g["nodes"]], "graph nodes")
+    on_floor([n["position"] for n in g["nodes"]], "graph nodes", collars_of(g["nodes"]))
 G = nx.read_graphml(gt / "graph.graphml")
 assert G.number_of_nodes() == len(topo["nodes"]) and G.number_of_edges() == len(topo["edges"])
 assert G.graph["seed"] == seed
@@ -187,7 +196,9 @@ for e, t in zip(g["edges"], topo["edges"]):
         # Along the passage through every cell of the corridor, on its floor.
         r, cc = cell_of(line[:, 0], line[:, 1])
         assert occupied(t["cells"][0]["level"], r, cc).all(), "the polyline stays in its cells"
-        on_floor(line, f"edge {e['id']}")
+        ends = {0: t["from"], len(line) - 1: t["to"]}
+        on_floor(line, f"edge {e['id']}",
+                 {k for k, n in ends.items() if g["nodes"][n]["kind"] == "shaft-landing"})
 print(f"graph: {G.number_of_nodes()} nodes, {G.number_of_edges()} edges, as topology.json"
       + ("; every node and polyline point on the floor of its passage" if mesh is not None else ""))
 
@@ -219,7 +230,8 @@ for row, t in zip(table, labels["tiles"]):
     else:
         assert np.abs(at[:2] - centre(l, r, c)[:2]).max() <= pitch / 2 + 1e-6
 if mesh is not None:
-    on_floor([t["position"] for t in labels["tiles"]], "semantic label positions")
+    on_floor([t["position"] for t in labels["tiles"]], "semantic label positions",
+             collars_of(labels["tiles"]))
 print(f"semantic labels: {len(table)} tiles, one per occupied cell with its code and openings")
 
 # --- ROS maps ----------------------------------------------------------------------------

@@ -73,6 +73,15 @@ struct Rock {
 /// Value of a contribution that does not act at a point: larger than any real value.
 const FAR: f64 = 1e9;
 
+/// How far a shaft's radius swells or narrows with its relief, as a share of the radius: its
+/// walls are not a lattice's flat facets round a cylinder, but rock broken a few decimetres
+/// either way (about 0.3 m in a lava tube's 2.9 m shaft).
+pub const SHAFT_SWELL: f64 = 0.12;
+
+/// How much faster a shaft's relief changes upward than round it (a shaft is sunk in rounds:
+/// its walls change more from one round to the next than round one round).
+const SHAFT_STRETCH: f64 = 1.6;
+
 /// The field around one tile.
 pub struct LocalField<'a> {
     passage: &'a Passage,
@@ -86,6 +95,7 @@ pub struct LocalField<'a> {
     sizes: Noise,
     rubble: Noise,
     bands: Noise,
+    shaft_walls: Noise,
 }
 
 impl<'a> LocalField<'a> {
@@ -137,6 +147,7 @@ impl<'a> LocalField<'a> {
             sizes: Noise::new(seed, "sizes"),
             rubble: Noise::new(seed, "rubble"),
             bands: Noise::new(seed, "bands"),
+            shaft_walls: Noise::new(seed, "shaft-walls"),
         }
     }
 
@@ -212,7 +223,16 @@ impl<'a> LocalField<'a> {
                 }
                 Feature::Shaft { c, z0, z1, r } => {
                     let d = ((p[0] - c[0]).powi(2) + (p[1] - c[1]).powi(2)).sqrt();
-                    ((d - r).max(z0 - p[2]).max(p[2] - z1), 10.0, 1.0)
+                    // The shaft's own relief: its radius swells and narrows over features
+                    // about its radius across, which the lattice holds (the wall relief
+                    // below is finer than a lattice cell).
+                    let s = 1.0 / r;
+                    let swell = SHAFT_SWELL
+                        * r
+                        * self
+                            .shaft_walls
+                            .fbm(p[0] * s, p[1] * s, p[2] * s * SHAFT_STRETCH, 2);
+                    ((d - r - swell).max(z0 - p[2]).max(p[2] - z1), 10.0, 1.0)
                 }
                 Feature::Pit(ref pit) => (pit.value(p), 0.0, 0.0),
                 Feature::Ramp { ref helix, lifts } => {
@@ -450,7 +470,7 @@ impl<'g> Gather<'g> {
         let above = floor + self.levels.height + self.lift(l + 1, [x, y]);
         let foot = floor + self.lift(l, [x, y]);
         let r = ps.shaft_radius * ps.width;
-        let w = (r + ps.roughness + self.margin).min(self.half);
+        let w = (r * (1.0 + SHAFT_SWELL) + ps.roughness + self.margin).min(self.half);
         self.features.push(Bounded {
             lo: [x - w, y - w, foot],
             hi: [x + w, y + w, above + 0.5 + self.margin],

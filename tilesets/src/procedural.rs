@@ -683,7 +683,7 @@ impl TileSet for Procedural {
                     .into(),
             });
         }
-        if p.shaft_radius * p.width + p.roughness > room {
+        if p.shaft_radius * p.width * (1.0 + crate::field::SHAFT_SWELL) + p.roughness > room {
             return Err(TileSetError::Unsuited {
                 what: format!("{name}: the shaft does not fit the tile"),
                 fix: "use a smaller [tileset] width".into(),

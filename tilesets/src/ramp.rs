@@ -35,6 +35,7 @@ use subtgraph_core::grid::{Cell, Direction, Shaft};
 use subtgraph_core::tile::TileKind;
 
 use crate::passage::{Passage, Profile};
+use crate::winding::{Span, Winding};
 
 /// A point of the floor line is kept every this many metres along it.
 const SAMPLE: f64 = 0.5;
@@ -111,6 +112,8 @@ pub struct Helix {
     pub openings: [[f64; 2]; 2],
     /// Passage width and height.
     pub size: [f64; 2],
+    /// How the ramp winds from the exact helix ([`crate::winding`]).
+    pub winding: Winding,
 }
 
 /// Why a ramp cannot be made.
@@ -181,6 +184,7 @@ impl Helix {
                             floors,
                             openings,
                             size: [s.width, s.height],
+                            winding: Winding::NONE,
                         };
                         if best.as_ref().is_some_and(|b| b.grade() <= h.grade()) {
                             break 'flats;
@@ -213,8 +217,31 @@ impl Helix {
         (self.floors[1] - self.floors[0]) / (climb - self.blend)
     }
 
-    /// The floor's height `s` metres along the helix.
+    /// Where the winding acts: the steady climb between the blends.
+    fn span(&self) -> Span {
+        Span {
+            radius: self.radius,
+            climb: [
+                self.flat[0] + self.blend,
+                self.length - self.flat[1] - self.blend,
+            ],
+            slope: self.slope(),
+        }
+    }
+
+    /// The floor's height `s` metres along the helix (metres along the planned circle: the
+    /// winding's line is a little shorter where it comes in).
     pub fn floor(&self, s: f64) -> f64 {
+        self.planned_floor(s) + self.winding.rise_at(&self.span(), s)
+    }
+
+    /// The passage's axis's distance from the centre `s` metres along.
+    pub fn radius_at(&self, s: f64) -> f64 {
+        self.radius - self.winding.inset_at(&self.span(), s)
+    }
+
+    /// The planned (exact helix's) floor `s` metres along.
+    fn planned_floor(&self, s: f64) -> f64 {
         let g = self.slope();
         let climb = self.length - self.flat[0] - self.flat[1];
         let e = self.blend;
@@ -234,10 +261,77 @@ impl Helix {
     /// The horizontal point `s` metres along the helix.
     pub fn at(&self, s: f64) -> [f64; 2] {
         let a = self.start + self.sense * s / self.radius;
-        [
-            self.centre[0] + self.radius * a.cos(),
-            self.centre[1] + self.radius * a.sin(),
-        ]
+        let r = self.radius_at(s);
+        [self.centre[0] + r * a.cos(), self.centre[1] + r * a.sin()]
+    }
+
+    /// The steepest grade along the drawn floor line (the winding's included), degrees,
+    /// measured every quarter metre.
+    pub fn steepest(&self) -> f64 {
+        let n = (self.length / (0.5 * SAMPLE)).ceil().max(1.0) as usize;
+        let point = |i: usize| {
+            let s = self.length * i as f64 / n as f64;
+            let [x, y] = self.at(s);
+            [x, y, self.floor(s)]
+        };
+        let mut last = point(0);
+        let mut most: f64 = 0.0;
+        for i in 1..=n {
+            let p = point(i);
+            let run = (p[0] - last[0]).hypot(p[1] - last[1]);
+            most = most.max((p[2] - last[2]).atan2(run).to_degrees().abs());
+            last = p;
+        }
+        most
+    }
+
+    /// The radii (least, greatest) the passage's axis takes along the steady climb, and the
+    /// grades (least, steepest) there, degrees: how far the ramp departs from a helix.
+    pub fn ranges(&self) -> ([f64; 2], [f64; 2]) {
+        let span = self.span();
+        let n = ((span.climb[1] - span.climb[0]) / (0.5 * SAMPLE))
+            .ceil()
+            .max(1.0) as usize;
+        let mut radius = [f64::INFINITY, 0.0f64];
+        let mut grade = [f64::INFINITY, 0.0f64];
+        let at = |i: usize| span.climb[0] + (span.climb[1] - span.climb[0]) * i as f64 / n as f64;
+        for i in 0..n {
+            let (s, t) = (at(i), at(i + 1));
+            let r = self.radius_at(s);
+            radius = [radius[0].min(r), radius[1].max(r)];
+            let (p, q) = (self.at(s), self.at(t));
+            let run = (q[0] - p[0]).hypot(q[1] - p[1]);
+            let g = (self.floor(t) - self.floor(s)).atan2(run).to_degrees();
+            grade = [grade[0].min(g), grade[1].max(g)];
+        }
+        (radius, grade)
+    }
+
+    /// Winds the helix as `w` says, at the largest of its amplitudes tried (both waves full,
+    /// the grade's halved, both halved, the radius's alone full or halved) whose steepest grade
+    /// is within `max_grade` degrees and whose turns keep their rock apart; exact when none is.
+    pub fn wind(&mut self, w: Winding, sizing: &Sizing) {
+        // A swing beyond what the grade allows would be halved anyway: start from the most
+        // the planned grade leaves, with the inset's steepening (the line is shorter by
+        // r / R where it comes in).
+        let room = sizing.max_grade.to_radians().tan() / self.slope().max(1e-9);
+        let shorter = (self.radius - w.inset) / self.radius;
+        let w = Winding {
+            swing: w.swing.min((0.97 * room * shorter - 1.0).max(0.0)),
+            ..w
+        };
+        // Both waves at full, then half, amplitude; then the radius's alone.
+        for (inset, swing) in [(1.0, 1.0), (1.0, 0.5), (0.5, 0.5), (1.0, 0.0), (0.5, 0.0)] {
+            self.winding = Winding {
+                inset: w.inset * inset,
+                swing: w.swing * swing,
+                ..w
+            };
+            if self.steepest() <= sizing.max_grade && self.separated(sizing) {
+                return;
+            }
+        }
+        self.winding = Winding::NONE;
     }
 
     /// The floor line from the foot's tangent point to the landing's, a point every
@@ -276,11 +370,13 @@ impl Helix {
         out.clear();
         let (dx, dy) = (p[0] - self.centre[0], p[1] - self.centre[1]);
         let rho = (dx * dx + dy * dy).sqrt();
-        if (rho - self.radius).abs() < reach {
+        if rho > self.radius - self.winding.inset - reach && rho < self.radius + reach {
             let phi = dy.atan2(dx);
             let mut s = self.radius * (self.sense * (phi - self.start)).rem_euclid(TAU);
             while s <= self.length {
-                out.push((self.floor(s), false));
+                if (rho - self.radius_at(s)).abs() < reach {
+                    out.push((self.floor(s), false));
+                }
                 s += self.radius * TAU;
             }
         }
@@ -345,13 +441,13 @@ impl Helix {
     pub fn section(&self, p: [f64; 3], profile: &dyn Profile, rubble: f64) -> (f64, f64) {
         let (dx, dy) = (p[0] - self.centre[0], p[1] - self.centre[1]);
         let rho = (dx * dx + dy * dy).sqrt();
-        let u = (rho - self.radius).abs();
         let phi = dy.atan2(dx);
         let first = self.radius * (self.sense * (phi - self.start)).rem_euclid(TAU);
         let turn = self.radius * TAU;
         let mut best = (f64::INFINITY, 0.0);
         let mut s = first;
         while s <= self.length {
+            let u = (rho - self.radius_at(s)).abs();
             let v = p[2] - self.floor(s) - rubble;
             let f = profile.section(u, v, self.size[0], self.size[1]);
             if f < best.0 {
@@ -467,6 +563,10 @@ pub fn plan(world: &Layout, shaft: &Shaft, s: &Sizing) -> Result<Helix, Unfit> {
     if h.grade() > s.max_grade {
         return Err(Unfit::Steep { grade: h.grade() });
     }
+    // Seeded by the world and the foot alone: the same winding for every tile around it.
+    let key = ((shaft.up.level as u64) << 40) | ((shaft.up.row as u64) << 20) | shaft.up.col as u64;
+    let pillar = s.half_width + 0.5 * s.rock;
+    h.wind(Winding::draw(world.resolved.seed, key, h.radius, pillar), s);
     h.centre = centre;
     h.floors = [z0, z1];
     for o in &mut h.openings {
@@ -573,6 +673,35 @@ mod tests {
             // The passage keeps within `room` of the centre.
             assert!(h.radius + sizing().half_width <= room + 1e-9);
         }
+    }
+
+    /// Over many seeds and both spiral blocks' ways out, a wound ramp keeps the planned ends,
+    /// its grade within its bound and its turns apart, and mostly winds: its radius and
+    /// grade vary by 0.3 m and a quarter degree or more (most by far more).
+    #[test]
+    fn a_wound_ramp_varies_within_its_bounds() {
+        let s = sizing();
+        let (mut wound, mut all) = (0, 0);
+        for (openings, room, _) in cases().into_iter().filter(|c| c.1 > s.room) {
+            let planned = Helix::plan([100.0, 40.0], [0.0, 16.0], openings, room, &s).unwrap();
+            for seed in 0..12 {
+                let mut h = planned.clone();
+                let pillar = s.half_width + 0.5 * s.rock;
+                h.wind(Winding::draw(seed, 5, h.radius, pillar), &s);
+                assert_eq!(h.leads(), planned.leads());
+                assert!(h.steepest() <= s.max_grade, "{}", h.steepest());
+                assert!(h.separated(&s));
+                let line = h.floor_line();
+                assert!((line.last().unwrap()[2] - 16.0).abs() < 1e-9);
+                let (radius, grade) = h.ranges();
+                eprintln!("{seed}: {:?} radius {radius:?} grade {grade:?}", h.winding);
+                all += 1;
+                if radius[1] - radius[0] > 0.3 && grade[1] - grade[0] > 0.25 {
+                    wound += 1;
+                }
+            }
+        }
+        assert!(wound * 5 >= all * 4, "{wound} of {all} wound");
     }
 
     #[test]

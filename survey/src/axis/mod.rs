@@ -37,6 +37,7 @@ use std::sync::OnceLock;
 
 use rayon::prelude::*;
 use subtgraph_core::World;
+use subtgraph_core::config::Connections;
 use subtgraph_core::grid::{Cell, Direction};
 
 use crate::passages::Passages;
@@ -194,10 +195,35 @@ impl<'a> Axes<'a> {
         Some(walk)
     }
 
-    /// Where a tile's node stands: its anchor, or the grid centre.
+    /// Where a tile's node stands: its anchor, or the grid centre; a shaft's landing stands
+    /// over the shaft's axis ([`Axes::collar`]).
     pub fn position(&self, c: Cell) -> [f64; 3] {
+        self.collar(c).unwrap_or_else(|| self.anchor(c))
+    }
+
+    /// The tile's anchor (the drivable point its lines meet at), or the grid centre.
+    pub fn anchor(&self, c: Cell) -> [f64; 3] {
         self.get(c)
             .map_or_else(|| self.world.cell_position(c), |a| a.anchor)
+    }
+
+    /// For the landing of a vertical shaft whose tile set lays its own axis (the procedural
+    /// ones: the shaft is sunk round its foot cell's centre), the point over the shaft's axis
+    /// at the landing's floor height (its anchor's): the shaft's collar. A robot coming up the
+    /// shaft arrives there, and the straight line from the foot's node to it runs up the
+    /// middle of the shaft, not across its wall (the drivable anchor nearest the axis is
+    /// beside the hole, the radius and more away). `None` for anything else, and for tiles
+    /// from mesh files (where the shaft's axis is the files').
+    pub fn collar(&self, c: Cell) -> Option<[f64; 3]> {
+        let world = self.world;
+        if world.resolved.connections != Connections::Shaft {
+            return None;
+        }
+        let shaft = world.shafts.iter().find(|s| s.landing == c)?;
+        world.mesh()?.tile(c)?.axis.as_ref()?;
+        let anchor = self.get(c)?.anchor;
+        let [x, y, _] = world.cell_position(shaft.up);
+        Some([x, y, anchor[2]])
     }
 
     /// The steepest grade of a tile's floor along its axis, degrees: rise over run from the
@@ -305,7 +331,8 @@ mod tests {
                 .any(|s| (s[0] - p[2]).abs() < 1e-9 && s[1] - s[0] >= BODY)
         };
         for n in &world.graph.nodes {
-            let p = axes.position(n.cell);
+            // A shaft's landing stands over the shaft (its collar), its anchor on the floor.
+            let p = axes.anchor(n.cell);
             assert!(on_floor(p), "node {} at {p:?}", n.id);
         }
         for e in world
@@ -319,7 +346,9 @@ mod tests {
                 line.len() > e.cells.len(),
                 "the path follows the passage between anchors"
             );
-            for p in line {
+            // A shaft landing's node stands over the shaft's hole (its collar).
+            let collars: Vec<[f64; 3]> = e.cells.iter().filter_map(|&c| axes.collar(c)).collect();
+            for p in line.into_iter().filter(|p| !collars.contains(p)) {
                 // Free half a metre above it, on a floor at most a metre below it (seam
                 // points carry the floor of the line next to the seam).
                 let free = passages

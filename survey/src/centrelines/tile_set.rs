@@ -41,7 +41,7 @@ pub(super) fn tile_set_line(
     };
     // From the first node's anchor onto its tile's path, past the anchor.
     for &p in beyond(
-        axes.position(first),
+        axes.anchor(first),
         axis(first)?.node,
         exit(first, cells[1])?,
     ) {
@@ -57,7 +57,7 @@ pub(super) fn tile_set_line(
         }
     }
     let end = beyond(
-        axes.position(last),
+        axes.anchor(last),
         axis(last)?.node,
         exit(last, cells[cells.len() - 2])?,
     );
