@@ -18,6 +18,7 @@ use subtgraph_core::tile::TileKind;
 
 use crate::bends::{self, Centreline};
 use crate::chambers::{Chamber, Squeeze};
+use crate::finish::FinishNoise;
 use crate::noise::Noise;
 use crate::passage::{Levels, Passage, Profile, material};
 use crate::slope::Waves;
@@ -86,6 +87,7 @@ pub struct LocalField<'a> {
     sizes: Noise,
     rubble: Noise,
     bands: Noise,
+    finish: FinishNoise,
 }
 
 impl<'a> LocalField<'a> {
@@ -137,6 +139,7 @@ impl<'a> LocalField<'a> {
             sizes: Noise::new(seed, "sizes"),
             rubble: Noise::new(seed, "rubble"),
             bands: Noise::new(seed, "bands"),
+            finish: FinishNoise::new(seed),
         }
     }
 
@@ -169,10 +172,17 @@ impl<'a> LocalField<'a> {
         // the surface, does not depend on it.
         let cutoff = 2.0 * ps.roughness + 0.1 * ps.width + 1.0;
         let mut relief: Option<f64> = None;
+        let finish = ps.finish;
+        // The direction-free part of the relief: the style's, or the finish's texture
+        // (`crate::finish`), to which a corridor adds its blast rounds' overbreak.
         let mut relief_at = |p: [f64; 3]| {
             *relief.get_or_insert_with(|| {
-                let rs = 1.0 / ps.roughness_scale;
-                ps.roughness * self.walls.fbm(p[0] * rs, p[1] * rs, p[2] * rs, 3)
+                if finish.is_plain() {
+                    let rs = 1.0 / ps.roughness_scale;
+                    ps.roughness * self.walls.fbm(p[0] * rs, p[1] * rs, p[2] * rs, 3)
+                } else {
+                    finish.texture(&self.finish, p)
+                }
             })
         };
         let mut best = FAR;
@@ -181,6 +191,7 @@ impl<'a> LocalField<'a> {
             if !f.contains(p) {
                 continue;
             }
+            let mut along = None;
             let (base, v, wall) = match f.item {
                 Feature::Corridor {
                     line,
@@ -193,6 +204,7 @@ impl<'a> LocalField<'a> {
                     let wall = v.clamp(0.0, 1.0);
                     let [w, h] =
                         squeeze.map_or([1.0, 1.0], |s| s.scale(line.from_middle([p[0], p[1]])));
+                    along = line.direction();
                     (
                         self.profile.section(u, v, w * col.width, h * col.height),
                         v,
@@ -222,7 +234,12 @@ impl<'a> LocalField<'a> {
                 }
             };
             let value = if base.abs() < cutoff && wall > 0.0 {
-                base + wall * relief_at(p)
+                let r = relief_at(p);
+                if finish.is_plain() {
+                    base + wall * r
+                } else {
+                    base + wall * finish.relief(r, &self.finish, p, along)
+                }
             } else {
                 base
             };

@@ -24,6 +24,7 @@ pub mod bends;
 pub mod cave;
 pub mod chambers;
 pub mod field;
+pub mod finish;
 pub mod islands;
 pub mod lattice;
 pub mod lava_tube;

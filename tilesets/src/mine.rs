@@ -6,6 +6,7 @@ use subtgraph_core::mesh::Material;
 use subtgraph_core::params::Params;
 
 use crate::bends::Bends;
+use crate::finish::Finish;
 use crate::passage::Rooms;
 use crate::passage::{Passage, Profile};
 use crate::procedural::{Procedural, Style};
@@ -45,6 +46,11 @@ pub fn from_params(p: &Params) -> Result<Procedural, ConfigError> {
                 height_variation: 0.02,
                 variation_scale: 3.0,
                 roughness: 0.015,
+                // Drill-and-blast walls by default (`[tileset] finish`, `crate::finish`).
+                finish: Finish::Blasted {
+                    rms: crate::finish::BLASTED_RMS,
+                    round: crate::finish::ROUND,
+                },
                 roughness_scale: 0.25,
                 floor_roughness: 0.0,
                 rocks: 0.0,
