@@ -2,7 +2,8 @@
 //! a passage fitted apart from our code (tests/readers/wall_relief_check.py, numpy over the
 //! exported OBJ), shotcrete less, `finish = "none"` today's; the relief holds a LiDAR's scan
 //! registration along the drift (the sensor's degeneracy labels); the same bytes on 1 and 3
-//! threads; bad keys refused with what to change.
+//! threads; refuge bays are recesses in the mesh exactly where the semantic labels say; bad
+//! keys refused with what to change.
 
 use std::path::Path;
 
@@ -53,7 +54,8 @@ fn blasted_walls_have_decimetres_of_relief_shotcrete_less_and_none_least() {
         ("rougher", "relief = 25"),
     ] {
         let out = dir.path().join(name);
-        generate(&small_mine(dir.path(), name, extra), &out, "obj");
+        // Ground truth too: the reader leaves out the cells labelled with a refuge bay.
+        generate(&small_mine(dir.path(), name, extra), &out, "obj,ground-truth");
         let Some(r) = relief_cm(&out) else { return };
         std::fs::remove_dir_all(&out).unwrap();
         rms.push(r);
@@ -107,6 +109,42 @@ fn blasted_drifts_hold_a_lidars_registration() {
 }
 
 #[test]
+fn refuge_bays_are_recesses_where_the_labels_say() {
+    let dir = tempfile::tempdir().unwrap();
+    let world = dir.path().join("bays");
+    generate(
+        &small_mine(dir.path(), "bays", "refuge_spacing = 60"),
+        &world,
+        "obj,ground-truth",
+    );
+    // The reader finds the recesses in the mesh and fails when they and the labels differ.
+    let Some(out) = common::read_with_python(&["numpy"], "refuge_bay_check.py", &[arg(&world)])
+    else {
+        return;
+    };
+    let v: serde_json::Value = serde_json::from_str(out.trim()).unwrap();
+    let (bays, straight) = (
+        v["recesses"].as_array().unwrap().len() as f64,
+        v["straight_cells"].as_f64().unwrap(),
+    );
+    // One bay per 60 m of straight drift: a third of the 20 m straight tiles, drawn.
+    assert!(
+        (0.15..0.55).contains(&(bays / straight)),
+        "{bays} bays in {straight} straight tiles"
+    );
+    // Off, none: the reader finds no recess either.
+    let none = dir.path().join("none");
+    generate(
+        &small_mine(dir.path(), "none", "refuge_spacing = 0"),
+        &none,
+        "obj,ground-truth",
+    );
+    let out = common::read_with_python(&["numpy"], "refuge_bay_check.py", &[arg(&none)]).unwrap();
+    let v: serde_json::Value = serde_json::from_str(out.trim()).unwrap();
+    assert_eq!(v["recesses"].as_array().unwrap().len(), 0, "{v}");
+}
+
+#[test]
 fn blasted_mine_is_the_same_on_one_and_three_threads() {
     let dir = tempfile::tempdir().unwrap();
     let pipeline = small_mine(dir.path(), "mine", "finish = \"blasted\"\nround_length = 3.0");
@@ -122,6 +160,7 @@ fn finish_keys_are_checked_with_what_to_change() {
         ("relief = 80", "centimetres RMS"),
         ("round_length = 0.1", "advance of one blast round"),
         ("roughness = 0.1\nfinish = \"blasted\"", "set relief"),
+        ("refuge_spacing = 5", "metres of straight drift per bay"),
     ] {
         let p = small_mine(dir.path(), "bad", extra);
         let err = common::fails(&["generate", arg(&p), "--out", arg(&out)]);

@@ -7,13 +7,14 @@ For every straight cell of the world's topology (topology.json: a corridor cell 
 neighbours on its edge lie in line with it), the vertices of the wall-material triangles
 (the first `usemtl` group of world.obj whose name ends in `-wall`) inside the cell's slab along
 the passage are split into the two sides. Each side's vertices between 1.2 m and 3.0 m above
-the floor (the median height of the floor-material vertices in the slab) are fitted with a
+the floor (a quadratic along the passage fitted to the lowest vertices near its axis) are fitted with a
 plane `across = a + b * along + c * z` by least squares: the passage as designed, straight and
 plumb-ish. The relief is what is left: the RMS of the residuals over every side of every
-straight cell, in centimetres. With --min-cm / --max-cm the check fails (exit 1) outside.
+straight cell, in centimetres; cells the semantic labels give a refuge bay are left out. With --min-cm / --max-cm the check fails (exit 1) outside.
 """
 
 import argparse
+import csv
 import json
 import sys
 
@@ -61,45 +62,76 @@ def straight_cells(topology):
     return found
 
 
+def labelled(world, feature):
+    """(level, row, col) of the cells whose semantic labels list `feature` (none without
+    ground truth)."""
+    path = f"{world}/ground_truth/semantic_labels.csv"
+    try:
+        rows = list(csv.DictReader(open(path)))
+    except FileNotFoundError:
+        return set()
+    return {
+        (int(r["level"]), int(r["row"]), int(r["col"]))
+        for r in rows
+        if feature in (r.get("features") or "").split()
+    }
+
+
+def buckets(v, topology):
+    """Vertices by the cell they lie in: {level * 1e6 + row * 1e3 + col: vertices}."""
+    pitch = topology["tile_pitch_m"]
+    rows = topology["rows"]
+    lh = topology["level_height_m"]
+    col = np.floor(v[:, 0] / pitch + 0.5).astype(np.int64)
+    row = rows - 1 - np.floor(v[:, 1] / pitch + 0.5).astype(np.int64)
+    level = np.floor((v[:, 2] + 0.25 * lh) / lh).astype(np.int64)
+    k = level * 1_000_000 + row * 1000 + col
+    order = np.argsort(k, kind="stable")
+    ks = k[order]
+    starts = np.flatnonzero(np.r_[True, ks[1:] != ks[:-1]])
+    ends = np.r_[starts[1:], len(ks)]
+    return {int(ks[s]): v[order[s:e]] for s, e in zip(starts, ends)}
+
+
+def floor_fit(v, axis, centre):
+    """The floor under the passage's axis in one cell, as a function of the distance along it:
+    a quadratic fitted to the lowest vertices (any material) within 2 m of the axis (the
+    floor's slopes rise and fall smoothly over a pitch or more)."""
+    along = v[:, axis] - centre[axis]
+    across = v[:, 1 - axis] - centre[1 - axis]
+    near = np.abs(across) < 2.0
+    z = v[near, 2]
+    low = z < z.min() + 1.5
+    coef = np.polyfit(along[near][low], z[low], 2)
+    return lambda s: np.polyval(coef, s)
+
+
 def measure(world):
     topology = json.load(open(f"{world}/topology.json"))
+    # A refuge bay's recess is not relief: its cells are left out (refuge_bay_check.py finds
+    # the recesses themselves).
+    bays = labelled(world, "refuge-bay")
     verts, groups = read_obj(f"{world}/mesh/world.obj")
     wall = next(n for n in groups if n.endswith("-wall"))
-    floor = next(n for n in groups if n.endswith("-floor"))
     wall_v = verts[np.unique(groups[wall])]
-    floor_v = verts[np.unique(groups[floor])]
     pitch = topology["tile_pitch_m"]
     rows = topology["rows"]
     lh = topology["level_height_m"]
     residuals = []
     sides = 0
-    # Bucket vertices by the cell they lie in, so each cell looks only at its own.
-    def key(v):
-        col = np.floor(v[:, 0] / pitch + 0.5).astype(np.int64)
-        row = rows - 1 - np.floor(v[:, 1] / pitch + 0.5).astype(np.int64)
-        level = np.floor((v[:, 2] + 0.25 * lh) / lh).astype(np.int64)
-        return level * 1_000_000 + row * 1000 + col
-
-    def buckets(v):
-        k = key(v)
-        order = np.argsort(k, kind="stable")
-        ks = k[order]
-        starts = np.flatnonzero(np.r_[True, ks[1:] != ks[:-1]])
-        ends = np.r_[starts[1:], len(ks)]
-        return {int(ks[s]): v[order[s:e]] for s, e in zip(starts, ends)}
-
-    walls_by = buckets(wall_v)
-    floors_by = buckets(floor_v)
+    walls_by = buckets(wall_v, topology)
+    all_by = buckets(verts, topology)
     for cell, axis in straight_cells(topology):
+        if (cell["level"], cell["row"], cell["col"]) in bays:
+            continue
         k = cell["level"] * 1_000_000 + cell["row"] * 1000 + cell["col"]
-        if k not in walls_by or k not in floors_by:
+        if k not in walls_by:
             continue
         centre = np.array([cell["col"] * pitch, (rows - 1 - cell["row"]) * pitch])
         w = walls_by[k]
-        zf = float(np.median(floors_by[k][:, 2]))
         along = w[:, axis] - centre[axis]
         across = w[:, 1 - axis] - centre[1 - axis]
-        z = w[:, 2] - zf
+        z = w[:, 2] - floor_fit(all_by[k], axis, centre)(along)
         band = (z > 1.2) & (z < 3.0) & (np.abs(along) < 0.5 * pitch)
         for side in (across < 0, across > 0):
             m = band & side

@@ -44,6 +44,12 @@ enum Feature {
     },
     /// A drop's pit (`crate::rubble`).
     Pit(crate::rubble::Pit),
+    /// A refuge bay beside a straight drift (`crate::refuge`).
+    Bay {
+        bay: crate::refuge::Bay,
+        floor: f64,
+        level: usize,
+    },
     /// A ramp's spiral (`crate::ramp`).
     Ramp {
         helix: Box<crate::ramp::Helix>,
@@ -227,6 +233,11 @@ impl<'a> LocalField<'a> {
                     ((d - r).max(z0 - p[2]).max(p[2] - z1), 10.0, 1.0)
                 }
                 Feature::Pit(ref pit) => (pit.value(p), 0.0, 0.0),
+                Feature::Bay { bay, floor, level } => {
+                    let v = p[2] - floor - col.lift[level - self.lmin] - col.rubble;
+                    along = Some(bay.along);
+                    (bay.value(p, v), v, v.clamp(0.0, 1.0))
+                }
                 Feature::Ramp { ref helix, lifts } => {
                     let q = [p[0], p[1], p[2] - helix.lift_at(lifts, p[2])];
                     let (base, v) = helix.section(q, self.profile, col.rubble);
@@ -405,6 +416,26 @@ impl<'g> Gather<'g> {
                     floor,
                     level: l,
                     squeeze,
+                },
+            });
+        }
+        if let Some(bay) = crate::refuge::of_cell(
+            world,
+            n,
+            tile.kind,
+            tile.openings,
+            passage,
+            squeeze.is_some(),
+        ) {
+            let grow = passage.roughness + self.margin;
+            let (lo, hi) = bay.bounds(grow);
+            self.features.push(Bounded {
+                lo: [lo[0], lo[1], zspan.0],
+                hi: [hi[0], hi[1], zspan.1],
+                item: Feature::Bay {
+                    bay,
+                    floor,
+                    level: l,
                 },
             });
         }

@@ -36,6 +36,7 @@ pub mod owner;
 pub mod passage;
 pub mod procedural;
 pub mod ramp;
+pub mod refuge;
 pub mod rubble;
 pub mod slope;
 

@@ -12,6 +12,9 @@ use crate::passage::{Passage, Profile};
 use crate::procedural::{Procedural, Style};
 use crate::slope::Slope;
 
+/// Default metres of straight drift per refuge bay (`[tileset] refuge_spacing`).
+pub const REFUGE_SPACING: f64 = 150.0;
+
 /// A drift profile: walls up to 60 % of the height, then an elliptical arch.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct Drift;
@@ -51,6 +54,8 @@ pub fn from_params(p: &Params) -> Result<Procedural, ConfigError> {
                     rms: crate::finish::BLASTED_RMS,
                     round: crate::finish::ROUND,
                 },
+                // A refuge bay every 150 m of straight drift on average (`crate::refuge`).
+                refuge_spacing: REFUGE_SPACING,
                 roughness_scale: 0.25,
                 floor_roughness: 0.0,
                 rocks: 0.0,

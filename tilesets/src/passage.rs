@@ -47,6 +47,8 @@ pub struct Passage {
     /// How walls and back are finished: the style's relief, blasted rock or shotcrete
     /// (see [`crate::finish`]).
     pub finish: Finish,
+    /// Metres of straight drift per refuge bay on average (0: none; see [`crate::refuge`]).
+    pub refuge_spacing: f64,
     /// Size of wall relief features.
     pub roughness_scale: f64,
     /// Amplitude of floor rubble.
@@ -87,6 +89,7 @@ impl Default for Passage {
             variation_scale: 0.9,
             roughness: 0.09,
             finish: Finish::Plain,
+            refuge_spacing: 0.0,
             roughness_scale: 0.45,
             floor_roughness: 0.03,
             rocks: 0.0,

@@ -51,6 +51,9 @@ pub struct Settings {
     pub relief: Option<f64>,
     /// Length of a blast round along the drift, metres (3.5).
     pub round_length: Option<f64>,
+    /// Metres of straight drift per refuge bay on average, in tile sets with bays (mine:
+    /// 150; 0 for none).
+    pub refuge_spacing: Option<f64>,
     /// Rocks per tile (0 for none).
     pub rocks: Option<f64>,
     /// Lattice cells per tile pitch for the visual mesh: the detail level (multiple of 4).
@@ -189,6 +192,7 @@ impl Procedural {
             height: s.height.unwrap_or(self.style.height * pitch),
             roughness,
             finish: self.finish(),
+            refuge_spacing: s.refuge_spacing.unwrap_or(base.refuge_spacing),
             roughness_scale: base.roughness_scale * width,
             floor_roughness: base.floor_roughness * width,
             rocks: s.rocks.unwrap_or(self.style.rocks),
@@ -564,20 +568,25 @@ impl Procedural {
 /// finishes, not mixed with the plain relief's `roughness`.
 fn check_finish(style: &Style, s: &Settings, params: &Params) -> Result<(), ConfigError> {
     let name = style.name;
-    let asked = s.finish.is_some() || s.relief.is_some() || s.round_length.is_some();
+    let asked = s.finish.is_some()
+        || s.relief.is_some()
+        || s.round_length.is_some()
+        || s.refuge_spacing.is_some();
     if asked && style.shape.finish.is_plain() {
         let key = if s.finish.is_some() {
             "finish"
         } else if s.relief.is_some() {
             "relief"
-        } else {
+        } else if s.round_length.is_some() {
             "round_length"
+        } else {
+            "refuge_spacing"
         };
         return Err(params.error(
             key,
             format!(
-                "the {name} tile set has no wall finishes (only mine has: blasted, shotcrete); \
-                 set its wall relief with roughness"
+                "the {name} tile set has no wall finishes or refuge bays (only mine has: \
+                 blasted, shotcrete); set its wall relief with roughness"
             ),
         ));
     }
@@ -609,6 +618,13 @@ fn check_finish(style: &Style, s: &Settings, params: &Params) -> Result<(), Conf
         return Err(params.error(
             "round_length",
             "must be from 0.5 to 20 metres (the advance of one blast round; 3-4 typical)",
+        ));
+    }
+    if s.refuge_spacing.is_some_and(|r| !(r.is_finite() && (r == 0.0 || r >= 20.0))) {
+        return Err(params.error(
+            "refuge_spacing",
+            "must be 0 (no refuge bays) or at least 20 metres of straight drift per bay on \
+             average, e.g. refuge_spacing = 150",
         ));
     }
     Ok(())
@@ -736,8 +752,21 @@ impl TileSet for Procedural {
             crate::rubble::tile_hazard(world, ctx.cell, &passage, self.style.profile.as_ref())
                 .map(|h| vec![h.region])
                 .unwrap_or_default();
+        let mut labels = crate::chambers::labels(&chamber, &squeeze);
+        if crate::refuge::of_cell(
+            world,
+            ctx.cell,
+            ctx.tile.kind,
+            ctx.tile.openings,
+            &passage,
+            squeeze.is_some(),
+        )
+        .is_some()
+        {
+            labels.push("refuge-bay");
+        }
         Ok(TileGeometry {
-            labels: crate::chambers::labels(&chamber, &squeeze),
+            labels,
             visual,
             collision,
             seams: Seams::Listed {
