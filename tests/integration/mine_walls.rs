@@ -28,7 +28,10 @@ fn small_mine(dir: &Path, name: &str, extra: &str) -> std::path::PathBuf {
 fn relief_cm(world: &Path) -> Option<f64> {
     let out = common::read_with_python(&["numpy"], "wall_relief_check.py", &[arg(world)])?;
     let v: serde_json::Value = serde_json::from_str(out.trim()).unwrap();
-    assert!(v["sides"].as_u64().unwrap() >= 20, "enough straight walls: {v}");
+    assert!(
+        v["sides"].as_u64().unwrap() >= 20,
+        "enough straight walls: {v}"
+    );
     Some(v["relief_rms_cm"].as_f64().unwrap())
 }
 
@@ -55,7 +58,11 @@ fn blasted_walls_have_decimetres_of_relief_shotcrete_less_and_none_least() {
     ] {
         let out = dir.path().join(name);
         // Ground truth too: the reader leaves out the cells labelled with a refuge bay.
-        generate(&small_mine(dir.path(), name, extra), &out, "obj,ground-truth");
+        generate(
+            &small_mine(dir.path(), name, extra),
+            &out,
+            "obj,ground-truth",
+        );
         let Some(r) = relief_cm(&out) else { return };
         std::fs::remove_dir_all(&out).unwrap();
         rms.push(r);
@@ -65,7 +72,10 @@ fn blasted_walls_have_decimetres_of_relief_shotcrete_less_and_none_least() {
     };
     // The default relief is 15 cm RMS of the field; the lattice smooths a little of it.
     assert!(blasted >= 10.0, "blasted walls: {blasted:.1} cm RMS");
-    assert!(none < 0.5 * blasted, "none {none:.1} vs blasted {blasted:.1}");
+    assert!(
+        none < 0.5 * blasted,
+        "none {none:.1} vs blasted {blasted:.1}"
+    );
     assert!(
         shotcrete < 0.6 * blasted && shotcrete > none,
         "shotcrete {shotcrete:.1} between none {none:.1} and blasted {blasted:.1}"
@@ -101,7 +111,11 @@ fn blasted_drifts_hold_a_lidars_registration() {
         shares.push(bad as f64 / scans.len() as f64);
         std::fs::remove_dir_all(&seq).unwrap();
     }
-    assert!(shares[0] < 0.15, "blasted: {:.0} % degenerate", 100.0 * shares[0]);
+    assert!(
+        shares[0] < 0.15,
+        "blasted: {:.0} % degenerate",
+        100.0 * shares[0]
+    );
     assert!(
         shares[1] > shares[0],
         "today's walls are more degenerate: {shares:?}"
@@ -147,7 +161,11 @@ fn refuge_bays_are_recesses_where_the_labels_say() {
 #[test]
 fn blasted_mine_is_the_same_on_one_and_three_threads() {
     let dir = tempfile::tempdir().unwrap();
-    let pipeline = small_mine(dir.path(), "mine", "finish = \"blasted\"\nround_length = 3.0");
+    let pipeline = small_mine(
+        dir.path(),
+        "mine",
+        "finish = \"blasted\"\nround_length = 3.0",
+    );
     common::assert_same_on_one_and_three_threads(dir.path(), &pipeline, "obj,ground-truth");
 }
 
@@ -156,7 +174,10 @@ fn finish_keys_are_checked_with_what_to_change() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("out");
     for (extra, said) in [
-        ("finish = \"granite\"", "\"blasted\", \"shotcrete\" or \"none\""),
+        (
+            "finish = \"granite\"",
+            "\"blasted\", \"shotcrete\" or \"none\"",
+        ),
         ("relief = 80", "centimetres RMS"),
         ("round_length = 0.1", "advance of one blast round"),
         ("roughness = 0.1\nfinish = \"blasted\"", "set relief"),
@@ -168,7 +189,11 @@ fn finish_keys_are_checked_with_what_to_change() {
         assert!(!out.exists(), "nothing written for {extra}");
     }
     let cave = dir.path().join("cave.toml");
-    std::fs::write(&cave, "[tileset]\ntype = \"cave\"\nfinish = \"shotcrete\"\n").unwrap();
+    std::fs::write(
+        &cave,
+        "[tileset]\ntype = \"cave\"\nfinish = \"shotcrete\"\n",
+    )
+    .unwrap();
     let err = common::fails(&["generate", arg(&cave), "--out", arg(&out)]);
     assert!(err.contains("only mine has"), "{err}");
 }

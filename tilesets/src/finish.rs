@@ -173,7 +173,10 @@ mod tests {
         let rms = rms_of(|p| b.relief(b.texture(&n, p), &n, p, Some([1.0, 0.0])));
         assert!((rms - 0.15).abs() < 0.02, "blasted relief RMS {rms}");
         let texture = rms_of(|p| b.texture(&n, p));
-        assert!((0.09..0.13).contains(&texture), "joint relief RMS {texture}");
+        assert!(
+            (0.09..0.13).contains(&texture),
+            "joint relief RMS {texture}"
+        );
         let s = Finish::Shotcrete { rms: 0.04 };
         let rms = rms_of(|p| s.relief(s.texture(&n, p), &n, p, Some([0.0, 1.0])));
         assert!((rms - 0.04).abs() < 0.008, "shotcrete RMS {rms}");

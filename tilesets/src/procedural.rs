@@ -607,20 +607,26 @@ fn check_finish(style: &Style, s: &Settings, params: &Params) -> Result<(), Conf
             ));
         }
     }
-    if s.relief.is_some_and(|r| !(r.is_finite() && (0.0..=50.0).contains(&r))) {
+    if s.relief
+        .is_some_and(|r| !(r.is_finite() && (0.0..=50.0).contains(&r)))
+    {
         return Err(params.error(
             "relief",
             "must be from 0 to 50 (centimetres RMS of the walls' relief; blasted rock 10-20, \
              shotcrete 2-6)",
         ));
     }
-    if s.round_length.is_some_and(|r| !(r.is_finite() && (0.5..=20.0).contains(&r))) {
+    if s.round_length
+        .is_some_and(|r| !(r.is_finite() && (0.5..=20.0).contains(&r)))
+    {
         return Err(params.error(
             "round_length",
             "must be from 0.5 to 20 metres (the advance of one blast round; 3-4 typical)",
         ));
     }
-    if s.refuge_spacing.is_some_and(|r| !(r.is_finite() && (r == 0.0 || r >= 20.0))) {
+    if s.refuge_spacing
+        .is_some_and(|r| !(r.is_finite() && (r == 0.0 || r >= 20.0)))
+    {
         return Err(params.error(
             "refuge_spacing",
             "must be 0 (no refuge bays) or at least 20 metres of straight drift per bay on \

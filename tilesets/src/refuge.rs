@@ -53,7 +53,9 @@ impl Bay {
         let mut hi = [f64::MIN; 2];
         for (sa, sb) in [(-1.0, 0.0), (1.0, 0.0), (-1.0, 1.0), (1.0, 1.0)] {
             for k in 0..2 {
-                let x = self.c[k] + sa * 0.5 * LENGTH * self.along[k] + sb * self.reach * self.toward[k];
+                let x = self.c[k]
+                    + sa * 0.5 * LENGTH * self.along[k]
+                    + sb * self.reach * self.toward[k];
                 lo[k] = lo[k].min(x - grow);
                 hi[k] = hi[k].max(x + grow);
             }
@@ -123,10 +125,19 @@ mod tests {
             reach: 5.7,
         };
         assert!(bay.value([0.0, 5.0, 1.0], 1.0) < 0.0, "inside the recess");
-        assert!(bay.value([0.0, 6.0, 1.0], 1.0) > 0.0, "beyond its back wall");
-        assert!(bay.value([0.0, -1.0, 1.0], 1.0) > 0.0, "not on the other side");
+        assert!(
+            bay.value([0.0, 6.0, 1.0], 1.0) > 0.0,
+            "beyond its back wall"
+        );
+        assert!(
+            bay.value([0.0, -1.0, 1.0], 1.0) > 0.0,
+            "not on the other side"
+        );
         assert!(bay.value([2.5, 5.0, 1.0], 1.0) > 0.0, "beyond its ends");
-        assert!(bay.value([0.0, 5.0, -0.1], -0.1) > 0.0, "not below the floor");
+        assert!(
+            bay.value([0.0, 5.0, -0.1], -0.1) > 0.0,
+            "not below the floor"
+        );
         assert!(bay.value([0.0, 5.0, 3.1], 3.1) > 0.0, "not above its roof");
         let (lo, hi) = bay.bounds(0.0);
         assert_eq!((lo, hi), ([-2.0, 0.0], [2.0, 5.7]));
