@@ -1,5 +1,6 @@
-//! `mine`: an operational mine drift: flat floor, straight walls, arched back; regular, with
-//! little relief and few rocks.
+//! `mine`: an operational mine drift: flat floor, straight walls, arched back; regular in size,
+//! with blasted (or shotcreted) walls (`crate::finish`), refuge bays (`crate::refuge`) and few
+//! rocks.
 
 use subtgraph_core::error::ConfigError;
 use subtgraph_core::mesh::Material;
