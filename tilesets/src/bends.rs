@@ -135,6 +135,18 @@ impl Centreline {
         }
     }
 
+    /// The unit direction of a straight segment (`None` for a point, an arc or a meander).
+    pub fn direction(&self) -> Option<[f64; 2]> {
+        match *self {
+            Centreline::Segment { a, b } => {
+                let d = sub(b, a);
+                let len = norm(d);
+                (len > 0.0).then(|| [d[0] / len, d[1] / len])
+            }
+            _ => None,
+        }
+    }
+
     /// How far from the middle of its cell the centreline point nearest `p` lies, metres
     /// along the passage as if it ran straight: 0 at the cell's middle, half a pitch at a face.
     /// A squeeze (`tilesets/src/chambers.rs`) is laid out along it, so it returns to the full

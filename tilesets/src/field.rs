@@ -18,6 +18,7 @@ use subtgraph_core::tile::TileKind;
 
 use crate::bends::{self, Centreline};
 use crate::chambers::{Chamber, Squeeze};
+use crate::finish::FinishNoise;
 use crate::noise::Noise;
 use crate::passage::{Levels, Passage, Profile, material};
 use crate::slope::Waves;
@@ -43,6 +44,12 @@ enum Feature {
     },
     /// A drop's pit (`crate::rubble`).
     Pit(crate::rubble::Pit),
+    /// A refuge bay beside a straight drift (`crate::refuge`).
+    Bay {
+        bay: crate::refuge::Bay,
+        floor: f64,
+        level: usize,
+    },
     /// A ramp's spiral (`crate::ramp`).
     Ramp {
         helix: Box<crate::ramp::Helix>,
@@ -96,6 +103,7 @@ pub struct LocalField<'a> {
     rubble: Noise,
     bands: Noise,
     shaft_walls: Noise,
+    finish: FinishNoise,
 }
 
 impl<'a> LocalField<'a> {
@@ -148,6 +156,7 @@ impl<'a> LocalField<'a> {
             rubble: Noise::new(seed, "rubble"),
             bands: Noise::new(seed, "bands"),
             shaft_walls: Noise::new(seed, "shaft-walls"),
+            finish: FinishNoise::new(seed),
         }
     }
 
@@ -180,10 +189,17 @@ impl<'a> LocalField<'a> {
         // the surface, does not depend on it.
         let cutoff = 2.0 * ps.roughness + 0.1 * ps.width + 1.0;
         let mut relief: Option<f64> = None;
+        let finish = ps.finish;
+        // The direction-free part of the relief: the style's, or the finish's texture
+        // (`crate::finish`), to which a corridor adds its blast rounds' overbreak.
         let mut relief_at = |p: [f64; 3]| {
             *relief.get_or_insert_with(|| {
-                let rs = 1.0 / ps.roughness_scale;
-                ps.roughness * self.walls.fbm(p[0] * rs, p[1] * rs, p[2] * rs, 3)
+                if finish.is_plain() {
+                    let rs = 1.0 / ps.roughness_scale;
+                    ps.roughness * self.walls.fbm(p[0] * rs, p[1] * rs, p[2] * rs, 3)
+                } else {
+                    finish.texture(&self.finish, p)
+                }
             })
         };
         let mut best = FAR;
@@ -192,6 +208,7 @@ impl<'a> LocalField<'a> {
             if !f.contains(p) {
                 continue;
             }
+            let mut along = None;
             let (base, v, wall) = match f.item {
                 Feature::Corridor {
                     line,
@@ -204,6 +221,7 @@ impl<'a> LocalField<'a> {
                     let wall = v.clamp(0.0, 1.0);
                     let [w, h] =
                         squeeze.map_or([1.0, 1.0], |s| s.scale(line.from_middle([p[0], p[1]])));
+                    along = line.direction();
                     (
                         self.profile.section(u, v, w * col.width, h * col.height),
                         v,
@@ -235,6 +253,11 @@ impl<'a> LocalField<'a> {
                     ((d - r - swell).max(z0 - p[2]).max(p[2] - z1), 10.0, 1.0)
                 }
                 Feature::Pit(ref pit) => (pit.value(p), 0.0, 0.0),
+                Feature::Bay { bay, floor, level } => {
+                    let v = p[2] - floor - col.lift[level - self.lmin] - col.rubble;
+                    along = Some(bay.along);
+                    (bay.value(p, v), v, v.clamp(0.0, 1.0))
+                }
                 Feature::Ramp { ref helix, lifts } => {
                     let q = [p[0], p[1], p[2] - helix.lift_at(lifts, p[2])];
                     let (base, v) = helix.section(q, self.profile, col.rubble);
@@ -242,7 +265,12 @@ impl<'a> LocalField<'a> {
                 }
             };
             let value = if base.abs() < cutoff && wall > 0.0 {
-                base + wall * relief_at(p)
+                let r = relief_at(p);
+                if finish.is_plain() {
+                    base + wall * r
+                } else {
+                    base + wall * finish.relief(r, &self.finish, p, along)
+                }
             } else {
                 base
             };
@@ -408,6 +436,26 @@ impl<'g> Gather<'g> {
                     floor,
                     level: l,
                     squeeze,
+                },
+            });
+        }
+        if let Some(bay) = crate::refuge::of_cell(
+            world,
+            n,
+            tile.kind,
+            tile.openings,
+            passage,
+            squeeze.is_some(),
+        ) {
+            let grow = passage.roughness + self.margin;
+            let (lo, hi) = bay.bounds(grow);
+            self.features.push(Bounded {
+                lo: [lo[0], lo[1], zspan.0],
+                hi: [hi[0], hi[1], zspan.1],
+                item: Feature::Bay {
+                    bay,
+                    floor,
+                    level: l,
                 },
             });
         }

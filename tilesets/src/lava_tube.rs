@@ -43,6 +43,8 @@ pub fn from_params(p: &Params) -> Result<Procedural, ConfigError> {
                 height_variation: 0.1,
                 variation_scale: 1.2,
                 roughness: 0.025,
+                finish: crate::finish::Finish::Plain,
+                refuge_spacing: 0.0,
                 roughness_scale: 0.6,
                 floor_roughness: 0.0,
                 rocks: 0.0,

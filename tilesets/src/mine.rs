@@ -1,15 +1,20 @@
-//! `mine`: an operational mine drift: flat floor, straight walls, arched back; regular, with
-//! little relief and few rocks.
+//! `mine`: an operational mine drift: flat floor, straight walls, arched back; regular in size,
+//! with blasted (or shotcreted) walls (`crate::finish`), refuge bays (`crate::refuge`) and few
+//! rocks.
 
 use subtgraph_core::error::ConfigError;
 use subtgraph_core::mesh::Material;
 use subtgraph_core::params::Params;
 
 use crate::bends::Bends;
+use crate::finish::Finish;
 use crate::passage::Rooms;
 use crate::passage::{Passage, Profile};
 use crate::procedural::{Procedural, Style};
 use crate::slope::Slope;
+
+/// Default metres of straight drift per refuge bay (`[tileset] refuge_spacing`).
+pub const REFUGE_SPACING: f64 = 150.0;
 
 /// A drift profile: walls up to 60 % of the height, then an elliptical arch.
 #[derive(Clone, Copy, Debug, Default)]
@@ -45,6 +50,13 @@ pub fn from_params(p: &Params) -> Result<Procedural, ConfigError> {
                 height_variation: 0.02,
                 variation_scale: 3.0,
                 roughness: 0.015,
+                // Drill-and-blast walls by default (`[tileset] finish`, `crate::finish`).
+                finish: Finish::Blasted {
+                    rms: crate::finish::BLASTED_RMS,
+                    round: crate::finish::ROUND,
+                },
+                // A refuge bay every 150 m of straight drift on average (`crate::refuge`).
+                refuge_spacing: REFUGE_SPACING,
                 roughness_scale: 0.25,
                 floor_roughness: 0.0,
                 rocks: 0.0,

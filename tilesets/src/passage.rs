@@ -7,6 +7,7 @@
 //! rubble); it depends on none of them, so they do not depend on each other through it.
 
 use crate::bends::Bends;
+use crate::finish::Finish;
 use crate::slope::Slope;
 
 /// Material indices used by the procedural tile sets.
@@ -41,8 +42,13 @@ pub struct Passage {
     pub height_variation: f64,
     /// Distance over which width and height change.
     pub variation_scale: f64,
-    /// Amplitude of wall relief.
+    /// Amplitude of wall relief (with a [`Finish`] other than plain, its peak).
     pub roughness: f64,
+    /// How walls and back are finished: the style's relief, blasted rock or shotcrete
+    /// (see [`crate::finish`]).
+    pub finish: Finish,
+    /// Metres of straight drift per refuge bay on average (0: none; see [`crate::refuge`]).
+    pub refuge_spacing: f64,
     /// Size of wall relief features.
     pub roughness_scale: f64,
     /// Amplitude of floor rubble.
@@ -82,6 +88,8 @@ impl Default for Passage {
             height_variation: 0.2,
             variation_scale: 0.9,
             roughness: 0.09,
+            finish: Finish::Plain,
+            refuge_spacing: 0.0,
             roughness_scale: 0.45,
             floor_roughness: 0.03,
             rocks: 0.0,

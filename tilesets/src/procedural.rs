@@ -17,6 +17,7 @@ use subtgraph_core::tileset::{
 
 use crate::chambers::{ChamberSettings, SqueezeSettings, least_factors};
 use crate::field::{Column, LocalField};
+use crate::finish::Finish;
 use crate::marching::{Block, polygonise_columns};
 use crate::owner::Owners;
 use crate::passage::{Levels, Passage, Profile, material};
@@ -40,8 +41,19 @@ pub struct Settings {
     pub width: Option<f64>,
     /// Passage height.
     pub height: Option<f64>,
-    /// Wall relief amplitude.
+    /// Wall relief amplitude of the style's plain relief (given alone, it means
+    /// `finish = "none"` in a tile set with finishes).
     pub roughness: Option<f64>,
+    /// How walls and back are finished, in tile sets that have finishes (mine): `"blasted"`
+    /// (the mine's default), `"shotcrete"` or `"none"` (see [`crate::finish`]).
+    pub finish: Option<String>,
+    /// Relief RMS of the finish, centimetres (blasted 15, shotcrete 4).
+    pub relief: Option<f64>,
+    /// Length of a blast round along the drift, metres (3.5).
+    pub round_length: Option<f64>,
+    /// Metres of straight drift per refuge bay on average, in tile sets with bays (mine:
+    /// 150; 0 for none).
+    pub refuge_spacing: Option<f64>,
     /// Rocks per tile (0 for none).
     pub rocks: Option<f64>,
     /// Lattice cells per tile pitch for the visual mesh: the detail level (multiple of 4).
@@ -132,6 +144,7 @@ impl Procedural {
             }
         }
         check_rooms(&settings, params)?;
+        check_finish(&style, &settings, params)?;
         let mut enabled = [true; 4];
         if let Some(list) = &settings.materials {
             let names: Vec<&str> = style.materials.iter().map(|m| m.name.as_str()).collect();
@@ -170,14 +183,16 @@ impl Procedural {
         let base = &self.style.shape;
         // A straight cell's meander keeps the widest passage inside its cell, two lattice
         // cells clear of its sides.
-        let half_width = 0.5 * width * (1.0 + base.width_variation)
-            + s.roughness.unwrap_or(base.roughness * width);
+        let roughness = self.relief_amplitude(width);
+        let half_width = 0.5 * width * (1.0 + base.width_variation) + roughness;
         let lattice = pitch / f64::from(self.resolution().0);
         let room = 0.5 * pitch - half_width - 2.0 * lattice;
         let mut passage = Passage {
             width,
             height: s.height.unwrap_or(self.style.height * pitch),
-            roughness: s.roughness.unwrap_or(base.roughness * width),
+            roughness,
+            finish: self.finish(),
+            refuge_spacing: s.refuge_spacing.unwrap_or(base.refuge_spacing),
             roughness_scale: base.roughness_scale * width,
             floor_roughness: base.floor_roughness * width,
             rocks: s.rocks.unwrap_or(self.style.rocks),
@@ -190,6 +205,40 @@ impl Procedural {
         };
         passage.slope = self.slope(world, &passage);
         passage
+    }
+
+    /// The walls' finish: the style's default, or as `[tileset]` asks (`finish`, `relief`,
+    /// `round_length`); `roughness` given alone keeps the plain relief it sets.
+    fn finish(&self) -> Finish {
+        let s = &self.settings;
+        let kind = match (s.finish.as_deref(), self.style.shape.finish) {
+            (Some(k), _) => k,
+            (None, _) if s.roughness.is_some() => "none",
+            (None, Finish::Blasted { .. }) => "blasted",
+            (None, Finish::Shotcrete { .. }) => "shotcrete",
+            (None, Finish::Plain) => "none",
+        };
+        let rms = |default: f64| s.relief.map_or(default, |cm| 0.01 * cm);
+        match kind {
+            "blasted" if rms(crate::finish::BLASTED_RMS) > 0.0 => Finish::Blasted {
+                rms: rms(crate::finish::BLASTED_RMS),
+                round: s.round_length.unwrap_or(crate::finish::ROUND),
+            },
+            "shotcrete" if rms(crate::finish::SHOTCRETE_RMS) > 0.0 => Finish::Shotcrete {
+                rms: rms(crate::finish::SHOTCRETE_RMS),
+            },
+            _ => Finish::Plain,
+        }
+    }
+
+    /// The wall relief's amplitude for passages `width` wide: the finish's peak, or the
+    /// style's (or the user's) roughness.
+    fn relief_amplitude(&self, width: f64) -> f64 {
+        self.finish().peak().unwrap_or_else(|| {
+            self.settings
+                .roughness
+                .unwrap_or(self.style.shape.roughness * width)
+        })
     }
 
     /// The grade range, degrees: as asked for (refused by [`TileSet::check`] when its rise
@@ -272,7 +321,7 @@ impl Procedural {
         let s = &self.settings;
         let base = &self.style.shape;
         let height = s.height.unwrap_or(self.style.height * pitch);
-        let relief = s.roughness.unwrap_or(base.roughness * width);
+        let relief = self.relief_amplitude(width);
         // Half a collision lattice cell, and what a sloping floor (`tilesets/src/slope.rs`)
         // rises across the box: slopes run any way, so the floor tilts across passages too.
         let steepest = s.grade.map_or(base.grade[1], |g| g[1]).max(0.0);
@@ -515,6 +564,78 @@ impl Procedural {
     }
 }
 
+/// Checks the `finish`, `relief` and `round_length` keys: known values, in a tile set that has
+/// finishes, not mixed with the plain relief's `roughness`.
+fn check_finish(style: &Style, s: &Settings, params: &Params) -> Result<(), ConfigError> {
+    let name = style.name;
+    let asked = s.finish.is_some()
+        || s.relief.is_some()
+        || s.round_length.is_some()
+        || s.refuge_spacing.is_some();
+    if asked && style.shape.finish.is_plain() {
+        let key = if s.finish.is_some() {
+            "finish"
+        } else if s.relief.is_some() {
+            "relief"
+        } else if s.round_length.is_some() {
+            "round_length"
+        } else {
+            "refuge_spacing"
+        };
+        return Err(params.error(
+            key,
+            format!(
+                "the {name} tile set has no wall finishes or refuge bays (only mine has: \
+                 blasted, shotcrete); set its wall relief with roughness"
+            ),
+        ));
+    }
+    if let Some(f) = s.finish.as_deref() {
+        if !matches!(f, "blasted" | "shotcrete" | "none") {
+            return Err(params.error(
+                "finish",
+                format!("unknown finish '{f}': use \"blasted\", \"shotcrete\" or \"none\""),
+            ));
+        }
+        if f != "none" && s.roughness.is_some() {
+            return Err(params.error(
+                "roughness",
+                format!(
+                    "roughness sets the plain relief of finish = \"none\"; with finish = \"{f}\" \
+                     set relief (centimetres RMS) instead, or drop roughness"
+                ),
+            ));
+        }
+    }
+    if s.relief
+        .is_some_and(|r| !(r.is_finite() && (0.0..=50.0).contains(&r)))
+    {
+        return Err(params.error(
+            "relief",
+            "must be from 0 to 50 (centimetres RMS of the walls' relief; blasted rock 10-20, \
+             shotcrete 2-6)",
+        ));
+    }
+    if s.round_length
+        .is_some_and(|r| !(r.is_finite() && (0.5..=20.0).contains(&r)))
+    {
+        return Err(params.error(
+            "round_length",
+            "must be from 0.5 to 20 metres (the advance of one blast round; 3-4 typical)",
+        ));
+    }
+    if s.refuge_spacing
+        .is_some_and(|r| !(r.is_finite() && (r == 0.0 || r >= 20.0)))
+    {
+        return Err(params.error(
+            "refuge_spacing",
+            "must be 0 (no refuge bays) or at least 20 metres of straight drift per bay on \
+             average, e.g. refuge_spacing = 150",
+        ));
+    }
+    Ok(())
+}
+
 /// Checks the `chambers`, `squeezes` and `min_clearance` keys' values.
 fn check_rooms(s: &Settings, params: &Params) -> Result<(), ConfigError> {
     let share = |v: Option<f64>| v.is_some_and(|v| !(0.0..=1.0).contains(&v));
@@ -637,8 +758,21 @@ impl TileSet for Procedural {
             crate::rubble::tile_hazard(world, ctx.cell, &passage, self.style.profile.as_ref())
                 .map(|h| vec![h.region])
                 .unwrap_or_default();
+        let mut labels = crate::chambers::labels(&chamber, &squeeze);
+        if crate::refuge::of_cell(
+            world,
+            ctx.cell,
+            ctx.tile.kind,
+            ctx.tile.openings,
+            &passage,
+            squeeze.is_some(),
+        )
+        .is_some()
+        {
+            labels.push("refuge-bay");
+        }
         Ok(TileGeometry {
-            labels: crate::chambers::labels(&chamber, &squeeze),
+            labels,
             visual,
             collision,
             seams: Seams::Listed {

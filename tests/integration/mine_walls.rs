@@ -1,0 +1,199 @@
+//! The mine's wall finish (issue 24 item 1): blasted drifts have decimetres of relief against
+//! a passage fitted apart from our code (tests/readers/wall_relief_check.py, numpy over the
+//! exported OBJ), shotcrete less, `finish = "none"` today's; the relief holds a LiDAR's scan
+//! registration along the drift (the sensor's degeneracy labels); the same bytes on 1 and 3
+//! threads; refuge bays are recesses in the mesh exactly where the semantic labels say; bad
+//! keys refused with what to change.
+
+use std::path::Path;
+
+use crate::common::{self, arg};
+
+/// A one-level mine of about 25 x 25 cells, with `extra` lines in its `[tileset]`.
+fn small_mine(dir: &Path, name: &str, extra: &str) -> std::path::PathBuf {
+    let path = dir.join(format!("{name}.toml"));
+    std::fs::write(
+        &path,
+        format!(
+            "[world]\nseed = 3\nlevels = 1\nmin_length = [500, 500]\ntile_pitch = 20.0\n\n\
+             [route]\ntype = \"linear\"\n\n[tileset]\ntype = \"mine\"\n{extra}\n"
+        ),
+    )
+    .unwrap();
+    path
+}
+
+/// The wall relief RMS (cm) the independent reader measures on `world`, or `None` when the
+/// readers are not installed.
+fn relief_cm(world: &Path) -> Option<f64> {
+    let out = common::read_with_python(&["numpy"], "wall_relief_check.py", &[arg(world)])?;
+    let v: serde_json::Value = serde_json::from_str(out.trim()).unwrap();
+    assert!(
+        v["sides"].as_u64().unwrap() >= 20,
+        "enough straight walls: {v}"
+    );
+    Some(v["relief_rms_cm"].as_f64().unwrap())
+}
+
+fn generate(pipeline: &Path, out: &Path, formats: &str) {
+    common::ok(&[
+        "generate",
+        arg(pipeline),
+        "--format",
+        formats,
+        "--out",
+        arg(out),
+    ]);
+}
+
+#[test]
+fn blasted_walls_have_decimetres_of_relief_shotcrete_less_and_none_least() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut rms = Vec::new();
+    for (name, extra) in [
+        ("blasted", ""),
+        ("shotcrete", "finish = \"shotcrete\""),
+        ("none", "finish = \"none\""),
+        ("rougher", "relief = 25"),
+    ] {
+        let out = dir.path().join(name);
+        // Ground truth too: the reader leaves out the cells labelled with a refuge bay.
+        generate(
+            &small_mine(dir.path(), name, extra),
+            &out,
+            "obj,ground-truth",
+        );
+        let Some(r) = relief_cm(&out) else { return };
+        std::fs::remove_dir_all(&out).unwrap();
+        rms.push(r);
+    }
+    let [blasted, shotcrete, none, rougher] = rms[..] else {
+        unreachable!()
+    };
+    // The default relief is 15 cm RMS of the field; the lattice smooths a little of it.
+    assert!(blasted >= 10.0, "blasted walls: {blasted:.1} cm RMS");
+    assert!(
+        none < 0.5 * blasted,
+        "none {none:.1} vs blasted {blasted:.1}"
+    );
+    assert!(
+        shotcrete < 0.6 * blasted && shotcrete > none,
+        "shotcrete {shotcrete:.1} between none {none:.1} and blasted {blasted:.1}"
+    );
+    assert!(rougher > 1.3 * blasted, "relief = 25: {rougher:.1} cm");
+}
+
+#[test]
+fn blasted_drifts_hold_a_lidars_registration() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut shares = Vec::new();
+    for (name, extra) in [("blasted", ""), ("none", "finish = \"none\"")] {
+        let world = dir.path().join(name);
+        generate(&small_mine(dir.path(), name, extra), &world, "ground-truth");
+        let seq = dir.path().join(format!("{name}-seq"));
+        common::ok(&[
+            "sense",
+            arg(&world),
+            "--out",
+            arg(&seq),
+            "--format",
+            "kitti",
+            "--duration",
+            "30",
+        ]);
+        let v: serde_json::Value =
+            serde_json::from_slice(&std::fs::read(seq.join("sequence.json")).unwrap()).unwrap();
+        let scans = v["scans"].as_array().unwrap();
+        let bad = scans
+            .iter()
+            .filter(|s| s["degeneracy"]["degenerate"].as_bool() == Some(true))
+            .count();
+        shares.push(bad as f64 / scans.len() as f64);
+        std::fs::remove_dir_all(&seq).unwrap();
+    }
+    assert!(
+        shares[0] < 0.15,
+        "blasted: {:.0} % degenerate",
+        100.0 * shares[0]
+    );
+    assert!(
+        shares[1] > shares[0],
+        "today's walls are more degenerate: {shares:?}"
+    );
+}
+
+#[test]
+fn refuge_bays_are_recesses_where_the_labels_say() {
+    let dir = tempfile::tempdir().unwrap();
+    let world = dir.path().join("bays");
+    generate(
+        &small_mine(dir.path(), "bays", "refuge_spacing = 60"),
+        &world,
+        "obj,ground-truth",
+    );
+    // The reader finds the recesses in the mesh and fails when they and the labels differ.
+    let Some(out) = common::read_with_python(&["numpy"], "refuge_bay_check.py", &[arg(&world)])
+    else {
+        return;
+    };
+    let v: serde_json::Value = serde_json::from_str(out.trim()).unwrap();
+    let (bays, straight) = (
+        v["recesses"].as_array().unwrap().len() as f64,
+        v["straight_cells"].as_f64().unwrap(),
+    );
+    // One bay per 60 m of straight drift: a third of the 20 m straight tiles, drawn.
+    assert!(
+        (0.15..0.55).contains(&(bays / straight)),
+        "{bays} bays in {straight} straight tiles"
+    );
+    // Off, none: the reader finds no recess either.
+    let none = dir.path().join("none");
+    generate(
+        &small_mine(dir.path(), "none", "refuge_spacing = 0"),
+        &none,
+        "obj,ground-truth",
+    );
+    let out = common::read_with_python(&["numpy"], "refuge_bay_check.py", &[arg(&none)]).unwrap();
+    let v: serde_json::Value = serde_json::from_str(out.trim()).unwrap();
+    assert_eq!(v["recesses"].as_array().unwrap().len(), 0, "{v}");
+}
+
+#[test]
+fn blasted_mine_is_the_same_on_one_and_three_threads() {
+    let dir = tempfile::tempdir().unwrap();
+    let pipeline = small_mine(
+        dir.path(),
+        "mine",
+        "finish = \"blasted\"\nround_length = 3.0",
+    );
+    common::assert_same_on_one_and_three_threads(dir.path(), &pipeline, "obj,ground-truth");
+}
+
+#[test]
+fn finish_keys_are_checked_with_what_to_change() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    for (extra, said) in [
+        (
+            "finish = \"granite\"",
+            "\"blasted\", \"shotcrete\" or \"none\"",
+        ),
+        ("relief = 80", "centimetres RMS"),
+        ("round_length = 0.1", "advance of one blast round"),
+        ("roughness = 0.1\nfinish = \"blasted\"", "set relief"),
+        ("refuge_spacing = 5", "metres of straight drift per bay"),
+    ] {
+        let p = small_mine(dir.path(), "bad", extra);
+        let err = common::fails(&["generate", arg(&p), "--out", arg(&out)]);
+        assert!(err.contains(said), "{extra}: {err}");
+        assert!(!out.exists(), "nothing written for {extra}");
+    }
+    let cave = dir.path().join("cave.toml");
+    std::fs::write(
+        &cave,
+        "[tileset]\ntype = \"cave\"\nfinish = \"shotcrete\"\n",
+    )
+    .unwrap();
+    let err = common::fails(&["generate", arg(&cave), "--out", arg(&out)]);
+    assert!(err.contains("only mine has"), "{err}");
+}
