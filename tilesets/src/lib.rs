@@ -37,6 +37,7 @@ pub mod procedural;
 pub mod ramp;
 pub mod rubble;
 pub mod slope;
+pub mod textures;
 
 /// Adds the built-in tile sets to a registry.
 pub fn register(registry: &mut Registry) -> Result<(), DuplicateName> {
