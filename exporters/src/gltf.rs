@@ -3,7 +3,8 @@
 //!
 //! One node and one mesh per part, one primitive per material (the primitives of a mesh share
 //! its POSITION, NORMAL and TEXCOORD_0 accessors and differ by their `u32` indices), and a
-//! `pbrMetallicRoughness` material per tile set material from its colour. glTF is Y up in
+//! `pbrMetallicRoughness` material per tile set material from its colour, or from its images
+//! (referenced beside the GLB under `mesh/textures/`) when it has them. glTF is Y up in
 //! metres, so a point (x east, y north, z up) is written as (x, z, -y): a rotation, which keeps
 //! the triangles' winding (front faces seen from inside the passage). Texture coordinates are
 //! flipped to glTF's top-left image origin (v becomes 1 - v).
