@@ -48,6 +48,9 @@ pub struct WorldMesh {
     pub collision: Mesh,
     /// The tile set's materials.
     pub materials: Vec<Material>,
+    /// The image files the materials name ([`TileSet::textures`]), to be written under the
+    /// world folder's `mesh/`.
+    pub textures: Vec<crate::mesh::ImageFile>,
     /// One entry per occupied cell, raster order.
     pub tiles: Vec<PlacedTile>,
     /// The tiles' rubble fields and drops (`[hazards]`), raster order of their cells.
@@ -122,6 +125,7 @@ pub fn assemble_within(
     };
     let mut out = WorldMesh {
         materials: tileset.materials(),
+        textures: tileset.textures(layout.resolved.seed)?,
         ramps,
         ..WorldMesh::default()
     };

@@ -253,6 +253,13 @@ pub trait TileSet: Send + Sync {
         4.0
     }
 
+    /// The image files [`materials`](TileSet::materials) name (albedo, normal and roughness
+    /// maps), made for the world with this seed; assembly keeps them on the world's mesh and
+    /// the exporters write them under `mesh/`. The default: none (plain colours).
+    fn textures(&self, _seed: u64) -> Result<Vec<crate::mesh::ImageFile>, TileSetError> {
+        Ok(Vec::new())
+    }
+
     /// Whether the tile set makes `[hazards]` rubble fields and drops (in the tiles
     /// [`crate::hazards::HazardsSection::floor_hazard`] names). Assembly refuses a pipeline
     /// asking for them from a tile set that does not, rather than leaving them out silently.

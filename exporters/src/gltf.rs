@@ -3,7 +3,8 @@
 //!
 //! One node and one mesh per part, one primitive per material (the primitives of a mesh share
 //! its POSITION, NORMAL and TEXCOORD_0 accessors and differ by their `u32` indices), and a
-//! `pbrMetallicRoughness` material per tile set material from its colour. glTF is Y up in
+//! `pbrMetallicRoughness` material per tile set material from its colour, or from its images
+//! (referenced beside the GLB under `mesh/textures/`) when it has them. glTF is Y up in
 //! metres, so a point (x east, y north, z up) is written as (x, z, -y): a rotation, which keeps
 //! the triangles' winding (front faces seen from inside the passage). Texture coordinates are
 //! flipped to glTF's top-left image origin (v becomes 1 - v).
@@ -28,12 +29,13 @@ use std::io::Write;
 use gltf_json::accessor::{FLOAT, UNSIGNED_INT};
 use gltf_json::buffer::{ARRAY_BUFFER, ELEMENT_ARRAY_BUFFER};
 use gltf_json::mesh::TRIANGLES;
+use gltf_json::texture::{LINEAR, LINEAR_MIPMAP_LINEAR, REPEAT};
 use serde_json::{Value, json};
 use subtgraph_core::World;
 use subtgraph_core::artifacts::Artifact;
 use subtgraph_core::error::ConfigError;
 use subtgraph_core::export::{ExportError, Exporter, WorldWriter, stream_file};
-use subtgraph_core::mesh::Mesh;
+use subtgraph_core::mesh::{Material, Mesh};
 use subtgraph_core::params::Params;
 use subtgraph_core::survey::Survey;
 
@@ -98,6 +100,36 @@ fn sizes(m: &Mesh, materials: usize) -> Sizes {
         min,
         max,
     }
+}
+
+/// A tile set material as glTF PBR: its colour, or with images its albedo
+/// (`baseColorTexture`), roughness (`metallicRoughnessTexture`'s green; metallic 0) and
+/// normal map, each added to `images` (URIs relative to the GLB) once.
+fn material<'a>(m: &'a Material, images: &mut Vec<&'a str>) -> Value {
+    let [r, g, b] = m.colour;
+    let mut index = |uri: &'a str| match images.iter().position(|u| *u == uri) {
+        Some(i) => i,
+        None => {
+            images.push(uri);
+            images.len() - 1
+        }
+    };
+    let mut pbr =
+        json!({"baseColorFactor": [r, g, b, 1.0], "metallicFactor": 0.0, "roughnessFactor": 0.9});
+    let mut out = json!({"name": m.name});
+    if let Some(t) = &m.texture {
+        pbr["baseColorFactor"] = json!([1.0, 1.0, 1.0, 1.0]);
+        pbr["baseColorTexture"] = json!({"index": index(t)});
+    }
+    if let Some(t) = &m.roughness_map {
+        pbr["roughnessFactor"] = json!(1.0);
+        pbr["metallicRoughnessTexture"] = json!({"index": index(t)});
+    }
+    if let Some(t) = &m.normal_map {
+        out["normalTexture"] = json!({"index": index(t)});
+    }
+    out["pbrMetallicRoughness"] = pbr;
+    out
 }
 
 /// The JSON document and the binary chunk's length.
@@ -317,18 +349,28 @@ impl Exporter for Gltf {
             .iter()
             .map(|p| sizes(&p.visual(mesh), mesh.materials.len()))
             .collect();
+        let mut images: Vec<&str> = Vec::new();
         let materials: Vec<Value> = mesh
             .materials
             .iter()
-            .map(|m| {
-                let [r, g, b] = m.colour;
-                json!({"name": m.name, "pbrMetallicRoughness": {
-                    "baseColorFactor": [r, g, b, 1.0], "metallicFactor": 0.0, "roughnessFactor": 0.9}})
-            })
+            .map(|m| material(m, &mut images))
             .collect();
         let refs: Vec<&Part> = ps.iter().collect();
         let artifacts = crate::artifacts_of(survey);
-        let (doc, bin_len) = document(&refs, &sized, &materials, artifacts);
+        let (mut doc, bin_len) = document(&refs, &sized, &materials, artifacts);
+        if !images.is_empty() {
+            // Referenced beside the GLB (`mesh/textures/`), not embedded: the images are
+            // shared with the other formats and the GLB stays the geometry.
+            doc["images"] = json!(images.iter().map(|u| json!({"uri": u})).collect::<Vec<_>>());
+            doc["textures"] = json!(
+                (0..images.len())
+                    .map(|i| json!({"source": i, "sampler": 0}))
+                    .collect::<Vec<_>>()
+            );
+            doc["samplers"] = json!([{"magFilter": LINEAR, "minFilter": LINEAR_MIPMAP_LINEAR,
+                "wrapS": REPEAT, "wrapT": REPEAT}]);
+            crate::text::write_textures(out, mesh)?;
+        }
         let mut text = serde_json::to_vec(&doc).expect("JSON of plain values");
         while text.len() % 4 != 0 {
             text.push(b' ');

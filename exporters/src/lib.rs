@@ -9,6 +9,7 @@
 //! | `topology.json` | the graph, and requested against achieved counts per level |
 //! | `maps/level-N.png` | a top-down picture per level, tile kinds in distinct colours |
 //! | `mesh/world.obj`, `mesh/world.mtl`, `mesh/collision.obj` | the geometry, when the pipeline has a `[tileset]` |
+//! | `mesh/textures/*.png` | the materials' albedo, normal and roughness maps, when the tile set makes them (`[tileset] textures`); written once, by the first format that names them |
 //! | `ground_truth/artifacts.json`, `.csv` | the artifacts' classes and poses, when the pipeline has `[artifacts]` |
 //! | `ground_truth/hazards.json` | the floor patches and hazard regions, when the pipeline has `[hazards]` |
 //!

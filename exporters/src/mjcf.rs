@@ -62,7 +62,7 @@ use subtgraph_core::assembly::WorldMesh;
 use subtgraph_core::error::ConfigError;
 use subtgraph_core::export::{ExportError, Exporter, WorldWriter, stream_file, write_file};
 use subtgraph_core::hazards::Patch;
-use subtgraph_core::mesh::{Clustering, Grid, Mesh};
+use subtgraph_core::mesh::{Clustering, Grid, Material, Mesh};
 use subtgraph_core::params::Params;
 use subtgraph_core::survey::Survey;
 
@@ -200,6 +200,11 @@ impl Mjcf {
 
 /// The `r g b a` of the material most of a part's visual triangles use.
 pub(crate) fn part_colour(mesh: &WorldMesh, part: &Part) -> [f32; 3] {
+    part_material(mesh, part).map_or([0.6, 0.55, 0.5], |m| m.colour)
+}
+
+/// The material most of a part's visual triangles use.
+fn part_material<'m>(mesh: &'m WorldMesh, part: &Part) -> Option<&'m Material> {
     let mut count = vec![0usize; mesh.materials.len().max(1)];
     for r in &part.visual_ranges {
         for t in r.clone() {
@@ -214,9 +219,7 @@ pub(crate) fn part_colour(mesh: &WorldMesh, part: &Part) -> [f32; 3] {
         .rev()
         .max_by_key(|&i| count[i])
         .unwrap_or(0);
-    mesh.materials
-        .get(best)
-        .map_or([0.6, 0.55, 0.5], |m| m.colour)
+    mesh.materials.get(best)
 }
 
 fn push_colour(buf: &mut Vec<u8>, c: [f32; 3], alpha: f32) {
@@ -537,6 +540,7 @@ impl Exporter for Mjcf {
         };
         let parts = parts(world, mesh, self.split);
         let files = if self.visual {
+            crate::text::write_textures(out, mesh)?;
             write_visual_meshes(out, mesh, &parts, self.visual_cell)?
         } else {
             Vec::new()
@@ -564,8 +568,9 @@ impl Exporter for Mjcf {
             "no visual geoms (visual = \"none\")"
         };
         let mut main = format!(
-            "<mujoco model=\"subtgraph world, seed {}\">\n  <!-- metres, x east, y north, z up; {visual}, {what} in group 3 -->\n{COMPILER}",
-            world.resolved.seed
+            "<mujoco model=\"subtgraph world, seed {}\">\n  <!-- metres, x east, y north, z up; {visual}, {what} in group 3 -->\n{}",
+            world.resolved.seed,
+            compiler(mesh)
         );
         for (i, (part, collision)) in parts.iter().zip(&collision).enumerate() {
             let visuals: &[String] = files.get(i).map_or(&[], |f| f.as_slice());
@@ -592,6 +597,17 @@ impl Exporter for Mjcf {
 
 /// Every file's `<compiler>`: radians, and meshes relative to `mujoco/`'s parent.
 const COMPILER: &str = "  <compiler angle=\"radian\" meshdir=\"..\"/>\n";
+
+/// The `<compiler>` of a world with textures: their images relative to `mujoco/`'s parent too.
+const COMPILER_TEXTURED: &str = "  <compiler angle=\"radian\" meshdir=\"..\" texturedir=\"..\"/>\n";
+
+fn compiler(mesh: &WorldMesh) -> &'static str {
+    if mesh.textures.is_empty() {
+        COMPILER
+    } else {
+        COMPILER_TEXTURED
+    }
+}
 
 impl Mjcf {
     /// Each part's collision geometry: its convex slabs, or the world's height `fields` and
@@ -668,6 +684,11 @@ fn write_part(
 ) -> Result<(), ExportError> {
     let name = xml_escape(&part.name);
     let colour = part_colour(mesh, part);
+    // MuJoCo gives a geom one material: the part's most used one, its albedo repeated by the
+    // meshes' texture coordinates.
+    let albedo = part_material(mesh, part)
+        .and_then(|m| m.texture.as_deref())
+        .filter(|_| !visuals.is_empty());
     let Tiles {
         ramp,
         friction,
@@ -715,7 +736,13 @@ fn write_part(
         }
     };
     stream_file(out, path, |w| {
-        let mut head = format!("<mujoco model=\"{name}\">\n{COMPILER}  <asset>\n");
+        let mut head = format!("<mujoco model=\"{name}\">\n{}  <asset>\n", compiler(mesh));
+        if let Some(f) = albedo {
+            head.push_str(&format!(
+                "    <texture name=\"{name}-albedo\" type=\"2d\" file=\"mesh/{}\"/>\n    <material name=\"{name}-surface\" texture=\"{name}-albedo\" texuniform=\"false\" texrepeat=\"1 1\"/>\n",
+                xml_escape(f)
+            ));
+        }
         for (k, file) in visuals.iter().enumerate() {
             head.push_str(&format!(
                 "    <mesh name=\"{name}-visual-{k}\" file=\"{}\" inertia=\"shell\"/>\n",
@@ -728,11 +755,16 @@ fn write_part(
         mid.extend_from_slice(b"  </asset>\n  <worldbody>\n");
         for k in 0..visuals.len() {
             mid.extend_from_slice(
-                format!("    <geom name=\"{name}-visual-{k}\" type=\"mesh\" mesh=\"{name}-visual-{k}\" group=\"1\" contype=\"0\" conaffinity=\"0\" rgba=\"")
+                format!("    <geom name=\"{name}-visual-{k}\" type=\"mesh\" mesh=\"{name}-visual-{k}\" group=\"1\" contype=\"0\" conaffinity=\"0\" ")
                     .as_bytes(),
             );
-            push_colour(&mut mid, colour, 1.0);
-            mid.extend_from_slice(b"\"/>\n");
+            if albedo.is_some() {
+                mid.extend_from_slice(format!("material=\"{name}-surface\"/>\n").as_bytes());
+            } else {
+                mid.extend_from_slice(b"rgba=\"");
+                push_colour(&mut mid, colour, 1.0);
+                mid.extend_from_slice(b"\"/>\n");
+            }
         }
         w.write_all(&mid)?;
         write_lines(w, count, geom)?;

@@ -75,7 +75,8 @@ impl Exporter for Obj {
             ));
         };
         if self.visual && !out.contains("mesh/world.obj") {
-            write_file(out, "mesh/world.mtl", mtl(&mesh.materials).as_bytes())?;
+            write_file(out, "mesh/world.mtl", mtl(&mesh.materials, "").as_bytes())?;
+            crate::text::write_textures(out, mesh)?;
             stream_file(out, "mesh/world.obj", |w| {
                 write_obj(
                     w,

@@ -214,7 +214,8 @@ pub fn write_part_meshes(
 ) -> Result<Vec<PartFiles>, ExportError> {
     let mtl_path = format!("{PARTS_DIR}/{}/materials.mtl", split.label());
     if !out.contains(&mtl_path) {
-        write_file(out, &mtl_path, mtl(&mesh.materials).as_bytes())?;
+        write_file(out, &mtl_path, mtl(&mesh.materials, "../../").as_bytes())?;
+        crate::text::write_textures(out, mesh)?;
     }
     let mut files = Vec::with_capacity(parts.len());
     for part in parts {

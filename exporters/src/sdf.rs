@@ -224,6 +224,31 @@ fn artifact_models(s: &mut String, artifacts: &[subtgraph_core::artifacts::Artif
 
 /// A `<collision>` with a mesh (`path` relative to the world folder) and, for a floor patch,
 /// its friction (ODE's `mu` and `mu2`, and Bullet's `friction`).
+/// A material's maps as SDFormat's `<pbr><metal>` (paths relative to the SDF file, as the
+/// meshes'), when it has any.
+fn pbr_xml(s: &mut String, m: &subtgraph_core::mesh::Material) {
+    if m.texture.is_none() && m.normal_map.is_none() && m.roughness_map.is_none() {
+        return;
+    }
+    s.push_str("            <pbr>\n              <metal>\n");
+    for (tag, map) in [
+        ("albedo_map", &m.texture),
+        ("normal_map", &m.normal_map),
+        ("roughness_map", &m.roughness_map),
+    ] {
+        if let Some(f) = map {
+            let _ = writeln!(
+                s,
+                "                <{tag}>../mesh/{}</{tag}>",
+                xml_escape(f)
+            );
+        }
+    }
+    s.push_str(
+        "                <metalness>0</metalness>\n              </metal>\n            </pbr>\n",
+    );
+}
+
 fn collision_xml(s: &mut String, name: &str, path: &str, friction: Option<f64>) {
     let _ = write!(
         s,
@@ -267,8 +292,10 @@ impl Exporter for Sdf {
             triple(&mut s, [p[0], p[1], p[2] + 1.5]);
             s.push_str(" 0 0.1 0</pose>\n      </camera>\n    </gui>\n");
         }
+        // One material: stated on the visual (with its maps as `<pbr>`); several: the part
+        // meshes' MTL names them per face (colours and maps), which Gazebo reads.
         let single = match mesh.materials.as_slice() {
-            [m] => Some(m.colour),
+            [m] => Some(m),
             _ => None,
         };
         let patches = survey.patches().unwrap_or(&[]);
@@ -280,11 +307,14 @@ impl Exporter for Sdf {
                 name = xml_escape(&f.name),
                 visual = xml_escape(&f.visual),
             );
-            if let Some([r, g, b]) = single {
+            if let Some(m) = single {
+                let [r, g, b] = m.colour;
                 let _ = write!(
                     s,
-                    "          <material>\n            <ambient>{r:.4} {g:.4} {b:.4} 1</ambient>\n            <diffuse>{r:.4} {g:.4} {b:.4} 1</diffuse>\n            <specular>0.05 0.05 0.05 1</specular>\n          </material>\n"
+                    "          <material>\n            <ambient>{r:.4} {g:.4} {b:.4} 1</ambient>\n            <diffuse>{r:.4} {g:.4} {b:.4} 1</diffuse>\n            <specular>0.05 0.05 0.05 1</specular>\n"
                 );
+                pbr_xml(&mut s, m);
+                s.push_str("          </material>\n");
             }
             s.push_str("        </visual>\n");
             match crate::hazards::split_collision(patches, mesh, part) {

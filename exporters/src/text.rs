@@ -88,8 +88,13 @@ pub(crate) fn xml_escape(s: &str) -> String {
         .replace('"', "&quot;")
 }
 
-/// The MTL text for a tile set's materials.
-pub(crate) fn mtl(materials: &[Material]) -> String {
+/// The MTL text for a tile set's materials, its image paths prefixed by `to_mesh` (the way
+/// from the MTL's folder to the world folder's `mesh/`: `""` beside `world.obj`).
+///
+/// Textured materials keep their mean colour as `Kd` (what a reader without textures shows)
+/// and name the albedo `map_Kd`, the tangent-space normal map `norm` and the roughness
+/// `map_Pr` (the PBR extension of MTL that Blender, tinyobjloader and assimp read).
+pub(crate) fn mtl(materials: &[Material], to_mesh: &str) -> String {
     let mut s = String::from("# subtgraph materials\n");
     for m in materials {
         let [r, g, b] = m.colour;
@@ -97,11 +102,32 @@ pub(crate) fn mtl(materials: &[Material]) -> String {
             "\nnewmtl {}\nKa 0 0 0\nKd {r:.4} {g:.4} {b:.4}\nKs 0.05 0.05 0.05\nNs 10\nd 1\nillum 2\n",
             m.name
         ));
-        if let Some(t) = &m.texture {
-            s.push_str(&format!("map_Kd {t}\n"));
+        for (tag, map) in [
+            ("map_Kd", &m.texture),
+            ("norm", &m.normal_map),
+            ("map_Pr", &m.roughness_map),
+        ] {
+            if let Some(t) = map {
+                s.push_str(&format!("{tag} {to_mesh}{t}\n"));
+            }
         }
     }
     s
+}
+
+/// Writes the world's texture images under `mesh/`, unless an earlier exporter of the same
+/// world folder already did: every format that names them calls this.
+pub(crate) fn write_textures(
+    out: &mut dyn subtgraph_core::export::WorldWriter,
+    mesh: &subtgraph_core::assembly::WorldMesh,
+) -> Result<(), subtgraph_core::export::ExportError> {
+    for f in &mesh.textures {
+        let path = format!("mesh/{}", f.path);
+        if !out.contains(&path) {
+            subtgraph_core::export::write_file(out, &path, &f.bytes)?;
+        }
+    }
+    Ok(())
 }
 
 /// Writes one mesh as one OBJ object, with `(materials, mtllib file name)` when its triangles

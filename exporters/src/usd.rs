@@ -37,7 +37,7 @@ use subtgraph_core::assembly::WorldMesh;
 use subtgraph_core::error::ConfigError;
 use subtgraph_core::export::{ExportError, Exporter, WorldWriter, stream_file, write_file};
 use subtgraph_core::hazards::FloorMaterial;
-use subtgraph_core::mesh::Mesh;
+use subtgraph_core::mesh::{Material, Mesh};
 use subtgraph_core::params::Params;
 use subtgraph_core::survey::Survey;
 
@@ -299,6 +299,64 @@ fn write_bindings(
     Ok(())
 }
 
+/// A `UsdPreviewSurface` reading its images through `UsdUVTexture`s at the meshes'
+/// `primvars:st` (a `UsdPrimvarReader_float2`): the albedo as sRGB, the normal map raw and
+/// scaled from `[0, 1]` to `[-1, 1]`, the roughness raw from its red channel. Asset paths are
+/// relative to `usd/world.usda`.
+fn textured_material(s: &mut String, name: &str, m: &Material) {
+    use std::fmt::Write as _;
+    let at = format!("/World/Looks/{name}");
+    let _ = write!(
+        s,
+        "        def Material \"{name}\"\n        {{\n            token outputs:surface.connect = <{at}/Surface.outputs:surface>\n\n            def Shader \"Surface\"\n            {{\n                uniform token info:id = \"UsdPreviewSurface\"\n"
+    );
+    let [r, g, b] = m.colour;
+    let _ = match &m.texture {
+        Some(_) => writeln!(
+            s,
+            "                color3f inputs:diffuseColor.connect = <{at}/Albedo.outputs:rgb>"
+        ),
+        None => writeln!(
+            s,
+            "                color3f inputs:diffuseColor = ({r:.4}, {g:.4}, {b:.4})"
+        ),
+    };
+    s.push_str("                float inputs:metallic = 0\n");
+    if m.normal_map.is_some() {
+        let _ = writeln!(
+            s,
+            "                normal3f inputs:normal.connect = <{at}/Normal.outputs:rgb>"
+        );
+    }
+    let _ = match &m.roughness_map {
+        Some(_) => writeln!(
+            s,
+            "                float inputs:roughness.connect = <{at}/Roughness.outputs:r>"
+        ),
+        None => writeln!(s, "                float inputs:roughness = 0.9"),
+    };
+    s.push_str("                token outputs:surface\n            }\n\n            def Shader \"St\"\n            {\n                uniform token info:id = \"UsdPrimvarReader_float2\"\n                string inputs:varname = \"st\"\n                float2 outputs:result\n            }\n");
+    for (shader, file, space, extra, output) in [
+        ("Albedo", &m.texture, "sRGB", "", "float3 outputs:rgb"),
+        (
+            "Normal",
+            &m.normal_map,
+            "raw",
+            "                float4 inputs:scale = (2, 2, 2, 1)\n                float4 inputs:bias = (-1, -1, -1, 0)\n",
+            "float3 outputs:rgb",
+        ),
+        ("Roughness", &m.roughness_map, "raw", "", "float outputs:r"),
+    ] {
+        if let Some(f) = file {
+            let _ = write!(
+                s,
+                "\n            def Shader \"{shader}\"\n            {{\n                uniform token info:id = \"UsdUVTexture\"\n                asset inputs:file = @../mesh/{f}@\n                float2 inputs:st.connect = <{at}/St.outputs:result>\n                token inputs:sourceColorSpace = \"{space}\"\n                token inputs:wrapS = \"repeat\"\n                token inputs:wrapT = \"repeat\"\n{extra}                {output}\n            }}\n"
+            );
+        }
+    }
+    s.push_str("        }\n");
+}
+
 /// The root layer: units, physics scene, materials, and the part layers as sublayers.
 fn root_layer(
     mesh: &WorldMesh,
@@ -332,15 +390,20 @@ fn root_layer(
     }
     s.push_str("    }\n\n");
     s.push_str("    def Scope \"Looks\"\n    {\n");
-    let mut all: Vec<(String, [f32; 3])> = materials
+    let mut all: Vec<(String, Material)> = materials
         .iter()
         .zip(&mesh.materials)
-        .map(|(n, m)| (n.clone(), m.colour))
+        .map(|(n, m)| (n.clone(), m.clone()))
         .collect();
     if all.is_empty() {
-        all.push(("default".into(), [0.5, 0.5, 0.5]));
+        all.push(("default".into(), Material::coloured("default", [0.5; 3])));
     }
-    for (name, [r, g, b]) in all {
+    for (name, m) in all {
+        if m.texture.is_some() {
+            textured_material(&mut s, &name, &m);
+            continue;
+        }
+        let [r, g, b] = m.colour;
         s.push_str(&format!(
             "        def Material \"{name}\"\n        {{\n            token outputs:surface.connect = </World/Looks/{name}/Surface.outputs:surface>\n\n            def Shader \"Surface\"\n            {{\n                uniform token info:id = \"UsdPreviewSurface\"\n                color3f inputs:diffuseColor = ({r:.4}, {g:.4}, {b:.4})\n                float inputs:metallic = 0\n                float inputs:roughness = 0.9\n                token outputs:surface\n            }}\n        }}\n"
         ));
@@ -504,6 +567,7 @@ impl Exporter for Usd {
         }
         let artifacts = crate::artifacts_of(survey);
         let root = root_layer(mesh, &layers, &materials, artifacts, patches);
+        crate::text::write_textures(out, mesh)?;
         write_file(out, "usd/world.usda", root.as_bytes())
     }
 

@@ -496,6 +496,9 @@ impl TileSet for Guarded<dyn TileSet> {
     fn texture_scale(&self) -> f32 {
         self.call("TileSet::texture_scale", || 4.0, |t| t.texture_scale())
     }
+    fn textures(&self, seed: u64) -> Result<Vec<subtgraph_core::mesh::ImageFile>, TileSetError> {
+        self.call("TileSet::textures", || Ok(Vec::new()), |t| t.textures(seed))
+    }
     fn makes_hazards(&self) -> bool {
         self.call("TileSet::makes_hazards", || false, |t| t.makes_hazards())
     }

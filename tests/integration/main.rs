@@ -43,5 +43,6 @@ mod segmentation;
 mod sense;
 mod stats;
 mod tasks;
+mod textures;
 mod tilesets;
 mod trajectory;

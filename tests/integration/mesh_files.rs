@@ -495,3 +495,46 @@ fn manifest_messages_name_the_wrong_key_and_a_value_that_works() {
         MeshFiles::open(&p).unwrap_or_else(|e| panic!("{body}: {e}"));
     }
 }
+
+#[test]
+fn a_manifest_material_may_name_its_albedo_image_which_the_world_carries() {
+    let dir = tempfile::tempdir().unwrap();
+    write_tiles(dir.path());
+    let mut png_bytes = Vec::new();
+    {
+        let mut enc = png::Encoder::new(&mut png_bytes, 4, 4);
+        enc.set_color(png::ColorType::Rgb);
+        enc.set_depth(png::BitDepth::Eight);
+        let data: Vec<u8> = (0..48).map(|i| (i * 5) as u8).collect();
+        enc.write_header().unwrap().write_image_data(&data).unwrap();
+    }
+    std::fs::write(dir.path().join("rock.png"), &png_bytes).unwrap();
+    let body = format!(
+        "[[material]]\nname = \"rock wall\"\ncolour = [0.5, 0.5, 0.5]\ntexture = \"rock.png\"\n{ALL_KINDS}"
+    );
+    let m = MeshFiles::open(&manifest(dir.path(), &body)).unwrap();
+    let mesh = assemble(&cave(25.0), &m).unwrap();
+    assert_eq!(
+        mesh.materials[0].texture.as_deref(),
+        Some("textures/rock_wall-albedo.png")
+    );
+    assert_eq!(mesh.textures.len(), 1);
+    assert_eq!(mesh.textures[0].path, "textures/rock_wall-albedo.png");
+    assert_eq!(mesh.textures[0].bytes, png_bytes);
+
+    // Not an image: refused naming the material, the key and the file.
+    std::fs::write(dir.path().join("notes.png"), "text").unwrap();
+    let body = format!("[[material]]\nname = \"rock\"\ntexture = \"notes.png\"\n{ALL_KINDS}");
+    let e = MeshFiles::open(&manifest(dir.path(), &body))
+        .err()
+        .expect("refused")
+        .to_string();
+    for s in [
+        "tiles.toml",
+        "material 'rock'",
+        "texture = \"notes.png\"",
+        "not a PNG",
+    ] {
+        assert!(e.contains(s), "{e}");
+    }
+}

@@ -39,6 +39,7 @@ pub mod ramp;
 pub mod refuge;
 pub mod rubble;
 pub mod slope;
+pub mod textures;
 pub mod winding;
 
 /// Adds the built-in tile sets to a registry.

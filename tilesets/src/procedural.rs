@@ -8,7 +8,7 @@ use subtgraph_core::budget::TileTriangles;
 use subtgraph_core::config::Connections;
 use subtgraph_core::error::{ConfigError, number};
 use subtgraph_core::grid::Shaft;
-use subtgraph_core::mesh::Material;
+use subtgraph_core::mesh::{ImageFile, Material};
 use subtgraph_core::params::Params;
 use subtgraph_core::tile::TileKind;
 use subtgraph_core::tileset::{
@@ -23,10 +23,15 @@ use crate::owner::Owners;
 use crate::passage::{Levels, Passage, Profile, material};
 use crate::ramp::{self, Helix, Sizing, Unfit};
 use crate::slope::Slope;
+use crate::textures::Textures;
 
 /// Triangles per lattice cell of surface that marching tetrahedra make on these fields
 /// (measured on the presets; see the test `estimates_follow_the_meshes`).
 const TRIANGLES_PER_CELL: f64 = 6.0;
+
+/// Metres per texture repeat: the box-projected texture coordinates' scale and the size of
+/// one tile of the procedural textures.
+pub const TEXTURE_REPEAT: f32 = 3.0;
 
 /// Most rocks per tile: a rock pile's rocks are a tenth of the passage wide, so a few dozen
 /// cover a tile's floor; more is not a cave, only work.
@@ -72,6 +77,11 @@ pub struct Settings {
     /// `[low, high]` degrees: the steepest grade of the floors, drawn per world from this range
     /// (`[0, 0]` for flat floors).
     pub grade: Option<[f64; 2]>,
+    /// `"procedural"` (the default), `"none"`, or the user's images by material (read by
+    /// [`crate::textures::Textures::from_params`]).
+    pub textures: Option<toml::Value>,
+    /// Pixels per texture repeat (see [`crate::textures`]).
+    pub texture_size: Option<i64>,
 }
 
 /// A style: the look of one cave type, relative to the tile pitch.
@@ -97,6 +107,7 @@ pub struct Procedural {
     style: Style,
     settings: Settings,
     enabled: [bool; 4],
+    textures: Textures,
 }
 
 impl Procedural {
@@ -165,10 +176,12 @@ impl Procedural {
                 }
             }
         }
+        let textures = Textures::from_params(params, &style.materials)?;
         Ok(Self {
             style,
             settings,
             enabled,
+            textures,
         })
     }
 
@@ -785,7 +798,13 @@ impl TileSet for Procedural {
     }
 
     fn materials(&self) -> Vec<Material> {
-        self.style.materials.clone()
+        self.textures.apply(&self.style.materials)
+    }
+
+    fn textures(&self, seed: u64) -> Result<Vec<ImageFile>, TileSetError> {
+        Ok(self
+            .textures
+            .files(&self.style.materials, seed, f64::from(TEXTURE_REPEAT)))
     }
 
     fn opening(&self, world: &Layout) -> Option<CrossSection> {
@@ -871,7 +890,7 @@ impl TileSet for Procedural {
     }
 
     fn texture_scale(&self) -> f32 {
-        3.0
+        TEXTURE_REPEAT
     }
 
     fn makes_hazards(&self) -> bool {

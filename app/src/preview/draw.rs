@@ -108,6 +108,27 @@ pub(super) fn shade(
             scene.triangles[ti as usize].map(|i| scene.positions[i as usize].map(f64::from));
         norm(cross(sub(b, a), sub(c, a)))
     };
+    // A pixel's surface colour: its triangle's, or its albedo image's at the pixel's
+    // texture coordinates (barycentric in the triangle, from the pixel's point on it).
+    let surface = |i: usize, ti: u32| -> [f32; 3] {
+        let t = ti as usize;
+        let Some(img) = scene.images.get(usize::from(scene.textures[t])) else {
+            return scene.colours[t];
+        };
+        let (x, y) = ((i % width) as f64 + 0.5, (i / width) as f64 + 0.5);
+        let p = camera.at_pixel(x, y, depth[i]);
+        let [a, b, c] = scene.triangles[t].map(|k| scene.positions[k as usize].map(f64::from));
+        let n = cross(sub(b, a), sub(c, a));
+        let nn = dot(n, n).max(1e-300);
+        let wb = dot(cross(sub(p, a), sub(c, a)), n) / nn;
+        let wc = dot(cross(sub(b, a), sub(p, a)), n) / nn;
+        let wa = 1.0 - wb - wc;
+        let [ua, ub, uc] = scene.triangles[t].map(|k| scene.uvs[k as usize].map(f64::from));
+        img.at(
+            wa * ua[0] + wb * ub[0] + wc * uc[0],
+            wa * ua[1] + wb * ub[1] + wc * uc[1],
+        )
+    };
     let mut image = vec![[18u8, 18, 22]; width * height];
     match light {
         Light::Sun => {
@@ -115,7 +136,7 @@ pub(super) fn shade(
             for (i, &ti) in nearest.iter().enumerate() {
                 if ti != NONE {
                     let shade = 0.25 + 0.75 * dot(normal(ti), sun).abs();
-                    image[i] = colour(scene.colours[ti as usize], shade);
+                    image[i] = colour(surface(i, ti), shade);
                 }
             }
         }
@@ -141,7 +162,7 @@ pub(super) fn shade(
                 if ti != NONE {
                     let (d, cos) = lit[i];
                     let shade = AMBIENT + (1.0 - AMBIENT) * (cos * falloff(d) * exposure).min(1.0);
-                    image[i] = colour(scene.colours[ti as usize], shade);
+                    image[i] = colour(surface(i, ti), shade);
                 }
             }
         }

@@ -7,11 +7,67 @@ use subtgraph_core::vec3::{V3, cross, dot, sub};
 
 use crate::Error;
 
-/// A parsed `mesh/world.obj`: positions, triangles and their colours.
+/// A parsed `mesh/world.obj`: positions, triangles and their colours, and where the
+/// materials have an albedo image (`map_Kd`), the texture coordinates and the images.
 pub(super) struct Scene {
     pub positions: Vec<[f32; 3]>,
     pub triangles: Vec<[u32; 3]>,
     pub colours: Vec<[f32; 3]>,
+    /// Per vertex, when the OBJ has them (`vt`, indexed as the positions).
+    pub uvs: Vec<[f32; 2]>,
+    /// Per triangle, its albedo in `images` ([`NO_IMAGE`] for a plain colour).
+    pub textures: Vec<u16>,
+    pub images: Vec<Albedo>,
+}
+
+/// A triangle without an albedo image.
+pub(super) const NO_IMAGE: u16 = u16::MAX;
+
+/// An albedo image, linear RGB per pixel, rows from the top (`v` = 1).
+pub(super) struct Albedo {
+    pub width: usize,
+    pub height: usize,
+    pub pixels: Vec<[f32; 3]>,
+}
+
+impl Albedo {
+    /// The colour at texture coordinates `(u, v)`, repeating (nearest pixel).
+    pub fn at(&self, u: f64, v: f64) -> [f32; 3] {
+        let x = ((u.rem_euclid(1.0) * self.width as f64) as usize).min(self.width - 1);
+        let y = (((1.0 - v.rem_euclid(1.0)) * self.height as f64) as usize).min(self.height - 1);
+        self.pixels[y * self.width + x]
+    }
+
+    fn read(path: &Path) -> Result<Albedo, Error> {
+        let bad = |why: String| {
+            Error::Input(format!(
+                "{}: the albedo image `map_Kd` names cannot be read ({why}); regenerate the world or fix world.mtl",
+                path.display()
+            ))
+        };
+        let f = std::fs::File::open(path).map_err(|e| bad(e.to_string()))?;
+        let mut dec = png::Decoder::new(std::io::BufReader::new(f));
+        dec.set_transformations(png::Transformations::EXPAND | png::Transformations::STRIP_16);
+        let mut reader = dec.read_info().map_err(|e| bad(e.to_string()))?;
+        let mut buf = vec![0; reader.output_buffer_size().unwrap_or(0)];
+        let info = reader
+            .next_frame(&mut buf)
+            .map_err(|e| bad(e.to_string()))?;
+        let channels = info.color_type.samples();
+        let lin = |b: u8| (f32::from(b) / 255.0).powf(2.2);
+        let pixels = buf[..info.buffer_size()]
+            .chunks_exact(channels)
+            .map(|p| match channels {
+                1 | 2 => [lin(p[0]); 3],
+                _ => [lin(p[0]), lin(p[1]), lin(p[2])],
+            })
+            .collect();
+        Ok(Albedo {
+            width: info.width as usize,
+            height: info.height as usize,
+            pixels,
+        })
+    }
 }
 
 pub(super) fn read_scene(world: &Path) -> Result<Scene, Error> {
@@ -25,10 +81,17 @@ pub(super) fn read_scene(world: &Path) -> Result<Scene, Error> {
     let text = crate::input::read_text(&obj_path)?;
     let mtl = std::fs::read_to_string(world.join("mesh/world.mtl")).unwrap_or_default();
     let mut palette = std::collections::HashMap::new();
+    let mut albedo: std::collections::HashMap<String, u16> = std::collections::HashMap::new();
+    let mut images = Vec::new();
     let mut current = String::new();
     for line in mtl.lines() {
         if let Some(name) = line.strip_prefix("newmtl ") {
             current = name.trim().to_owned();
+        } else if let Some(file) = line.strip_prefix("map_Kd ") {
+            if images.len() < usize::from(NO_IMAGE) {
+                images.push(Albedo::read(&world.join("mesh").join(file.trim()))?);
+                albedo.insert(current.clone(), (images.len() - 1) as u16);
+            }
         } else if let Some(kd) = line.strip_prefix("Kd ") {
             let v: Vec<f32> = kd
                 .split_whitespace()
@@ -43,9 +106,24 @@ pub(super) fn read_scene(world: &Path) -> Result<Scene, Error> {
         positions: Vec::new(),
         triangles: Vec::new(),
         colours: Vec::new(),
+        uvs: Vec::new(),
+        textures: Vec::new(),
+        images,
     };
     let mut colour = [0.6, 0.6, 0.6];
+    let mut texture = NO_IMAGE;
     for line in text.lines() {
+        if !scene.images.is_empty() {
+            if let Some(rest) = line.strip_prefix("vt ") {
+                let mut it = rest
+                    .split_whitespace()
+                    .map(|x| x.parse::<f32>().unwrap_or(0.0));
+                scene
+                    .uvs
+                    .push([it.next().unwrap_or(0.0), it.next().unwrap_or(0.0)]);
+                continue;
+            }
+        }
         if let Some(rest) = line.strip_prefix("v ") {
             let mut it = rest.split_whitespace().map(|x| x.parse::<f32>());
             match (it.next(), it.next(), it.next()) {
@@ -69,9 +147,11 @@ pub(super) fn read_scene(world: &Path) -> Result<Scene, Error> {
             for k in 1..idx.len().saturating_sub(1) {
                 scene.triangles.push([idx[0], idx[k], idx[k + 1]]);
                 scene.colours.push(colour);
+                scene.textures.push(texture);
             }
         } else if let Some(name) = line.strip_prefix("usemtl ") {
             colour = palette.get(name.trim()).copied().unwrap_or([0.6, 0.6, 0.6]);
+            texture = albedo.get(name.trim()).copied().unwrap_or(NO_IMAGE);
         }
     }
     if scene.triangles.is_empty() {
@@ -79,6 +159,11 @@ pub(super) fn read_scene(world: &Path) -> Result<Scene, Error> {
             "{} has no triangles",
             obj_path.display()
         )));
+    }
+    if scene.uvs.len() != scene.positions.len() {
+        // Coordinates missing or not one per vertex: plain colours.
+        scene.uvs.clear();
+        scene.textures.fill(NO_IMAGE);
     }
     let n = scene.positions.len() as u32;
     if scene.triangles.iter().flatten().any(|&i| i >= n) {
@@ -101,17 +186,20 @@ pub(super) fn crop(scene: Scene, centre: [f64; 3], radius: f64, below: f64, abov
         ];
         d[0].abs() <= radius && d[1].abs() <= radius && d[2] >= -below && d[2] <= above
     };
-    let (triangles, colours) = scene
-        .triangles
-        .iter()
-        .zip(&scene.colours)
-        .filter(|(t, _)| t.iter().all(|&i| keep(scene.positions[i as usize])))
-        .map(|(t, c)| (*t, *c))
-        .unzip();
+    let kept: Vec<usize> = (0..scene.triangles.len())
+        .filter(|&t| {
+            scene.triangles[t]
+                .iter()
+                .all(|&i| keep(scene.positions[i as usize]))
+        })
+        .collect();
     Scene {
+        triangles: kept.iter().map(|&t| scene.triangles[t]).collect(),
+        colours: kept.iter().map(|&t| scene.colours[t]).collect(),
+        textures: kept.iter().map(|&t| scene.textures[t]).collect(),
         positions: scene.positions,
-        triangles,
-        colours,
+        uvs: scene.uvs,
+        images: scene.images,
     }
 }
 

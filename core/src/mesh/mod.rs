@@ -15,9 +15,16 @@ pub struct Material {
     pub name: String,
     /// Diffuse colour, linear RGB in `[0, 1]`.
     pub colour: [f32; 3],
-    /// An image file for the colour, relative to the world folder's `mesh/`, if any.
+    /// An image file for the colour (the albedo), relative to the world folder's `mesh/`, if
+    /// any.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub texture: Option<String>,
+    /// A tangent-space normal map (OpenGL convention: green up), relative to `mesh/`, if any.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub normal_map: Option<String>,
+    /// A roughness map (grey: black smooth, white rough), relative to `mesh/`, if any.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub roughness_map: Option<String>,
 }
 
 impl Material {
@@ -27,8 +34,26 @@ impl Material {
             name: name.to_owned(),
             colour,
             texture: None,
+            normal_map: None,
+            roughness_map: None,
         }
     }
+
+    /// Its image files (albedo, normal, roughness), those it has.
+    pub fn maps(&self) -> impl Iterator<Item = &str> {
+        [&self.texture, &self.normal_map, &self.roughness_map]
+            .into_iter()
+            .filter_map(|m| m.as_deref())
+    }
+}
+
+/// An image file a tile set writes into the world folder for its materials (a texture).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct ImageFile {
+    /// Where, relative to the world folder's `mesh/` (`textures/mine-wall-albedo.png`).
+    pub path: String,
+    /// The file's bytes (PNG).
+    pub bytes: Vec<u8>,
 }
 
 /// An indexed triangle mesh in world coordinates (metres, x east, y north, z up).

@@ -170,6 +170,11 @@ pub struct ManifestMaterial {
     /// Diffuse colour.
     #[serde(default = "grey")]
     pub colour: [f32; 3],
+    /// An albedo image (PNG) for it, relative to the manifest's `root`: copied into the world
+    /// folder's `mesh/textures/` and named by every format, on the tiles' own texture
+    /// coordinates.
+    #[serde(default)]
+    pub texture: Option<String>,
 }
 
 pub(super) fn grey() -> [f32; 3] {

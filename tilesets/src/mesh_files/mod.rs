@@ -111,6 +111,8 @@ pub struct MeshFiles {
     entries: BTreeMap<TileKind, Entry>,
     hills: Option<Hills>,
     materials: Vec<Material>,
+    /// The materials' `texture` images.
+    images: Vec<subtgraph_core::mesh::ImageFile>,
     loads: Arc<Mutex<usize>>,
 }
 
@@ -278,6 +280,10 @@ impl TileSet for MeshFiles {
 
     fn materials(&self) -> Vec<Material> {
         self.materials.clone()
+    }
+
+    fn textures(&self, _seed: u64) -> Result<Vec<subtgraph_core::mesh::ImageFile>, TileSetError> {
+        Ok(self.images.clone())
     }
 
     fn pitch(&self) -> Option<f64> {

@@ -73,6 +73,7 @@ impl MeshFiles {
             .iter()
             .map(|m| Material::coloured(&m.name, m.colour))
             .collect();
+        let images = material_images(path, &root, &manifest, &mut materials)?;
         if materials.is_empty() {
             materials.push(Material::coloured("rock", grey()));
         }
@@ -133,6 +134,7 @@ impl MeshFiles {
             entries,
             hills,
             materials,
+            images,
             loads,
         })
     }
@@ -438,4 +440,50 @@ fn check_shaft_rise(
             round(tall)
         ),
     })
+}
+
+/// The `[[material]] texture` images, read and checked (PNG), each named by its material as
+/// `textures/<name>-albedo.png` under the world folder's `mesh/`.
+fn material_images(
+    path: &Path,
+    root: &Path,
+    manifest: &Manifest,
+    materials: &mut [Material],
+) -> Result<Vec<subtgraph_core::mesh::ImageFile>, ManifestError> {
+    let mut images = Vec::new();
+    for (m, material) in manifest.materials.iter().zip(materials.iter_mut()) {
+        let Some(file) = &m.texture else { continue };
+        let full = root.join(file);
+        let problem = |why: String| ManifestError::Value {
+            path: path.to_owned(),
+            problem: format!(
+                "material '{}': texture = \"{file}\": {why}",
+                subtgraph_core::error::excerpt(&m.name)
+            ),
+        };
+        let bytes = std::fs::read(&full).map_err(|e| {
+            problem(format!(
+                "cannot read {} ({e}); give a PNG file relative to the manifest's root",
+                full.display()
+            ))
+        })?;
+        png::Decoder::new(std::io::Cursor::new(&bytes))
+            .read_info()
+            .map_err(|e| problem(format!("not a PNG image ({e}); convert it to PNG")))?;
+        let name: String = m
+            .name
+            .chars()
+            .map(|c| {
+                if c.is_ascii_alphanumeric() || c == '-' {
+                    c
+                } else {
+                    '_'
+                }
+            })
+            .collect();
+        let at = format!("textures/{name}-albedo.png");
+        material.texture = Some(at.clone());
+        images.push(subtgraph_core::mesh::ImageFile { path: at, bytes });
+    }
+    Ok(images)
 }
