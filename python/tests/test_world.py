@@ -149,7 +149,12 @@ def test_mjcf_loads_in_mujoco_from_memory():
     assert model.nhfield > 0 and model.nmesh == 0
     xml, assets = world.mjcf_with_assets()
     model = mujoco.MjModel.from_xml_string(xml, assets)
-    assert model.nmesh == len(assets) > 0
+    meshes = [name for name in assets if name.endswith(".msh")]
+    textures = [name for name in assets if name.endswith(".png")]
+    assert model.nmesh == len(meshes) > 0
+    # The procedural textures travel with the meshes, and MuJoCo takes them in.
+    assert textures and model.ntex > 0
+    assert len(meshes) + len(textures) == len(assets)
 
 
 def test_sdf_urdf_and_usd_strings():

@@ -51,10 +51,10 @@ fn blasted_walls_have_decimetres_of_relief_shotcrete_less_and_none_least() {
     let dir = tempfile::tempdir().unwrap();
     let mut rms = Vec::new();
     for (name, extra) in [
-        ("blasted", ""),
+        ("blasted", "finish = \"blasted\""),
         ("shotcrete", "finish = \"shotcrete\""),
         ("none", "finish = \"none\""),
-        ("rougher", "relief = 25"),
+        ("rougher", "finish = \"blasted\"\nrelief = 25"),
     ] {
         let out = dir.path().join(name);
         // Ground truth too: the reader leaves out the cells labelled with a refuge bay.
@@ -87,7 +87,10 @@ fn blasted_walls_have_decimetres_of_relief_shotcrete_less_and_none_least() {
 fn blasted_drifts_hold_a_lidars_registration() {
     let dir = tempfile::tempdir().unwrap();
     let mut shares = Vec::new();
-    for (name, extra) in [("blasted", ""), ("none", "finish = \"none\"")] {
+    for (name, extra) in [
+        ("blasted", "finish = \"blasted\""),
+        ("none", "finish = \"none\""),
+    ] {
         let world = dir.path().join(name);
         generate(&small_mine(dir.path(), name, extra), &world, "ground-truth");
         let seq = dir.path().join(format!("{name}-seq"));
