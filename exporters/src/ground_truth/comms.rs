@@ -26,6 +26,7 @@ use subtgraph_core::raycast::RayCaster;
 use subtgraph_core::survey::Survey;
 
 use super::FRAME;
+use crate::mjcf::metres;
 
 /// Writes `ground_truth/comms.csv` and `comms.json`.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -53,23 +54,9 @@ impl Comms {
     pub fn from_params(params: &Params) -> Result<Comms, ConfigError> {
         params.expect_known(&Comms::KEYS)?;
         let d = Comms::default();
-        let get = |key: &str, default: f64, max: f64, example: &str| -> Result<f64, ConfigError> {
-            match params.raw(key) {
-                None => Ok(default),
-                Some(v) => match v.as_float().or_else(|| v.as_integer().map(|i| i as f64)) {
-                    Some(x) if x.is_finite() && x > 0.0 && x <= max => Ok(x),
-                    _ => Err(params.error(
-                        key,
-                        format!(
-                            "must be a number of metres above 0 and at most {max}, e.g. {example}"
-                        ),
-                    )),
-                },
-            }
-        };
         Ok(Comms {
-            range: get("range", d.range, 10_000.0, "range = 100")?,
-            antenna: get("antenna", d.antenna, 100.0, "antenna = 1.0")?,
+            range: metres(params, "range", d.range, (0.0, 10_000.0), "100")?,
+            antenna: metres(params, "antenna", d.antenna, (0.0, 100.0), "1.0")?,
         })
     }
 }

@@ -217,34 +217,18 @@ fn picture(s: &Scored) -> Vec<u8> {
     };
     let at = |p: [f64; 3]| (pad + (p[0] - x0) * k, head + pad + (y1 - p[1]) * k);
     let a = &s.summary.ape_m;
-    for (text, y, size) in [
-        (
-            format!(
-                "APE RMSE {:.3} m, max {:.3} m; final drift {:.2} %",
-                a.rmse, a.max, s.summary.final_drift_percent
-            ),
-            14.0,
-            14.0,
+    heading(
+        &mut f,
+        pad,
+        format!(
+            "APE RMSE {:.3} m, max {:.3} m; final drift {:.2} %",
+            a.rmse, a.max, s.summary.final_drift_percent
         ),
-        (
-            format!(
-                "grey: reference; estimate coloured by APE, dark 0 m to yellow {:.3} m",
-                a.max
-            ),
-            32.0,
-            10.0,
+        format!(
+            "grey: reference; estimate coloured by APE, dark 0 m to yellow {:.3} m",
+            a.max
         ),
-    ] {
-        f.shapes.push(Shape::Text {
-            x: pad,
-            y,
-            size,
-            anchor: Anchor::Start,
-            vertical: false,
-            color: BLACK,
-            text,
-        });
-    }
+    );
     for w in refs.windows(2) {
         f.shapes.push(Shape::Line {
             from: at(w[0]),
@@ -263,4 +247,19 @@ fn picture(s: &Scored) -> Vec<u8> {
         });
     }
     subtgraph_plot::to_png(&f, 1.0)
+}
+
+/// A picture's two heading lines, a title and a key under it, at the left margin `pad`.
+pub(super) fn heading(f: &mut Figure, pad: f64, title: String, key: String) {
+    for (text, y, size) in [(title, 14.0, 14.0), (key, 32.0, 10.0)] {
+        f.shapes.push(Shape::Text {
+            x: pad,
+            y,
+            size,
+            anchor: Anchor::Start,
+            vertical: false,
+            color: BLACK,
+            text,
+        });
+    }
 }

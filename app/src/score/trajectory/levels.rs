@@ -5,14 +5,13 @@
 //! by hand). A pair belongs to the level of its reference position's graph region; a stretch
 //! between two pairs is drawn on a level when both ends are on it.
 
-use subtgraph_plot::{Anchor, Figure, Rgb, Shape, viridis};
+use subtgraph_plot::{Figure, Rgb, Shape, viridis};
 
 use super::Scored;
 use crate::score::world::Cells;
 
 const TILE: Rgb = [222, 222, 222];
 const REFERENCE: Rgb = [90, 90, 90];
-const BLACK: Rgb = [0, 0, 0];
 
 /// `(level, PNG)` for each level at least two consecutive pairs lie on.
 pub(super) fn pictures(cells: &Cells, s: &Scored) -> Vec<(usize, Vec<u8>)> {
@@ -57,35 +56,19 @@ pub(super) fn pictures(cells: &Cells, s: &Scored) -> Vec<(usize, Vec<u8>)> {
         }
         let pairs: Vec<usize> = (0..s.refs.len() - 1).filter(|&i| on(i)).collect();
         let worst = pairs.iter().map(|&i| s.ape[i + 1]).fold(0.0_f64, f64::max);
-        for (text, y, size) in [
-            (
-                format!(
-                    "level {l}: {} of {} pairs here; APE here up to {worst:.3} m",
-                    level.iter().filter(|&&x| x == Some(l)).count(),
-                    s.refs.len()
-                ),
-                14.0,
-                14.0,
+        super::files::heading(
+            &mut f,
+            pad,
+            format!(
+                "level {l}: {} of {} pairs here; APE here up to {worst:.3} m",
+                level.iter().filter(|&&x| x == Some(l)).count(),
+                s.refs.len()
             ),
-            (
-                format!(
-                    "grey tiles: the level's passages; dark grey: reference; estimate by APE, dark 0 m to yellow {:.3} m",
-                    s.summary.ape_m.max
-                ),
-                32.0,
-                10.0,
+            format!(
+                "grey tiles: the level's passages; dark grey: reference; estimate by APE, dark 0 m to yellow {:.3} m",
+                s.summary.ape_m.max
             ),
-        ] {
-            f.shapes.push(Shape::Text {
-                x: pad,
-                y,
-                size,
-                anchor: Anchor::Start,
-                vertical: false,
-                color: BLACK,
-                text,
-            });
-        }
+        );
         for &i in &pairs {
             let (a, b) = (s.refs[i].t, s.refs[i + 1].t);
             f.shapes.push(Shape::Line {
