@@ -944,6 +944,28 @@ fn a_ros2_bag_scores_as_the_same_poses_in_tum_and_as_evo_reads_it() {
         e4.contains("SQLite storage") && e4.contains("ros2 bag convert"),
         "{e4}"
     );
+    // A bag that is not there, and a folder that is no bag.
+    let missing = d.join("missing.mcap");
+    let e5 = fails(&[
+        "score",
+        arg(&r),
+        "--trajectory",
+        arg(&missing),
+        "--out",
+        arg(&out),
+    ]);
+    assert!(e5.contains("missing.mcap: no such file or folder"), "{e5}");
+    let empty = d.join("empty");
+    std::fs::create_dir(&empty).unwrap();
+    let e6 = fails(&[
+        "score",
+        arg(&r),
+        "--trajectory",
+        arg(&empty),
+        "--out",
+        arg(&out),
+    ]);
+    assert!(e6.contains("a folder, but not a ROS 2 bag"), "{e6}");
     assert!(!out.exists(), "nothing written for refused input");
 }
 

@@ -71,6 +71,12 @@ fn files_with(dir: &Path, ext: &str) -> Vec<PathBuf> {
 /// The `.mcap` files of a bag, in order: `metadata.yaml`'s `relative_file_paths` when it
 /// lists them, else every `.mcap` file of the folder by name.
 fn mcap_files(bag: &Path) -> Result<Vec<PathBuf>, Error> {
+    if !bag.exists() {
+        return Err(Error::Input(format!(
+            "{}: no such file or folder",
+            bag.display()
+        )));
+    }
     if bag.is_file() {
         return Ok(vec![bag.to_path_buf()]);
     }

@@ -198,6 +198,12 @@ pub fn read_any(
     topic: Option<&str>,
 ) -> Result<Trajectory, Error> {
     if !super::bag::is_bag(file) {
+        if file.is_dir() {
+            return Err(Error::Input(format!(
+                "{}: a folder, but not a ROS 2 bag (no metadata.yaml or .mcap file in it): give a TUM or KITTI file, or a bag folder",
+                file.display()
+            )));
+        }
         return read(file, times);
     }
     let (topic, messages) = super::bag::read(file, topic)?;
