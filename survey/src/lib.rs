@@ -11,6 +11,7 @@
 //! | each edge's centreline and its length | [`centrelines`] | when first asked for |
 //! | each edge's least width and height on the collision surface | [`sections`] | when first asked for |
 //! | what a ray hits: one hierarchy over the collision surface, shared by the widths and heights and by the sensors (`subtgraph sense`, Python's `World.raycast`) | [`WorldSurvey::rays`] | built when first asked for |
+//! | what a sensor's ray hits in a world with fixtures (a mine's services): the collision surface and the fixtures | [`WorldSurvey::scan_rays`] | built when first asked for |
 //! | the artifacts' poses and whether each is seen from its tile's passage | [`artifacts`], [`sight`] | when the survey is made (a pipeline with `[artifacts]` always writes them) |
 //! | the floor patches of `[hazards] friction` | [`hazards`] | when the survey is made |
 //! | MuJoCo's height fields and convex slabs | [`heightfields`], [`convex_pieces`] | when MuJoCo's writer asks, with its settings |
