@@ -356,12 +356,20 @@ fn rays_at_the_edges_and_corners_of_axis_aligned_walls_hit_what_every_triangle_g
     let mut targets = Vec::new();
     for t in &m.triangles {
         for k in 0..3 {
-            let (a, b) = (m.positions[t[k] as usize], m.positions[t[(k + 1) % 3] as usize]);
+            let (a, b) = (
+                m.positions[t[k] as usize],
+                m.positions[t[(k + 1) % 3] as usize],
+            );
             targets.push(a.map(f64::from));
             targets.push([0, 1, 2].map(|i| (f64::from(a[i]) + f64::from(b[i])) / 2.0));
         }
     }
-    let origins = [[3.0, 3.0, 3.0], [1.0, 2.0, 5.0], [0.5, 5.5, 2.25], [4.0, 1.0, 1.0]];
+    let origins = [
+        [3.0, 3.0, 3.0],
+        [1.0, 2.0, 5.0],
+        [0.5, 5.5, 2.25],
+        [4.0, 1.0, 1.0],
+    ];
     let mut cast = 0;
     for o in origins {
         for t in &targets {
@@ -371,7 +379,11 @@ fn rays_at_the_edges_and_corners_of_axis_aligned_walls_hit_what_every_triangle_g
             }
             let got = caster.cast(o, d, 10.0);
             let h = got.unwrap_or_else(|| panic!("ray from {o:?} towards {t:?} escaped"));
-            assert_eq!(Some(h.t as f32), brute(&m, o, d, 10.0), "from {o:?} towards {t:?}");
+            assert_eq!(
+                Some(h.t as f32),
+                brute(&m, o, d, 10.0),
+                "from {o:?} towards {t:?}"
+            );
             assert!((h.t - 1.0).abs() < 1e-5, "{}", h.t);
             // The triangle reported is hit there, and its normal is its own.
             let tri = m.triangles[h.triangle as usize].map(|v| m.positions[v as usize]);
