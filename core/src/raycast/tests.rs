@@ -392,8 +392,8 @@ fn rays_at_the_edges_and_corners_of_axis_aligned_walls_hit_what_every_triangle_g
             let [a, b, c] = tri.map(|p| p.map(f64::from));
             let n = crate::vec3::cross(sub(b, a), sub(c, a));
             let n = n.map(|x| x / dot(n, n).sqrt());
-            for k in 0..3 {
-                assert!((f64::from(h.normal[k]) - n[k]).abs() < 1e-6);
+            for (got, want) in h.normal.iter().zip(n) {
+                assert!((f64::from(*got) - want).abs() < 1e-6);
             }
             cast += 1;
         }
