@@ -32,23 +32,6 @@ const CLIMB: u64 = 10;
 /// How strongly paths keep away from walls: a step next to a wall costs `1 + WALL` times a step
 /// far from them.
 const WALL: u64 = 8;
-/// How strongly paths keep to level floor across their way: a step over a floor that falls
-/// sideways by `t` metres per metre costs `1 + TILT * t` times a level one (a 25 degree side
-/// slope about ten times, as much as a step beside a wall). A ball or a wheeled robot slides
-/// down a side slope; the DARPA tiles' collision copies drop their floors into trenches beside
-/// level plates, and a path along the trench's flank loses the ball into it.
-pub(crate) const TILT: u64 = 20;
-
-/// How paths weigh a floor that falls across their way: [`TILT`] where the passage is known
-/// only from its surface (the tiles from mesh files), none where the tile set laid its passage
-/// along an axis of its own (the procedural tiles, whose centrelines are that axis: their
-/// anchors and detours stay as they were).
-pub(crate) fn tilt_for(world: &World, c: Cell) -> u64 {
-    match world.mesh().and_then(|m| m.tile(c)) {
-        Some(t) if t.axis.is_none() => TILT,
-        _ => 0,
-    }
-}
 
 /// Lines per tile side for a tile pitch: [`PIXELS`], or more where that would put them more
 /// than [`SPACING`] apart.
@@ -208,44 +191,8 @@ pub(crate) fn clearance(free: &[bool], nx: usize, ny: usize) -> Vec<u32> {
     d
 }
 
-/// The floor's fall per metre at every drivable line, `[east, north]`: central differences
-/// over the neighbouring lines a path could step to (one-sided where only one side can be
-/// stepped to, none where neither).
-pub(crate) fn gradients(
-    free: &[bool],
-    floor: &[f64],
-    (nx, ny): (usize, usize),
-    step: f64,
-) -> Vec<[f64; 2]> {
-    let climb = climb_per_line(step);
-    let at = |k: usize, i: i64, j: i64| {
-        (i >= 0 && j >= 0 && i < nx as i64 && j < ny as i64)
-            .then(|| j as usize * nx + i as usize)
-            .filter(|&m| free[m] && (floor[m] - floor[k]).abs() <= climb)
-    };
-    let slope = |k: usize, lo: Option<usize>, hi: Option<usize>| match (lo, hi) {
-        (Some(a), Some(b)) => (floor[b] - floor[a]) / (2.0 * step),
-        (Some(a), None) => (floor[k] - floor[a]) / step,
-        (None, Some(b)) => (floor[b] - floor[k]) / step,
-        (None, None) => 0.0,
-    };
-    (0..nx * ny)
-        .map(|k| {
-            if !free[k] {
-                return [0.0; 2];
-            }
-            let (i, j) = ((k % nx) as i64, (k / nx) as i64);
-            [
-                slope(k, at(k, i - 1, j), at(k, i + 1, j)),
-                slope(k, at(k, i, j - 1), at(k, i, j + 1)),
-            ]
-        })
-        .collect()
-}
-
 /// Dijkstra over drivable lines from `source`: costs (integer) and parents. The raster is
-/// `nx` x `ny` lines, `n` of them to a tile's side; a step over a floor that falls across it
-/// costs `tilt` (see [`TILT`]) times its fall per metre more.
+/// `nx` x `ny` lines, `n` of them to a tile's side.
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn paths(
     free: &[bool],
@@ -255,13 +202,7 @@ pub(crate) fn paths(
     (nx, ny): (usize, usize),
     n: usize,
     source: usize,
-    tilt: u64,
 ) -> (Vec<u64>, Vec<u32>) {
-    let grad = if tilt > 0 {
-        gradients(free, floor, (nx, ny), step)
-    } else {
-        Vec::new()
-    };
     let mut dist = vec![u64::MAX; nx * ny];
     let mut parent = vec![u32::MAX; nx * ny];
     let mut heap = BinaryHeap::new();
@@ -310,17 +251,7 @@ pub(crate) fn paths(
             let c = u64::from(clear[v].min(3 * n as u32)) * PIXELS as u64 / n as u64 + 3;
             // Rough floor costs too: a metre up or down is worth [`CLIMB`] metres along.
             let rough = (rise / step * CLIMB as f64 * len as f64) as u64;
-            // A floor falling across the step (its gradient at the line stepped to, across
-            // the step's direction) costs [`TILT`] steps per metre of fall per metre.
-            let side = if tilt > 0 {
-                let [gx, gy] = grad[v];
-                let (px, py) = (-dj as f64, di as f64);
-                let across = (gx * px + gy * py).abs() / px.hypot(py);
-                (across * tilt as f64 * len as f64) as u64
-            } else {
-                0
-            };
-            let nd = d + len * (c + 3 * WALL) / c + rough + side;
+            let nd = d + len * (c + 3 * WALL) / c + rough;
             if nd < dist[v] {
                 dist[v] = nd;
                 parent[v] = u as u32;
@@ -341,7 +272,6 @@ pub(super) fn tile_axis(world: &World, passages: &Passages, c: Cell) -> Option<T
         return None;
     }
     let step = cols.step;
-    let tilt = tilt_for(world, c);
     let clear = clearance(&roomy(&free, &floor, (n, n), step), n, n);
     let entry_depth = ENTRY_DEPTH * n / PIXELS;
     // Each opening's entry: the widest drivable line on that seam, nearest its middle; where
@@ -375,7 +305,7 @@ pub(super) fn tile_axis(world: &World, passages: &Passages, c: Cell) -> Option<T
     let runs: Vec<(Direction, usize, Vec<u64>, Vec<u32>)> = entries
         .iter()
         .map(|&(d, e)| {
-            let (dist, parent) = paths(&free, &floor, &clear, step, (n, n), n, e, tilt);
+            let (dist, parent) = paths(&free, &floor, &clear, step, (n, n), n, e);
             (d, e, dist, parent)
         })
         .collect();
@@ -489,50 +419,4 @@ fn kept(line: &[[f64; 2]], keep: usize) -> Vec<usize> {
         }
     }
     out
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// A passage 20 lines long and 12 wide: level floor on its six northern rows, a floor
-    /// falling southwards by 0.2 m a line (27 degrees across the way) on the six southern
-    /// ones, walls beyond. From the western end's middle to the eastern end's middle, the path
-    /// that weighs side slopes keeps to the level half; the one that does not runs down the
-    /// middle, on the slope.
-    #[test]
-    fn paths_keep_to_level_floor_across_their_way() {
-        let (nx, ny, step) = (20, 12, 0.4);
-        let floor: Vec<f64> = (0..nx * ny)
-            .map(|k| {
-                let j = k / nx;
-                if j >= 6 { 0.0 } else { -0.2 * (6 - j) as f64 }
-            })
-            .collect();
-        let free = vec![true; nx * ny];
-        let clear = clearance(&roomy(&free, &floor, (nx, ny), step), nx, ny);
-        let (source, target) = (5 * nx, 5 * nx + nx - 1);
-        let rows = |tilt: u64| {
-            let (dist, parent) = paths(&free, &floor, &clear, step, (nx, ny), nx, source, tilt);
-            assert_ne!(dist[target], u64::MAX);
-            let mut k = target;
-            let mut rows = vec![k / nx];
-            while k != source {
-                k = parent[k] as usize;
-                rows.push(k / nx);
-            }
-            rows
-        };
-        let level = rows(TILT);
-        let sloped = rows(0);
-        let on_level = |r: &[usize]| r.iter().filter(|&&j| j >= 6).count();
-        assert!(
-            on_level(&level) >= level.len() / 2,
-            "with side slopes weighed: rows {level:?}"
-        );
-        assert!(
-            on_level(&sloped) < on_level(&level),
-            "without: rows {sloped:?}, with: {level:?}"
-        );
-    }
 }

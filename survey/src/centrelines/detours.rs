@@ -20,14 +20,8 @@ const REROUTE_MARGIN: f64 = 8.0;
 /// `lines` with every jump (two consecutive lines more than [`JUMP`] apart) replaced by the
 /// way found across it by the same clearance-weighted search as a tile's axis
 /// ([`crate::axis`]), over the lines of a box around it: from [`REROUTE_LINES`] before the
-/// jump to as many after the line past it nearest where it starts. `tilt` weighs a floor
-/// falling across the way as in the tiles' axes (`crate::axis::tile::TILT`).
-pub(super) fn rerouted(
-    world: &World,
-    passages: &Passages,
-    lines: Vec<Line>,
-    tilt: u64,
-) -> Vec<Line> {
+/// jump to as many after the line past it nearest where it starts.
+pub(super) fn rerouted(world: &World, passages: &Passages, lines: Vec<Line>) -> Vec<Line> {
     let n = lines.len();
     let dist = |a: &Line, b: &Line| (a.point[0] - b.point[0]).hypot(a.point[1] - b.point[1]);
     let mut out: Vec<Line> = Vec::with_capacity(n);
@@ -40,7 +34,7 @@ pub(super) fn rerouted(
                 .min_by(|&i, &j| dist(&lines[i], &lines[k]).total_cmp(&dist(&lines[j], &lines[k])))
                 .unwrap_or(k + 1);
             let b = (near + REROUTE_LINES).min(n - 1);
-            if let Some(way) = way_between(world, passages, out[a], lines[b], tilt) {
+            if let Some(way) = way_between(world, passages, out[a], lines[b]) {
                 out.truncate(a + 1);
                 out.extend(way);
                 // Line b is pushed next, and checked for a jump in its turn.
@@ -56,13 +50,7 @@ pub(super) fn rerouted(
 /// The lines of the clearance-weighted way from `a` to `b` (both excluded) over a raster of
 /// the box around them, [`REROUTE_MARGIN`] wider, at the tiles' line spacing; `None` when
 /// `b` is not reached.
-fn way_between(
-    world: &World,
-    passages: &Passages,
-    a: Line,
-    b: Line,
-    tilt: u64,
-) -> Option<Vec<Line>> {
+fn way_between(world: &World, passages: &Passages, a: Line, b: Line) -> Option<Vec<Line>> {
     use crate::axis::tile::{clearance, floors_in, lines_per_side, paths, roomy};
     let pitch = world.resolved.tile_pitch;
     let per_side = lines_per_side(pitch);
@@ -107,16 +95,7 @@ fn way_between(
         })
     };
     let (source, target) = (nearest(p)?, nearest(q)?);
-    let (cost, parent) = paths(
-        &free,
-        &floor,
-        &clear,
-        step,
-        (nx, ny),
-        per_side,
-        source,
-        tilt,
-    );
+    let (cost, parent) = paths(&free, &floor, &clear, step, (nx, ny), per_side, source);
     if cost[target] == u64::MAX {
         return None;
     }
@@ -151,10 +130,7 @@ const SHORTCUT_TRIES: usize = 16;
 /// the longest such straight that is a drivable [`bridge`] replaces it. Detours are what the
 /// tile-by-tile path leaves at a seam where the tiles either side chose different lines of it
 /// (a wide mouth: 21 m apart on the DARPA cave), not bends of the passage.
-///
-/// With `level` (where side slopes count, `crate::axis::tile::TILT`), a bridge must also keep
-/// to level floor ([`bridge`]).
-pub(super) fn shortcuts(passages: &Passages, lines: Vec<Line>, level: bool) -> Vec<Line> {
+pub(super) fn shortcuts(passages: &Passages, lines: Vec<Line>) -> Vec<Line> {
     let n = lines.len();
     let mut along = vec![0.0; n];
     for i in 1..n {
@@ -176,7 +152,7 @@ pub(super) fn shortcuts(passages: &Passages, lines: Vec<Line>, level: bool) -> V
             .collect();
         match detours
             .into_iter()
-            .find_map(|j| Some((j, bridge(passages, lines[i], lines[j], level)?)))
+            .find_map(|j| Some((j, bridge(passages, lines[i], lines[j])?)))
         {
             Some((j, mut b)) => {
                 // The bridge ends on line j, which the next step pushes.
@@ -192,22 +168,14 @@ pub(super) fn shortcuts(passages: &Passages, lines: Vec<Line>, level: bool) -> V
 
 /// How far to either side of a bridge its lines are tried for room, metres, widest first.
 const BRIDGE_ROOMS: [f64; 6] = [4.0, 3.0, 2.0, 1.5, 1.0, 0.5];
-/// Where side slopes count: how far to either side of each of a bridge's lines the floor is
-/// looked at (a ball of 0.3 m, a small robot's wheel), metres ...
-const BRIDGE_SIDE: f64 = 0.3;
-/// ... and most the floors there may differ from the line's, metres (a side slope of about
-/// 18 degrees). Room counts only floor within this of the line's too.
-const BRIDGE_LEVEL: f64 = 0.1;
 
 /// The lines strictly between `a` and `b` on the straight bridge joining them, 0.4 m or less
 /// apart, each on its floor, with `b` last; `None` when a point of it is not [`drivable`]
 /// near the height between `a`'s and `b`'s floors, or two neighbours' floors differ by more
 /// than a step a robot drives (a quarter metre). Each line's room is the widest of
 /// [`BRIDGE_ROOMS`] with drivable floor that far to either side of it, and half as far (none:
-/// 0). With `level`, the floor [`BRIDGE_SIDE`] to either side of every line lies within
-/// [`BRIDGE_LEVEL`] of the line's (a straight across the flank of a dip beside the level
-/// floor is no bridge), and room counts only floor within [`BRIDGE_LEVEL`] of the line's.
-fn bridge(passages: &Passages, a: Line, b: Line, level: bool) -> Option<Vec<Line>> {
+/// 0).
+fn bridge(passages: &Passages, a: Line, b: Line) -> Option<Vec<Line>> {
     let (p, q) = (a.point, b.point);
     let len = (q[0] - p[0]).hypot(q[1] - p[1]);
     let n = ((len / 0.4).ceil() as usize).max(1);
@@ -235,30 +203,6 @@ fn bridge(passages: &Passages, a: Line, b: Line, level: bool) -> Option<Vec<Line
     if (q[2] - last).abs() > 0.25 {
         return None;
     }
-    if level {
-        let sides: Vec<[f64; 2]> = centres
-            .iter()
-            .flat_map(|c| {
-                [1.0, -1.0].map(|f| {
-                    [
-                        c[0] - dir[1] * BRIDGE_SIDE * f,
-                        c[1] + dir[0] * BRIDGE_SIDE * f,
-                    ]
-                })
-            })
-            .collect();
-        let columns = columns(passages, &sides, 2);
-        let flat = out.iter().enumerate().all(|(k, l)| {
-            (0..2).all(|f| {
-                drivable(&columns[2 * k + f], l.point[2])
-                    .is_some_and(|g| (g - l.point[2]).abs() <= BRIDGE_LEVEL)
-            })
-        });
-        if !flat {
-            return None;
-        }
-    }
-    let near = |g: f64, z: f64| !level || (g - z).abs() <= BRIDGE_LEVEL;
     // Each line's room: the widest of BRIDGE_ROOMS with drivable floor that far to either
     // side, and half as far.
     let probes: Vec<[f64; 2]> = centres
@@ -276,10 +220,7 @@ fn bridge(passages: &Passages, a: Line, b: Line, level: bool) -> Option<Vec<Line
             .iter()
             .enumerate()
             .find(|&(m, _)| {
-                (0..4).all(|f| {
-                    drivable(&columns[k * per + 4 * m + f], l.point[2])
-                        .is_some_and(|g| near(g, l.point[2]))
-                })
+                (0..4).all(|f| drivable(&columns[k * per + 4 * m + f], l.point[2]).is_some())
             })
             .map_or(0.0, |(_, &r)| r);
     }

@@ -6,7 +6,6 @@ use subtgraph_core::grid::Cell;
 
 use super::detours::{rerouted, shortcuts};
 use super::{MARGIN, PASSES, SPACING, columns, drivable, floor_near, resample};
-use crate::axis::tile::tilt_for;
 use crate::axis::{Axes, Line, towards};
 use crate::passages::Passages;
 
@@ -18,18 +17,13 @@ pub(super) fn smoothed(
     world: &World,
     cells: &[Cell],
 ) -> Vec<[f64; 3]> {
-    // Ways found again, and straights cutting detours, keep to level floor as the tiles'
-    // axes they join do (where side slopes count: `tilt_for`).
-    let tilt = cells.iter().map(|&c| tilt_for(world, c)).max().unwrap_or(0);
     let lines = shortcuts(
         passages,
         rerouted(
             world,
             passages,
             without_loops(axis_lines(axes, world, cells)),
-            tilt,
         ),
-        tilt > 0,
     );
     if lines.len() < 3 {
         return lines.iter().map(|l| l.point).collect();
