@@ -106,10 +106,11 @@ fn a_ball_drives_the_route_through_the_darpa_tiles() {
         &world,
     );
     // MuJoCo only, for now: PyBullet's ball (a sphere on the triangle mesh) stops at a neck of
-    // one straight tile's coarse collision copy, near (1919.8, 1826.1) on seed 1, where the
-    // only way passes the lip of a dip under an overhanging plate and the ball, cutting the
+    // one straight tile's coarse collision copy, near (1919.8, 1826.2) on seed 1, where the
+    // centreline passes the lip of a dip under an overhanging plate and the ball, cutting the
     // bend, wedges under the plate; MuJoCo's ball, on the height fields surveyed from the same
-    // surface, drives every waypoint. Open work, in the book's "Known limits" (ground-truth.md).
+    // surface, drives all 7,315 waypoints. Open work, in the book's "Known limits"
+    // (ground-truth.md).
     for report in drive_in(&world, &[], &ENGINES[..1]) {
         eprintln!("darpa-cave:\n{report}");
     }
