@@ -22,16 +22,24 @@ pub struct Drift;
 
 impl Profile for Drift {
     fn section(&self, u: f64, v: f64, width: f64, height: f64) -> f64 {
-        let a = 0.5 * width;
-        let wall = 0.6 * height;
-        let b = height - wall;
-        let s = a.min(b);
-        let side = if v <= wall {
-            (u - a) * s / a
-        } else {
-            (((u / a).powi(2) + ((v - wall) / b).powi(2)).sqrt() - 1.0) * s
-        };
-        side.max(-v)
+        drift_walls(u, v, width, height).max(-v)
+    }
+
+    fn walls(&self, u: f64, v: f64, width: f64, height: f64) -> Option<f64> {
+        Some(drift_walls(u, v, width, height))
+    }
+}
+
+/// The drift's walls and arch, without its floor.
+fn drift_walls(u: f64, v: f64, width: f64, height: f64) -> f64 {
+    let a = 0.5 * width;
+    let wall = 0.6 * height;
+    let b = height - wall;
+    let s = a.min(b);
+    if v <= wall {
+        (u - a) * s / a
+    } else {
+        (((u / a).powi(2) + ((v - wall) / b).powi(2)).sqrt() - 1.0) * s
     }
 }
 
