@@ -58,10 +58,12 @@ pub fn from_params(p: &Params) -> Result<Procedural, ConfigError> {
                 height_variation: 0.02,
                 variation_scale: 3.0,
                 roughness: 0.015,
-                // Plain walls by default until blasted walls keep the spiral ramps' floors
-                // within their grade (`[tileset] finish = "blasted"` asks for them; see the
-                // book's tile sets chapter, "Mine walls").
-                finish: Finish::Plain,
+                // Drill-and-blast walls by default (`[tileset] finish`, `crate::finish`); the
+                // relief moves walls and back only, so floors and ramps keep their grade.
+                finish: Finish::Blasted {
+                    rms: crate::finish::BLASTED_RMS,
+                    round: crate::finish::ROUND,
+                },
                 // A refuge bay every 150 m of straight drift on average (`crate::refuge`).
                 refuge_spacing: REFUGE_SPACING,
                 roughness_scale: 0.25,
