@@ -96,7 +96,11 @@ fn blasted_walls_have_decimetres_of_relief_shotcrete_less_and_none_least() {
 fn blasted_relief_leaves_the_floor_smooth() {
     let dir = tempfile::tempdir().unwrap();
     let world = dir.path().join("blasted");
-    generate(&small_mine(dir.path(), "blasted", ""), &world, "obj,ground-truth");
+    generate(
+        &small_mine(dir.path(), "blasted", ""),
+        &world,
+        "obj,ground-truth",
+    );
     let Some(relief) = relief_cm(&world) else {
         return;
     };
@@ -108,7 +112,10 @@ fn blasted_relief_leaves_the_floor_smooth() {
     )
     .unwrap();
     let v: serde_json::Value = serde_json::from_str(out.trim()).unwrap();
-    assert!(v["cells"].as_u64().unwrap() >= 10, "enough straight floors: {v}");
+    assert!(
+        v["cells"].as_u64().unwrap() >= 10,
+        "enough straight floors: {v}"
+    );
     eprintln!("walls {relief:.1} cm RMS; floor {v}");
 }
 
