@@ -105,12 +105,12 @@ fn a_ball_drives_the_route_through_the_darpa_tiles() {
         &Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/darpa-cave.toml"),
         &world,
     );
-    // MuJoCo only, for now. Since the ground truth's centrelines became the passage's own
-    // (issue 22 item 2), the route through one DARPA tile runs beside a depression of its
-    // coarse collision copy, and PyBullet's ball (a sphere on the triangle mesh) slides into it
-    // near (1727.7, 1357.8) and stays there; MuJoCo's ball, on the height fields surveyed from
-    // the same surface, drives all 7,315 waypoints. The raster route before took the tile's
-    // other way. Open work, in the book's "Known limits" (ground-truth.md).
+    // MuJoCo only, for now: PyBullet's ball (a sphere on the triangle mesh) stops at a neck of
+    // one straight tile's coarse collision copy, near (1919.8, 1826.2) on seed 1, where the
+    // centreline passes the lip of a dip under an overhanging plate and the ball, cutting the
+    // bend, wedges under the plate; MuJoCo's ball, on the height fields surveyed from the same
+    // surface, drives all 7,315 waypoints. Open work, in the book's "Known limits"
+    // (ground-truth.md).
     for report in drive_in(&world, &[], &ENGINES[..1]) {
         eprintln!("darpa-cave:\n{report}");
     }

@@ -197,7 +197,9 @@ fn ramps_climb_from_floor_to_floor_within_their_grade_over_many_seeds() {
 }
 
 /// A ball placed on the ramp's upper part rolls down to its foot inside the spiral, in both
-/// engines (`tests/readers/ramp_check.py`), from two places.
+/// engines (`tests/readers/ramp_check.py`), from two places: where its floor has climbed half
+/// and nine tenths of the rise (on the climb: a ramp's plan may end in a level stretch before
+/// its landing, where a ball rightly stays).
 #[test]
 fn a_ball_placed_on_a_ramp_rolls_down_it_and_stays_inside() {
     let tmp = tempfile::tempdir().unwrap();

@@ -877,14 +877,18 @@ fn a_ros2_bag_scores_as_the_same_poses_in_tum_and_as_evo_reads_it() {
     }
     // Which topic, when there are two; a topic that is not a pose; a cut file; SQLite storage.
     let out = d.join("refused");
-    let e1 = fails(&[
-        "score",
-        arg(&r),
-        "--trajectory",
-        arg(&both),
-        "--out",
-        arg(&out),
-    ]);
+    // The refusal `score` gives for `bag` as the trajectory, with every other argument valid.
+    let refused = |bag: &Path| {
+        fails(&[
+            "score",
+            arg(&r),
+            "--trajectory",
+            arg(bag),
+            "--out",
+            arg(&out),
+        ])
+    };
+    let e1 = refused(&both);
     assert!(
         e1.contains("2 pose topics") && e1.contains("--topic") && e1.contains("/slam/pose"),
         "{e1}"
@@ -912,14 +916,7 @@ fn a_ros2_bag_scores_as_the_same_poses_in_tum_and_as_evo_reads_it() {
     let bytes = std::fs::read(&mcap).unwrap();
     let cut = d.join("cut.mcap");
     std::fs::write(&cut, &bytes[..bytes.len() / 2]).unwrap();
-    let e3 = fails(&[
-        "score",
-        arg(&r),
-        "--trajectory",
-        arg(&cut),
-        "--out",
-        arg(&out),
-    ]);
+    let e3 = refused(&cut);
     assert!(
         e3.contains("cut.mcap") && e3.contains("not a readable MCAP file"),
         "{e3}"
@@ -932,39 +929,18 @@ fn a_ros2_bag_scores_as_the_same_poses_in_tum_and_as_evo_reads_it() {
     )
     .unwrap();
     std::fs::write(sqlite.join("sqlite_0.db3"), b"SQLite format 3\0").unwrap();
-    let e4 = fails(&[
-        "score",
-        arg(&r),
-        "--trajectory",
-        arg(&sqlite),
-        "--out",
-        arg(&out),
-    ]);
+    let e4 = refused(&sqlite);
     assert!(
         e4.contains("SQLite storage") && e4.contains("ros2 bag convert"),
         "{e4}"
     );
     // A bag that is not there, and a folder that is no bag.
     let missing = d.join("missing.mcap");
-    let e5 = fails(&[
-        "score",
-        arg(&r),
-        "--trajectory",
-        arg(&missing),
-        "--out",
-        arg(&out),
-    ]);
+    let e5 = refused(&missing);
     assert!(e5.contains("missing.mcap: no such file or folder"), "{e5}");
     let empty = d.join("empty");
     std::fs::create_dir(&empty).unwrap();
-    let e6 = fails(&[
-        "score",
-        arg(&r),
-        "--trajectory",
-        arg(&empty),
-        "--out",
-        arg(&out),
-    ]);
+    let e6 = refused(&empty);
     assert!(e6.contains("a folder, but not a ROS 2 bag"), "{e6}");
     assert!(!out.exists(), "nothing written for refused input");
 }

@@ -4,7 +4,9 @@ Usage: ramp_check.py WORLD_FOLDER --engine mujoco|pybullet [--at FRACTION] [--re
 
 The ramp: the first edge of kind "ramp" in ground_truth/graph.json, whose polyline runs along
 the spiral's floor from the foot's node to the landing's. A free sphere of radius 0.3 m is
-dropped 0.5 m above that floor line at FRACTION (default 0.6) of its length and left to roll
+dropped 0.5 m above that floor line where it has climbed FRACTION (default 0.6) of its rise
+(from the foot's node to the line's highest point: on the climb, never on the level stretches
+a ramp may have before and after its spiral, where a ball rightly stays), and left to roll
 for 20 simulated seconds under gravity alone (MuJoCo loads mujoco/world.xml, which must
 collide as meshes under the spiral: the default height fields give a ramp's tiles convex slabs,
 since a height field holds one floor per line and the spiral has several; PyBullet loads
@@ -34,16 +36,15 @@ def option(argv, name, default):
     return argv[argv.index(name) + 1] if name in argv else default
 
 
-def along(line, fraction):
-    seg = np.linalg.norm(np.diff(line, axis=0), axis=1)
-    target = fraction * seg.sum()
-    acc = 0.0
-    for k, s in enumerate(seg):
-        if acc + s >= target:
-            t = (target - acc) / s
+def climbed(line, fraction):
+    """The first point of `line` that has risen `fraction` of its rise above its first point."""
+    target = line[0, 2] + fraction * (line[:, 2].max() - line[0, 2])
+    for k in range(len(line) - 1):
+        a, b = line[k, 2], line[k + 1, 2]
+        if a < target <= b:
+            t = (target - a) / (b - a)
             return line[k] + t * (line[k + 1] - line[k])
-        acc += s
-    return line[-1]
+    return line[int(np.argmax(line[:, 2]))]
 
 
 def distance_to_line(p, line, lo, hi):
@@ -69,7 +70,7 @@ def main():
         sys.exit("FAIL: no ramp in ground_truth/graph.json")
     line = np.array(ramps[0]["polyline"], float)
     foot = line[0]
-    start = along(line, fraction) + [0, 0, 0.5]
+    start = climbed(line, fraction) + [0, 0, 0.5]
     print(f"ramp: {len(line)} points, {ramps[0]['length_m']:.1f} m, foot {foot.round(2).tolist()}, "
           f"ball at {start.round(2).tolist()}")
     os.chdir(tempfile.gettempdir())

@@ -54,16 +54,19 @@ pub fn passage_axis(
             .map(|k| on_floor(line.at(t0 + (t1 - t0) * k as f64 / n as f64).0))
             .collect()
     };
-    // A ramp's end: its lead, from where the spiral leaves the level to the opening.
+    // A ramp's end: its lead, from where the spiral leaves the level (or, when the spiral
+    // turns in a block of cells, where the lead enters this cell) to the opening. The part in
+    // the block's other cells is the ramp's, not this cell's corridor's.
     if let Some(s) = crate::ramp::shaft_of(world, cell) {
         let sizing = crate::ramp::Sizing::of(world, passage, lattice, levels.coarse);
         if let Ok(h) = crate::ramp::plan(world, s, &sizing) {
             let (a, b) = h.leads()[usize::from(s.up != cell)];
             let d = open.iter().copied().find(|&d| near(face(d), b))?;
             let lead = Centreline::Segment { a, b };
-            exits[d as usize] = sample(&lead, 0.0, 1.0);
+            let t0 = entry(a, b, [x, y], half);
+            exits[d as usize] = sample(&lead, t0, 1.0);
             return Some(PassageAxis {
-                node: on_floor(a),
+                node: on_floor(lead.at(t0).0),
                 exits,
             });
         }
@@ -140,6 +143,22 @@ fn length(line: &Centreline) -> f64 {
     }
 }
 
+/// Where the segment from `a` to `b` (`b` in the cell, on its face) enters the cell of
+/// half-side `half` centred at `c`, as a share of its length (0 when `a` is in the cell).
+fn entry(a: [f64; 2], b: [f64; 2], c: [f64; 2], half: f64) -> f64 {
+    let mut t0: f64 = 0.0;
+    for k in 0..2 {
+        let (lo, hi) = (c[k] - half, c[k] + half);
+        let d = b[k] - a[k];
+        if a[k] < lo && d > 0.0 {
+            t0 = t0.max((lo - a[k]) / d);
+        } else if a[k] > hi && d < 0.0 {
+            t0 = t0.max((hi - a[k]) / d);
+        }
+    }
+    t0.min(1.0)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -157,6 +176,18 @@ mod tests {
         subtgraph_core::import::import_occupancy(&array, "t.npy", &pipeline, "test")
             .unwrap()
             .0
+    }
+
+    #[test]
+    fn a_lead_enters_its_cell_where_it_crosses_the_cell_face() {
+        // From the block's cell south of the cell centred at the origin, 20 m across.
+        let t = entry([3.0, -14.0], [10.0, 10.0], [0.0, 0.0], 10.0);
+        assert!((t - 4.0 / 24.0).abs() < 1e-12, "{t}");
+        // From the west and the south at once: the later crossing.
+        let t = entry([-12.0, -11.0], [0.0, 10.0], [0.0, 0.0], 10.0);
+        assert!((t - 2.0 / 12.0).abs() < 1e-12, "{t}");
+        // A lead that starts in the cell is whole.
+        assert_eq!(entry([2.0, -3.0], [10.0, 0.0], [0.0, 0.0], 10.0), 0.0);
     }
 
     #[test]

@@ -208,75 +208,23 @@ impl<'a> LocalField<'a> {
             if !f.contains(p) {
                 continue;
             }
-            let mut along = None;
-            let (base, v, wall) = match f.item {
-                Feature::Corridor {
-                    line,
-                    floor,
-                    level,
-                    squeeze,
-                } => {
-                    let u = line.distance([p[0], p[1]]);
-                    let v = p[2] - floor - col.lift[level - self.lmin] - col.rubble;
-                    let wall = v.clamp(0.0, 1.0);
-                    let [w, h] =
-                        squeeze.map_or([1.0, 1.0], |s| s.scale(line.from_middle([p[0], p[1]])));
-                    along = line.direction();
-                    (
-                        self.profile.section(u, v, w * col.width, h * col.height),
-                        v,
-                        wall,
-                    )
-                }
-                Feature::Chamber { ref chamber, level } => {
-                    let q = [p[0], p[1], p[2] - col.lift[level - self.lmin]];
-                    let (base, v) = chamber.section(
-                        self.profile,
-                        q,
-                        col.width / ps.width,
-                        col.height / ps.height,
-                        col.rubble,
-                    );
-                    (base, v, v.clamp(0.0, 1.0))
-                }
-                Feature::Shaft { c, z0, z1, r } => {
-                    let d = ((p[0] - c[0]).powi(2) + (p[1] - c[1]).powi(2)).sqrt();
-                    // The shaft's own relief: its radius swells and narrows over features
-                    // about its radius across, which the lattice holds (the wall relief
-                    // below is finer than a lattice cell).
-                    let s = 1.0 / r;
-                    let swell = SHAFT_SWELL
-                        * r
-                        * self
-                            .shaft_walls
-                            .fbm(p[0] * s, p[1] * s, p[2] * s * SHAFT_STRETCH, 2);
-                    ((d - r - swell).max(z0 - p[2]).max(p[2] - z1), 10.0, 1.0)
-                }
-                Feature::Pit(ref pit) => (pit.value(p), 0.0, 0.0),
-                Feature::Bay { bay, floor, level } => {
-                    let v = p[2] - floor - col.lift[level - self.lmin] - col.rubble;
-                    along = Some(bay.along);
-                    (bay.value(p, v), v, v.clamp(0.0, 1.0))
-                }
-                Feature::Ramp { ref helix, lifts } => {
-                    let q = [p[0], p[1], p[2] - helix.lift_at(lifts, p[2])];
-                    let (base, v) = helix.section(q, self.profile, col.rubble);
-                    (base, v, v.clamp(0.0, 1.0))
-                }
-            };
-            let value = if base.abs() < cutoff && wall > 0.0 {
+            let s = self.shape(&f.item, p, col, None);
+            let value = if s.base.abs() < cutoff && s.wall > 0.0 {
                 let r = relief_at(p);
                 if finish.is_plain() {
-                    base + wall * r
+                    s.base + s.wall * r
                 } else {
-                    base + wall * finish.relief(r, &self.finish, p, along)
+                    // A finish moves the walls and back, never the floor: the feature is
+                    // evaluated again with the relief inside its profile ([`Relieved`]).
+                    let relief = finish.relief(r, &self.finish, p, s.along);
+                    self.shape(&f.item, p, col, Some(relief)).base
                 }
             } else {
-                base
+                s.base
             };
             if value < best {
                 best = value;
-                best_v = v;
+                best_v = s.v;
             }
         }
         let mut material = if best_v < 0.35 {
@@ -308,6 +256,88 @@ impl<'a> LocalField<'a> {
             }
         }
         (best, material)
+    }
+
+    /// One contribution's value at `p` (over the column `col`), with a finish's `relief` (metres,
+    /// positive into the passage) on its walls and back when given, and what the relief
+    /// depends on: the height above its floor, the relief's share there and the drift's
+    /// direction (a corridor's or a refuge bay's).
+    fn shape(&self, item: &Feature, p: [f64; 3], col: &Column, relief: Option<f64>) -> Shape {
+        let relieved = relief.map(|relief| Relieved {
+            profile: self.profile,
+            relief,
+        });
+        let profile: &dyn Profile = match &relieved {
+            Some(r) => r,
+            None => self.profile,
+        };
+        let ps = self.passage;
+        let (base, v, wall, along) = match *item {
+            Feature::Corridor {
+                line,
+                floor,
+                level,
+                squeeze,
+            } => {
+                let u = line.distance([p[0], p[1]]);
+                let v = p[2] - floor - col.lift[level - self.lmin] - col.rubble;
+                let [w, h] =
+                    squeeze.map_or([1.0, 1.0], |s| s.scale(line.from_middle([p[0], p[1]])));
+                (
+                    profile.section(u, v, w * col.width, h * col.height),
+                    v,
+                    v.clamp(0.0, 1.0),
+                    line.direction(),
+                )
+            }
+            Feature::Chamber { ref chamber, level } => {
+                let q = [p[0], p[1], p[2] - col.lift[level - self.lmin]];
+                let (base, v) = chamber.section(
+                    profile,
+                    q,
+                    col.width / ps.width,
+                    col.height / ps.height,
+                    col.rubble,
+                );
+                (base, v, v.clamp(0.0, 1.0), None)
+            }
+            Feature::Shaft { c, z0, z1, r } => {
+                let d = ((p[0] - c[0]).powi(2) + (p[1] - c[1]).powi(2)).sqrt();
+                // The shaft's own relief: its radius swells and narrows over features
+                // about its radius across, which the lattice holds (the wall relief
+                // below is finer than a lattice cell).
+                let s = 1.0 / r;
+                let swell = SHAFT_SWELL
+                    * r
+                    * self
+                        .shaft_walls
+                        .fbm(p[0] * s, p[1] * s, p[2] * s * SHAFT_STRETCH, 2);
+                let base = (d - r - swell).max(z0 - p[2]).max(p[2] - z1);
+                // No floor: the relief moves all of it.
+                (relief.map_or(base, |r| base + r), 10.0, 1.0, None)
+            }
+            Feature::Pit(ref pit) => (pit.value(p), 0.0, 0.0, None),
+            Feature::Bay { bay, floor, level } => {
+                let v = p[2] - floor - col.lift[level - self.lmin] - col.rubble;
+                let wall = v.clamp(0.0, 1.0);
+                let base = match relief {
+                    Some(r) => (bay.walls(p, v) + wall * r).max(-v),
+                    None => bay.value(p, v),
+                };
+                (base, v, wall, Some(bay.along))
+            }
+            Feature::Ramp { ref helix, lifts } => {
+                let q = [p[0], p[1], p[2] - helix.lift_at(lifts, p[2])];
+                let (base, v) = helix.section(q, profile, col.rubble);
+                (base, v, v.clamp(0.0, 1.0), None)
+            }
+        };
+        Shape {
+            base,
+            v,
+            wall,
+            along,
+        }
     }
 }
 
@@ -582,6 +612,44 @@ impl<'g> Gather<'g> {
                 hi: [pit.c[0] + w, pit.c[1] + w, pit.top + self.margin],
                 item: Feature::Pit(pit),
             });
+        }
+    }
+}
+
+/// One contribution's value at a point and what its relief depends on
+/// ([`LocalField::shape`]).
+struct Shape {
+    /// The field, negative in the passage.
+    base: f64,
+    /// Metres above the contribution's floor.
+    v: f64,
+    /// The share of the wall relief acting here: none on the floor, all of it from a metre up.
+    wall: f64,
+    /// The drift's direction, for a blast round's overbreak.
+    along: Option<[f64; 2]>,
+}
+
+/// A profile with a finish's relief on its walls and back: `relief` metres into the passage,
+/// faded in over the first metre above the floor as every tile set's relief is.
+///
+/// **Why not on the section as a whole.** The mesh's floor vertices are interpolated along
+/// lattice edges from lattice points up to a lattice cell (0.83 m visual, 1.67 m collision)
+/// above the floor, where the fade lets most of the relief act: decimetres of blasted relief
+/// added to the whole section moved the floor up or down by several centimetres from one
+/// lattice cell to the next (a 15-degree step at a ramp's foot, a ball stopped on a ramp).
+/// Moved inside `max(walls, floor)`, the relief leaves every point where the floor is nearer
+/// than the walls exactly as it was, so the floor a robot drives on is the plain one.
+struct Relieved<'p> {
+    profile: &'p dyn Profile,
+    relief: f64,
+}
+
+impl Profile for Relieved<'_> {
+    fn section(&self, u: f64, v: f64, width: f64, height: f64) -> f64 {
+        let r = v.clamp(0.0, 1.0) * self.relief;
+        match self.profile.walls(u, v, width, height) {
+            Some(walls) => (walls + r).max(-v),
+            None => self.profile.section(u, v, width, height) + r,
         }
     }
 }

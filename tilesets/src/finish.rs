@@ -13,7 +13,10 @@
 //! The relief is a function of world position and of the drift's direction alone, so two
 //! tiles evaluating a point on their shared face compute the same number (seamless joins).
 //! The floor is left as it is: the field scales relief by the height above the floor, as for
-//! every tile set (`crate::field`), so a robot drives on what it always did.
+//! every tile set, and adds it to the walls and back of a passage's section only, never to its
+//! floor (`crate::field`'s `Relieved`, [`Profile::walls`](crate::passage::Profile::walls)), so
+//! the lattice's interpolation between a floor point and one above it cannot carry the relief
+//! into the floor, and a robot drives on what it always did.
 //!
 //! Half-barrel marks (the 45 mm drill-hole remnants) are narrower than the lattice of any
 //! practical `[tileset] resolution` (at the default 24 cells per 20 m pitch a cell is 0.83 m),

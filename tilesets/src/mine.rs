@@ -23,16 +23,24 @@ pub struct Drift;
 
 impl Profile for Drift {
     fn section(&self, u: f64, v: f64, width: f64, height: f64) -> f64 {
-        let a = 0.5 * width;
-        let wall = 0.6 * height;
-        let b = height - wall;
-        let s = a.min(b);
-        let side = if v <= wall {
-            (u - a) * s / a
-        } else {
-            (((u / a).powi(2) + ((v - wall) / b).powi(2)).sqrt() - 1.0) * s
-        };
-        side.max(-v)
+        drift_walls(u, v, width, height).max(-v)
+    }
+
+    fn walls(&self, u: f64, v: f64, width: f64, height: f64) -> Option<f64> {
+        Some(drift_walls(u, v, width, height))
+    }
+}
+
+/// The drift's walls and arch, without its floor.
+fn drift_walls(u: f64, v: f64, width: f64, height: f64) -> f64 {
+    let a = 0.5 * width;
+    let wall = 0.6 * height;
+    let b = height - wall;
+    let s = a.min(b);
+    if v <= wall {
+        (u - a) * s / a
+    } else {
+        (((u / a).powi(2) + ((v - wall) / b).powi(2)).sqrt() - 1.0) * s
     }
 }
 
@@ -51,10 +59,12 @@ pub fn from_params(p: &Params) -> Result<Procedural, ConfigError> {
                 height_variation: 0.02,
                 variation_scale: 3.0,
                 roughness: 0.015,
-                // Plain walls by default until blasted walls keep the spiral ramps' floors
-                // within their grade (`[tileset] finish = "blasted"` asks for them; see the
-                // book's tile sets chapter, "Mine walls").
-                finish: Finish::Plain,
+                // Drill-and-blast walls by default (`[tileset] finish`, `crate::finish`); the
+                // relief moves walls and back only, so floors and ramps keep their grade.
+                finish: Finish::Blasted {
+                    rms: crate::finish::BLASTED_RMS,
+                    round: crate::finish::ROUND,
+                },
                 // A refuge bay every 150 m of straight drift on average (`crate::refuge`).
                 refuge_spacing: REFUGE_SPACING,
                 // Rock bolts, a ventilation duct, pipes, a cable run and lights

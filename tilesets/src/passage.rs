@@ -28,6 +28,14 @@ pub trait Profile: Send + Sync {
     /// Negative inside the passage: `u >= 0` metres sideways from the axis, `v` metres above
     /// the floor, for a passage `width` wide and `height` high here.
     fn section(&self, u: f64, v: f64, width: f64, height: f64) -> f64;
+
+    /// The section without its floor (its walls and back alone), for a profile whose
+    /// [`section`](Self::section) is this `.max(-v)`; `None` (the default) when the floor
+    /// cannot be told apart. A wall finish ([`crate::finish`]) moves only this part, so the
+    /// floor stays where it is at every lattice point, and so in the mesh.
+    fn walls(&self, _u: f64, _v: f64, _width: f64, _height: f64) -> Option<f64> {
+        None
+    }
 }
 
 /// The knobs shared by the procedural tile sets, in metres unless said otherwise.

@@ -616,7 +616,7 @@ fn check_finish(style: &Style, s: &Settings, params: &Params) -> Result<(), Conf
         || s.round_length.is_some()
         || s.refuge_spacing.is_some();
     // A tile set with finishes is one whose style has a finish or refuge bays of its own (the
-    // mine: its default finish is the plain relief for now, its bays are on).
+    // mine: blasted walls and refuge bays by default).
     let has_finishes = !style.shape.finish.is_plain() || style.shape.refuge_spacing > 0.0;
     if asked && !has_finishes {
         let key = if s.finish.is_some() {

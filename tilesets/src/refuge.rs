@@ -47,6 +47,18 @@ impl Bay {
             .max(v - HEIGHT)
     }
 
+    /// The bay's [`value`](Self::value) without its floor: its walls and back alone, which a
+    /// wall finish moves (`crate::finish`; the floor it leaves where it is).
+    pub fn walls(&self, p: [f64; 3], v: f64) -> f64 {
+        let d = [p[0] - self.c[0], p[1] - self.c[1]];
+        let a = d[0] * self.along[0] + d[1] * self.along[1];
+        let b = d[0] * self.toward[0] + d[1] * self.toward[1];
+        (a.abs() - 0.5 * LENGTH)
+            .max(b - self.reach)
+            .max(-b)
+            .max(v - HEIGHT)
+    }
+
     /// The box `(lo, hi)` in the plane the bay takes, grown by `grow`.
     pub fn bounds(&self, grow: f64) -> ([f64; 2], [f64; 2]) {
         let mut lo = [f64::MAX; 2];

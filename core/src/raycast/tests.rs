@@ -302,3 +302,122 @@ fn the_hierarchy_is_the_same_built_on_one_thread_or_many() {
         );
     }
 }
+
+/// A closed cube `[0, n]^3` of unit squares (two triangles each, vertices shared), wound so
+/// normals point inwards: the axis-aligned, integer-cornered walls a mine's tiles make, where
+/// rays meet edges and vertices exactly.
+fn gridded_cube(n: u32) -> Mesh {
+    let mut m = Mesh::default();
+    let mut index = std::collections::HashMap::new();
+    let mut vertex = |p: [u32; 3], m: &mut Mesh| {
+        *index.entry(p).or_insert_with(|| {
+            m.positions.push(p.map(|x| x as f32));
+            m.positions.len() as u32 - 1
+        })
+    };
+    for axis in 0..3 {
+        let (u, v) = ((axis + 1) % 3, (axis + 2) % 3);
+        for side in [0, n] {
+            for i in 0..n {
+                for j in 0..n {
+                    let corner = |di: u32, dj: u32| {
+                        let mut p = [0; 3];
+                        p[axis] = side;
+                        p[u] = i + di;
+                        p[v] = j + dj;
+                        p
+                    };
+                    let q = [corner(0, 0), corner(1, 0), corner(1, 1), corner(0, 1)]
+                        .map(|p| vertex(p, &mut m));
+                    // Counter-clockwise seen from inside: (u, v, axis) is right-handed, so the
+                    // low side is seen from +axis as wound, the high side reversed.
+                    if side == 0 {
+                        m.triangles.push([q[0], q[1], q[2]]);
+                        m.triangles.push([q[0], q[2], q[3]]);
+                    } else {
+                        m.triangles.push([q[0], q[2], q[1]]);
+                        m.triangles.push([q[0], q[3], q[2]]);
+                    }
+                }
+            }
+        }
+    }
+    m
+}
+
+#[test]
+fn rays_at_the_edges_and_corners_of_axis_aligned_walls_hit_what_every_triangle_gives() {
+    let m = gridded_cube(6);
+    assert!(m.edge_report().is_closed());
+    let caster = RayCaster::new(&m);
+    assert_eq!(caster.triangle_count(), 6 * 6 * 6 * 2);
+    // Every grid vertex and every edge midpoint of the walls, from points inside on and off
+    // the grid: rays through vertices and edges, along axes and diagonals.
+    let mut targets = Vec::new();
+    for t in &m.triangles {
+        for k in 0..3 {
+            let (a, b) = (
+                m.positions[t[k] as usize],
+                m.positions[t[(k + 1) % 3] as usize],
+            );
+            targets.push(a.map(f64::from));
+            targets.push([0, 1, 2].map(|i| (f64::from(a[i]) + f64::from(b[i])) / 2.0));
+        }
+    }
+    let origins = [
+        [3.0, 3.0, 3.0],
+        [1.0, 2.0, 5.0],
+        [0.5, 5.5, 2.25],
+        [4.0, 1.0, 1.0],
+    ];
+    let mut cast = 0;
+    for o in origins {
+        for t in &targets {
+            let d = sub(*t, o);
+            if dot(d, d) == 0.0 {
+                continue;
+            }
+            let got = caster.cast(o, d, 10.0);
+            let h = got.unwrap_or_else(|| panic!("ray from {o:?} towards {t:?} escaped"));
+            assert_eq!(
+                Some(h.t as f32),
+                brute(&m, o, d, 10.0),
+                "from {o:?} towards {t:?}"
+            );
+            assert!((h.t - 1.0).abs() < 1e-5, "{}", h.t);
+            // The triangle reported is hit there, and its normal is its own.
+            let tri = m.triangles[h.triangle as usize].map(|v| m.positions[v as usize]);
+            let ray = Prepared::new(o, d).unwrap();
+            assert_eq!(ray.triangle(&tri, 11.0), Some(h.t as f32));
+            let [a, b, c] = tri.map(|p| p.map(f64::from));
+            let n = crate::vec3::cross(sub(b, a), sub(c, a));
+            let n = n.map(|x| x / dot(n, n).sqrt());
+            for (got, want) in h.normal.iter().zip(n) {
+                assert!((f64::from(*got) - want).abs() < 1e-6);
+            }
+            cast += 1;
+        }
+    }
+    assert!(cast > 5_000, "{cast}");
+}
+
+#[test]
+fn rays_grazing_a_wall_along_its_plane_still_stop_at_the_next_wall() {
+    let m = gridded_cube(4);
+    let caster = RayCaster::new(&m);
+    let mut rng = Lcg(17);
+    for _ in 0..2000 {
+        // From a point on the floor (z = 0) or on a wall (x = 0), along it.
+        let (p, q) = (0.2 + 3.6 * rng.next(), 0.2 + 3.6 * rng.next());
+        let a = std::f64::consts::TAU * rng.next();
+        for (o, d) in [
+            ([p, q, 0.0], [a.cos(), a.sin(), 0.0]),
+            ([0.0, p, q], [0.0, a.cos(), a.sin()]),
+        ] {
+            let h = caster.cast(o, d, 10.0);
+            let want = brute(&m, o, d, 10.0);
+            assert!(want.is_some(), "every triangle: from {o:?} along {d:?}");
+            assert_eq!(h.map(|h| h.t as f32), want, "from {o:?} along {d:?}");
+        }
+    }
+}
