@@ -505,6 +505,11 @@ type Key = (u8, u8, Option<[i8; 2]>, [u64; 10]);
 
 static PLANS: Mutex<BTreeMap<Key, Result<Helix, Unfit>>> = Mutex::new(BTreeMap::new());
 
+/// The wound ramps (still centred on the origin) by their shape's key, the world's seed and the
+/// foot cell: winding tries up to five amplitudes, each checking the turns' rock over the
+/// whole spiral block, and every tile around the ramp (and the world's check) asks for it.
+static WOUND: Mutex<BTreeMap<(Key, u64, u64), Helix>> = Mutex::new(BTreeMap::new());
+
 /// Plans the ramp of `shaft`: round the centre of its spiral block (see
 /// [`Shaft::block`]; a ramp without one turns round its foot cell's centre).
 pub fn plan(world: &Layout, shaft: &Shaft, s: &Sizing) -> Result<Helix, Unfit> {
@@ -564,9 +569,22 @@ pub fn plan(world: &Layout, shaft: &Shaft, s: &Sizing) -> Result<Helix, Unfit> {
         return Err(Unfit::Steep { grade: h.grade() });
     }
     // Seeded by the world and the foot alone: the same winding for every tile around it.
-    let key = ((shaft.up.level as u64) << 40) | ((shaft.up.row as u64) << 20) | shaft.up.col as u64;
-    let pillar = s.half_width + 0.5 * s.rock;
-    h.wind(Winding::draw(world.resolved.seed, key, h.radius, pillar), s);
+    let foot =
+        ((shaft.up.level as u64) << 40) | ((shaft.up.row as u64) << 20) | shaft.up.col as u64;
+    let wound_key = (key, world.resolved.seed, foot);
+    match WOUND.lock().ok().and_then(|m| m.get(&wound_key).cloned()) {
+        Some(w) => h = w,
+        None => {
+            let pillar = s.half_width + 0.5 * s.rock;
+            h.wind(
+                Winding::draw(world.resolved.seed, foot, h.radius, pillar),
+                s,
+            );
+            if let Ok(mut m) = WOUND.lock() {
+                m.insert(wound_key, h.clone());
+            }
+        }
+    }
     h.centre = centre;
     h.floors = [z0, z1];
     for o in &mut h.openings {
