@@ -172,7 +172,7 @@ impl Services {
             return Fixtures::default();
         }
         let rays = if self.bolt_spacing > 0.0 || self.light_spacing > 0.0 {
-            Some(RayCaster::new(visual))
+            Some(RayCaster::quick(visual))
         } else {
             None
         };
