@@ -170,6 +170,7 @@ impl Helix {
                 // way between the foot and the top, in steps of half a metre (a 64th of a
                 // turn round a spiral block: as fine a grade, in a search 8 times shorter).
                 let mut total = 0;
+                let mut overlaps = None;
                 'flats: while f64::from(total) * step < length - 1.0 {
                     let climb = length - f64::from(total) * step;
                     for a in 0..=total {
@@ -189,7 +190,8 @@ impl Helix {
                         if best.as_ref().is_some_and(|b| b.grade() <= h.grade()) {
                             break 'flats;
                         }
-                        if h.separated(s) {
+                        let o = overlaps.get_or_insert_with(|| Overlaps::of(&h, s));
+                        if h.separated_over(o, s) {
                             best = Some(h);
                             break 'flats;
                         }
@@ -419,6 +421,37 @@ impl Helix {
         true
     }
 
+    /// [`separated`](Self::separated) for an unwound helix, over the points `o` found
+    /// covered twice or more (for a helix of the same centre, radius, sense, start and length):
+    /// the same answer, with only the floors' heights computed.
+    fn separated_over(&self, o: &Overlaps, s: &Sizing) -> bool {
+        let mut floors = Vec::new();
+        for point in &o.points {
+            floors.clear();
+            floors.extend(
+                o.turns[point.turns.clone()]
+                    .iter()
+                    .map(|&t| (self.floor(t), false)),
+            );
+            for (lead, z) in point.leads.iter().zip(self.floors) {
+                if *lead {
+                    floors.push((z, true));
+                }
+            }
+            for (k, a) in floors.iter().enumerate() {
+                for b in &floors[k + 1..] {
+                    let (low, high) = if a.0 < b.0 { (a, b) } else { (b, a) };
+                    let need = if low.1 { s.per_lead } else { s.per_turn };
+                    let dz = high.0 - low.0;
+                    if dz > STEP && dz < need {
+                        return false;
+                    }
+                }
+            }
+        }
+        true
+    }
+
     /// The box the helix acts in, with `margin` around the passage.
     pub fn bounds(&self, margin: f64) -> ([f64; 3], [f64; 3]) {
         let r = self.radius + 0.5 * self.size[0] + margin;
@@ -496,6 +529,70 @@ fn first_opening(world: &Layout, cell: Cell) -> Option<Direction> {
     Direction::ALL
         .into_iter()
         .find(|d| t.openings & d.bit() != 0)
+}
+
+/// The points of [`Helix::separated`]'s grid that two or more passages cover, with what covers
+/// them: which turns (where along the helix) and which leads. For an unwound helix this
+/// depends on its centre, radius, sense, start and length alone, not on its flat stretches,
+/// so [`Helix::plan`]'s search over the flats finds it once per length (the search spent
+/// most of a mine's generate time recomputing it).
+struct Overlaps {
+    points: Vec<Overlap>,
+    /// The covering turns' distances along the helix, [`Overlap::turns`] ranges into it.
+    turns: Vec<f64>,
+}
+
+struct Overlap {
+    turns: std::ops::Range<usize>,
+    /// Whether the foot's and the landing's lead cover the point.
+    leads: [bool; 2],
+}
+
+impl Overlaps {
+    /// What covers each point of `h`'s grid, as [`Helix::floors_over`] finds it (`h` unwound).
+    fn of(h: &Helix, s: &Sizing) -> Overlaps {
+        debug_assert!(h.winding == Winding::NONE);
+        let reach = s.half_width + 0.5 * s.rock;
+        let extent = h.radius + reach;
+        let n = (2.0 * extent / SAMPLE).ceil() as usize;
+        let leads = h.leads();
+        let mut out = Overlaps {
+            points: Vec::new(),
+            turns: Vec::new(),
+        };
+        for j in 0..=n {
+            for i in 0..=n {
+                let p = [
+                    h.centre[0] - extent + 2.0 * extent * i as f64 / n as f64,
+                    h.centre[1] - extent + 2.0 * extent * j as f64 / n as f64,
+                ];
+                let first = out.turns.len();
+                let (dx, dy) = (p[0] - h.centre[0], p[1] - h.centre[1]);
+                let rho = (dx * dx + dy * dy).sqrt();
+                if rho > h.radius - h.winding.inset - reach && rho < h.radius + reach {
+                    let phi = dy.atan2(dx);
+                    let mut t = h.radius * (h.sense * (phi - h.start)).rem_euclid(TAU);
+                    while t <= h.length {
+                        if (rho - h.radius_at(t)).abs() < reach {
+                            out.turns.push(t);
+                        }
+                        t += h.radius * TAU;
+                    }
+                }
+                let covered = leads.map(|(a, b)| beside_segment(p, a, b) < reach);
+                let count = out.turns.len() - first + covered.iter().filter(|c| **c).count();
+                if count >= 2 {
+                    out.points.push(Overlap {
+                        turns: first..out.turns.len(),
+                        leads: covered,
+                    });
+                } else {
+                    out.turns.truncate(first);
+                }
+            }
+        }
+        out
+    }
 }
 
 /// A ramp's shape (centred on the origin, from floor 0) by what it depends on: its openings and
