@@ -48,6 +48,10 @@ pub struct WorldMesh {
     pub collision: Mesh,
     /// The tile set's materials.
     pub materials: Vec<Material>,
+    /// Parts placed beside the passages ([`TileSet::fixtures`]): not in `visual` nor in
+    /// `collision`, which stay one closed surface each; the exporters instance or bake them,
+    /// and the survey's ray caster sees them.
+    pub fixtures: crate::mesh::Fixtures,
     /// The image files the materials name ([`TileSet::textures`]), to be written under the
     /// world folder's `mesh/`.
     pub textures: Vec<crate::mesh::ImageFile>,
@@ -147,6 +151,13 @@ pub fn assemble_within(
         }
     }
     weld(&mut out, seams, tileset.texture_scale());
+    let axes: Vec<_> = out
+        .tiles
+        .iter()
+        .filter_map(|t| Some((t.cell, t.axis.as_ref()?)))
+        .collect();
+    out.fixtures = tileset.fixtures(layout, &out.visual, &axes)?;
+    label_fixtures(&mut out);
     Ok(out)
 }
 
@@ -296,6 +307,21 @@ fn append_tile(
         floor_lift,
         axis: g.axis.clone(),
     });
+}
+
+/// Adds each fixture's prototype name to the labels of the tile it serves (once per name, in
+/// order of first placement), so the semantic labels say which tiles carry bolts, a duct, pipes...
+fn label_fixtures(out: &mut WorldMesh) {
+    let f = &out.fixtures;
+    for p in &f.placements {
+        let name = f.prototypes[p.prototype as usize].name;
+        if let Ok(i) = out.tiles.binary_search_by_key(&p.cell, |t| t.cell) {
+            let labels = &mut out.tiles[i].labels;
+            if !labels.contains(&name) {
+                labels.push(name);
+            }
+        }
+    }
 }
 
 /// Welds the world's meshes (only the listed seam vertices, when every tile listed them),

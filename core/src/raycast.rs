@@ -133,7 +133,18 @@ impl RayCaster {
     /// collision triangles of the lava-tube preset, on two cores; the same hierarchy on any
     /// number of threads).
     pub fn new(mesh: &Mesh) -> RayCaster {
-        let (nodes, ids) = build::tree(mesh);
+        Self::from_tree(mesh, build::tree(mesh))
+    }
+
+    /// Builds a hierarchy over every triangle of `mesh` split in halves rather than by the
+    /// surface area heuristic: several times quicker to build, slower to cast into (about
+    /// twice), for a few rays per thousand triangles (a mine's bolt plates on its visual
+    /// surface). The same hits as [`RayCaster::new`]'s.
+    pub fn quick(mesh: &Mesh) -> RayCaster {
+        Self::from_tree(mesh, build::quick_tree(mesh))
+    }
+
+    fn from_tree(mesh: &Mesh, (nodes, ids): (Vec<Node4>, Vec<u32>)) -> RayCaster {
         let vertices = ids
             .par_iter()
             .map(|&i| mesh.triangles[i as usize].map(|v| mesh.positions[v as usize]))

@@ -283,6 +283,20 @@ pub trait TileSet: Send + Sync {
     fn floor_lift(&self, _layout: &Layout, _cell: Cell) -> [f64; 2] {
         [0.0, 0.0]
     }
+
+    /// The small closed parts this tile set places beside the passages once every tile is
+    /// made and welded (a mine's rock bolts, duct, pipes, cable run and lights; see
+    /// [`crate::mesh::Fixtures`]), given the world's welded visual surface and each tile's
+    /// passage axis ([`TileGeometry::axis`], raster order). Placed in world coordinates along
+    /// the axes, so they run on across tile joins. The default: none.
+    fn fixtures(
+        &self,
+        _layout: &Layout,
+        _visual: &Mesh,
+        _axes: &[(Cell, &PassageAxis)],
+    ) -> Result<crate::mesh::Fixtures, TileSetError> {
+        Ok(crate::mesh::Fixtures::default())
+    }
 }
 
 #[cfg(test)]

@@ -1,6 +1,10 @@
 //! `mesh/world.glb`: the visual world as binary glTF 2.0, for Blender, Unity, Unreal and web
 //! viewers.
 //!
+//! A world's fixtures (a mine's services) are instanced: one mesh per prototype (a bolt, a
+//! duct segment...) and a node per copy naming it with its translation, rotation and scale,
+//! so the file grows by a node, not a mesh, per bolt.
+//!
 //! One node and one mesh per part, one primitive per material (the primitives of a mesh share
 //! its POSITION, NORMAL and TEXCOORD_0 accessors and differ by their `u32` indices), and a
 //! `pbrMetallicRoughness` material per tile set material from its colour, or from its images
@@ -39,6 +43,7 @@ use subtgraph_core::mesh::{Material, Mesh};
 use subtgraph_core::params::Params;
 use subtgraph_core::survey::Survey;
 
+use crate::fixtures;
 use crate::parts::{Part, Split, parts};
 
 /// Writes `mesh/world.glb`.
@@ -133,10 +138,14 @@ fn material<'a>(m: &'a Material, images: &mut Vec<&'a str>) -> Value {
 }
 
 /// The JSON document and the binary chunk's length.
+/// `names` and `sizes` are per mesh: the first `parts` the parts, each with a node, then the
+/// fixtures' prototypes, placed by the `instances` nodes.
 fn document(
-    names: &[&Part],
+    names: &[&str],
     sizes: &[Sizes],
+    parts: usize,
     materials: &[Value],
+    instances: Vec<Value>,
     artifacts: &[Artifact],
 ) -> (Value, usize) {
     let mut materials = materials.to_vec();
@@ -179,13 +188,14 @@ fn document(
             }
             primitives.push(p);
         }
-        meshes.push(json!({"name": part.name, "primitives": primitives}));
+        meshes.push(json!({"name": part, "primitives": primitives}));
     }
-    let mut nodes: Vec<Value> = names
+    let mut nodes: Vec<Value> = names[..parts]
         .iter()
         .enumerate()
-        .map(|(i, p)| json!({"name": p.name, "mesh": i}))
+        .map(|(i, p)| json!({"name": p, "mesh": i}))
         .collect();
+    nodes.extend(instances);
     if !artifacts.is_empty() {
         // One unit cube (24 vertices with flat normals, 36 indices), a mesh per class using
         // it with the class's material, and a node per artifact scaling it to its box.
@@ -345,9 +355,37 @@ impl Exporter for Gltf {
             .into_iter()
             .filter(|p| p.visual_triangles() > 0)
             .collect();
+        let f = &mesh.fixtures;
+        let prototypes: Vec<Mesh> = (0..f.prototypes.len())
+            .map(|k| fixtures::prototype_mesh(f, k))
+            .collect();
         let sized: Vec<Sizes> = ps
             .iter()
-            .map(|p| sizes(&p.visual(mesh), mesh.materials.len()))
+            .map(|p| p.visual(mesh))
+            .chain(prototypes.iter().cloned())
+            .map(|m| sizes(&m, mesh.materials.len()))
+            .collect();
+        let names: Vec<&str> = ps
+            .iter()
+            .map(|p| p.name.as_str())
+            .chain(f.prototypes.iter().map(|p| p.name))
+            .collect();
+        // A node per copy naming its prototype's mesh (after the parts' meshes).
+        let instances: Vec<Value> = f
+            .placements
+            .iter()
+            .map(|p| {
+                // As f32, the precision of the meshes (and a third of the JSON).
+                let (t, r, s) = fixtures::y_up(p);
+                let (t, r, s) = (
+                    t.map(|v| v as f32),
+                    r.map(|v| v as f32),
+                    s.map(|v| v as f32),
+                );
+                let name = f.prototypes[p.prototype as usize].name;
+                json!({"name": name, "mesh": ps.len() + p.prototype as usize,
+                    "translation": t, "rotation": r, "scale": s})
+            })
             .collect();
         let mut images: Vec<&str> = Vec::new();
         let materials: Vec<Value> = mesh
@@ -355,9 +393,9 @@ impl Exporter for Gltf {
             .iter()
             .map(|m| material(m, &mut images))
             .collect();
-        let refs: Vec<&Part> = ps.iter().collect();
         let artifacts = crate::artifacts_of(survey);
-        let (mut doc, bin_len) = document(&refs, &sized, &materials, artifacts);
+        let (mut doc, bin_len) =
+            document(&names, &sized, ps.len(), &materials, instances, artifacts);
         if !images.is_empty() {
             // Referenced beside the GLB (`mesh/textures/`), not embedded: the images are
             // shared with the other formats and the GLB stays the geometry.
@@ -393,6 +431,9 @@ impl Exporter for Gltf {
             w.write_all(b"BIN\0")?;
             for (p, s) in ps.iter().zip(&sized) {
                 write_part(w, &p.visual(mesh), s)?;
+            }
+            for (m, s) in prototypes.iter().zip(&sized[ps.len()..]) {
+                write_part(w, m, s)?;
             }
             if !artifacts.is_empty() {
                 write_cube(w)?;

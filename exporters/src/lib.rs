@@ -27,6 +27,7 @@ use subtgraph_core::export::{ExportError, Exporter, WorldWriter};
 use subtgraph_core::registry::{DuplicateName, Registry};
 use subtgraph_core::survey::Survey;
 
+mod fixtures;
 mod gltf;
 pub mod ground_truth;
 pub mod hazards;

@@ -1,5 +1,8 @@
 //! `mesh/world.obj` + `mesh/world.mtl` (visual, grouped by material) and
 //! `mesh/collision.obj` (the lighter collision surface), metres, Z up as in the world frame.
+//! A world with fixtures (a mine's services: `subtgraph_core::mesh::Fixtures`) has them
+//! baked into `mesh/services.obj` (materials from `world.mtl`), one closed part per copy:
+//! `world.obj` stays the passage's one closed surface, as every reader of it expects.
 //!
 //! Numbers are written with a fixed four decimals (0.1 mm) by a small formatter of our own:
 //! `format!` would dominate the export time of a multi-million-triangle world.
@@ -85,6 +88,12 @@ impl Exporter for Obj {
                     Some((&mesh.materials, "world.mtl")),
                 )
             })?;
+            if !mesh.fixtures.is_empty() {
+                stream_file(out, "mesh/services.obj", |w| {
+                    let baked = mesh.fixtures.baked();
+                    write_obj(w, &baked, "services", Some((&mesh.materials, "world.mtl")))
+                })?;
+            }
         }
         if !out.contains("mesh/collision.obj") {
             stream_file(out, "mesh/collision.obj", |w| {

@@ -19,6 +19,11 @@
 //! `xformOp:translate`: see [`instances`](crate::instances). Their collision triangles stay
 //! in the part's collision mesh.
 //!
+//! A world's fixtures (a mine's bolts, duct, pipes, cable and lights) are one
+//! `PointInstancer`, `/World/Services` in `usd/parts/services.usda`: each prototype once,
+//! each copy a position, orientation and scale, so the file grows by one line's worth per
+//! bolt. They are visual only (mounted above a ground robot; no collider).
+//!
 //! Floor patches (`[hazards] friction`): the patched tiles' floors are colliders of their
 //! own (`collision_mud`, ...) bound to a `PhysicsMaterialAPI` material per hazard material
 //! (`/World/PhysicsMaterials/Mud`, ...); the rest of the part stays `collision` on the rock.
@@ -446,6 +451,62 @@ fn artifact_prims(s: &mut String, artifacts: &[subtgraph_core::artifacts::Artifa
     s.push_str("    }\n");
 }
 
+/// The fixtures (a mine's services) as one `PointInstancer`, `/World/Services`: each
+/// prototype a mesh under it (drawn only through the instancer), each copy an entry of
+/// `protoIndices`, `positions`, `orientations` (half-precision quaternions, real part first)
+/// and `scales`.
+fn write_fixtures(
+    w: &mut dyn Write,
+    mesh: &WorldMesh,
+    materials: &[String],
+) -> std::io::Result<()> {
+    let f = &mesh.fixtures;
+    w.write_all(HEADER.as_bytes())?;
+    writeln!(
+        w,
+        "over \"World\"\n{{\n    def PointInstancer \"Services\"\n    {{"
+    )?;
+    let names: Vec<String> = f
+        .prototypes
+        .iter()
+        .map(|p| format!("</World/Services/Prototypes/{}>", prim_name(p.name)))
+        .collect();
+    writeln!(w, "        rel prototypes = [{}]", names.join(", "))?;
+    let ps = &f.placements;
+    let inner = "        ";
+    array(w, inner, "int[] protoIndices", ps.len(), |b, i| {
+        push_uint(b, u64::from(ps[i].prototype));
+    })?;
+    writeln!(w)?;
+    array(w, inner, "point3f[] positions", ps.len(), |b, i| {
+        tuple(b, &ps[i].translation.map(|v| v as f32));
+    })?;
+    writeln!(w)?;
+    array(w, inner, "quath[] orientations", ps.len(), |b, i| {
+        let [x, y, z, r] = ps[i].rotation;
+        tuple(b, &[r, x, y, z].map(|v| v as f32));
+    })?;
+    writeln!(w)?;
+    array(w, inner, "float3[] scales", ps.len(), |b, i| {
+        tuple(b, &ps[i].scale.map(|v| v as f32));
+    })?;
+    writeln!(w, "\n\n        def Scope \"Prototypes\"\n        {{")?;
+    for k in 0..f.prototypes.len() {
+        let m = crate::fixtures::prototype_mesh(f, k);
+        let name = prim_name(f.prototypes[k].name);
+        write_mesh(
+            w,
+            "            ",
+            &name,
+            &m,
+            Role::Visual,
+            materials,
+            [0.0; 3],
+        )?;
+    }
+    writeln!(w, "        }}\n    }}\n}}")
+}
+
 impl Exporter for Usd {
     fn export(
         &self,
@@ -564,6 +625,12 @@ impl Exporter for Usd {
             })?;
             drop(visual);
             layers.push(file);
+        }
+        if !mesh.fixtures.is_empty() {
+            stream_file(out, "usd/parts/services.usda", |w| {
+                write_fixtures(w, mesh, &materials)
+            })?;
+            layers.push("parts/services.usda".to_owned());
         }
         let artifacts = crate::artifacts_of(survey);
         let root = root_layer(mesh, &layers, &materials, artifacts, patches);

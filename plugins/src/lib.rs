@@ -512,6 +512,19 @@ impl TileSet for Guarded<dyn TileSet> {
             |t| t.floor_lift(layout, cell),
         )
     }
+    fn fixtures(
+        &self,
+        layout: &Layout,
+        visual: &subtgraph_core::mesh::Mesh,
+        axes: &[(
+            subtgraph_core::grid::Cell,
+            &subtgraph_core::tileset::PassageAxis,
+        )],
+    ) -> Result<subtgraph_core::mesh::Fixtures, TileSetError> {
+        self.try_call("TileSet::fixtures", TileSetError::Plugin, |t| {
+            t.fixtures(layout, visual, axes)
+        })
+    }
 }
 
 #[deny(clippy::missing_trait_methods)] // a new defaulted method must be forwarded, not skipped

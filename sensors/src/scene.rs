@@ -30,7 +30,8 @@ impl Scene {
     pub fn of_survey(survey: &WorldSurvey<'_>) -> Result<Scene, SenseError> {
         let world = survey.world();
         let mesh = world.mesh().ok_or(SenseError::NoMesh)?;
-        let caster = survey.rays().ok_or(SenseError::NoMesh)?;
+        // The rock and, in a mine, its services (bolts, duct, pipes, cable, lights).
+        let (caster, surface) = survey.scan_rays().ok_or(SenseError::NoMesh)?;
         let reflectivity: Vec<f32> = mesh.materials.iter().map(material_reflectivity).collect();
         let hazards = mesh
             .hazards
@@ -48,7 +49,7 @@ impl Scene {
             .collect();
         Ok(Scene::with_caster(
             Arc::clone(caster),
-            &mesh.collision,
+            surface,
             &reflectivity,
             hazards,
             world.resolved.tile_pitch,

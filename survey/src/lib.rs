@@ -11,6 +11,7 @@
 //! | each edge's centreline and its length | [`centrelines`] | when first asked for |
 //! | each edge's least width and height on the collision surface | [`sections`] | when first asked for |
 //! | what a ray hits: one hierarchy over the collision surface, shared by the widths and heights and by the sensors (`subtgraph sense`, Python's `World.raycast`) | [`WorldSurvey::rays`] | built when first asked for |
+//! | what a sensor's ray hits in a world with fixtures (a mine's services): the collision surface and the fixtures | [`WorldSurvey::scan_rays`] | built when first asked for |
 //! | the artifacts' poses and whether each is seen from its tile's passage | [`artifacts`], [`sight`] | when the survey is made (a pipeline with `[artifacts]` always writes them) |
 //! | the floor patches of `[hazards] friction` | [`hazards`] | when the survey is made |
 //! | MuJoCo's height fields and convex slabs | [`heightfields`], [`convex_pieces`] | when MuJoCo's writer asks, with its settings |
@@ -41,6 +42,7 @@ use subtgraph_core::artifacts::PlacedArtifacts;
 use subtgraph_core::config::Pipeline;
 use subtgraph_core::grid::Cell;
 use subtgraph_core::hazards::Patch;
+use subtgraph_core::mesh::Mesh;
 use subtgraph_core::raycast::RayCaster;
 use subtgraph_core::survey::{Columns, EdgeLine, RowVisitor, Source, Survey};
 
@@ -87,6 +89,9 @@ pub struct WorldSurvey<'w> {
     /// built once, when first needed: by the edges' widths and heights ([`Sections`]) or by
     /// the sensors (`subtgraph-sensors`' `Scene` holds the same `Arc`). `None` without a mesh.
     rays: OnceLock<Option<Arc<RayCaster>>>,
+    /// What a sensor's rays hit when the world has fixtures (a mine's services): the
+    /// collision surface with the fixtures baked after it, and the hierarchy over both.
+    scan: OnceLock<Option<(Arc<RayCaster>, Mesh)>>,
     sections: OnceLock<Vec<Option<(f64, f64)>>>,
     artifacts: Option<PlacedArtifacts>,
     patches: Option<Vec<Patch>>,
@@ -103,6 +108,7 @@ impl<'w> WorldSurvey<'w> {
             all_axes: OnceLock::new(),
             edges: OnceLock::new(),
             rays: OnceLock::new(),
+            scan: OnceLock::new(),
             sections: OnceLock::new(),
             artifacts: None,
             patches: hazards::patches(world),
@@ -148,6 +154,27 @@ impl<'w> WorldSurvey<'w> {
                 Some(Arc::new(RayCaster::new(&mesh.collision)))
             })
             .as_ref()
+    }
+
+    /// What a sensor sees, and the surface its hits' triangle indices refer to: the collision
+    /// surface ([`rays`](Self::rays)) or, in a world with fixtures (a mine's bolts, duct,
+    /// pipes, cable and lights), a second hierarchy over the collision surface and the
+    /// fixtures together, built when first asked for. The ground truth's widths and heights
+    /// keep to the rock ([`rays`](Self::rays)): the services hang above a ground robot, and
+    /// what a LiDAR sees of them is the point of having them.
+    pub fn scan_rays(&self) -> Option<(&Arc<RayCaster>, &Mesh)> {
+        let mesh = self.world.mesh()?;
+        if mesh.fixtures.is_empty() {
+            return Some((self.rays()?, &mesh.collision));
+        }
+        self.scan
+            .get_or_init(|| {
+                let mut all = mesh.collision.clone();
+                all.append(&mesh.fixtures.baked());
+                Some((Arc::new(RayCaster::new(&all)), all))
+            })
+            .as_ref()
+            .map(|(r, m)| (r, m))
     }
 
     /// The edges' widths and heights, measured by rays into [`rays`](Self::rays).

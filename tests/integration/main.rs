@@ -28,6 +28,7 @@ mod hostile_configs;
 mod limits;
 mod mesh_files;
 mod messages;
+mod mine_services;
 mod mine_walls;
 mod one_surface;
 mod passages;

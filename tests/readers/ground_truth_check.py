@@ -214,7 +214,8 @@ for row, t in zip(table, labels["tiles"]):
     opens = set(row["openings"].split())
     # Chambers and squeezes (issue 15), refuge bays (issue 24): the CSV's column, when present,
     # says what the JSON does.
-    assert set(t.get("features", [])) <= {"chamber", "squeeze", "refuge-bay"}
+    assert set(t.get("features", [])) <= {"chamber", "squeeze", "refuge-bay", "rock-bolt", "duct",
+                                          "pipe", "cable", "light"}
     if "features" in row:
         assert set(row["features"].split()) == set(t.get("features", []))
     else:

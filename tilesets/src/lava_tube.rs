@@ -45,6 +45,7 @@ pub fn from_params(p: &Params) -> Result<Procedural, ConfigError> {
                 roughness: 0.025,
                 finish: crate::finish::Finish::Plain,
                 refuge_spacing: 0.0,
+                services: crate::services::Services::NONE,
                 roughness_scale: 0.6,
                 floor_roughness: 0.0,
                 rocks: 0.0,

@@ -38,6 +38,7 @@ pub mod procedural;
 pub mod ramp;
 pub mod refuge;
 pub mod rubble;
+pub mod services;
 pub mod slope;
 pub mod textures;
 pub mod winding;

@@ -11,6 +11,7 @@ use crate::finish::Finish;
 use crate::passage::Rooms;
 use crate::passage::{Passage, Profile};
 use crate::procedural::{Procedural, Style};
+use crate::services::Services;
 use crate::slope::Slope;
 
 /// Default metres of straight drift per refuge bay (`[tileset] refuge_spacing`).
@@ -66,6 +67,9 @@ pub fn from_params(p: &Params) -> Result<Procedural, ConfigError> {
                 },
                 // A refuge bay every 150 m of straight drift on average (`crate::refuge`).
                 refuge_spacing: REFUGE_SPACING,
+                // Rock bolts, a ventilation duct, pipes, a cable run and lights
+                // (`crate::services`).
+                services: Services::MINE,
                 roughness_scale: 0.25,
                 floor_roughness: 0.0,
                 rocks: 0.0,

@@ -8,6 +8,7 @@
 
 use crate::bends::Bends;
 use crate::finish::Finish;
+use crate::services::Services;
 use crate::slope::Slope;
 
 /// Material indices used by the procedural tile sets.
@@ -57,6 +58,8 @@ pub struct Passage {
     pub finish: Finish,
     /// Metres of straight drift per refuge bay on average (0: none; see [`crate::refuge`]).
     pub refuge_spacing: f64,
+    /// Bolts, duct, pipes, cable and lights (see [`crate::services`]).
+    pub services: Services,
     /// Size of wall relief features.
     pub roughness_scale: f64,
     /// Amplitude of floor rubble.
@@ -98,6 +101,7 @@ impl Default for Passage {
             roughness: 0.09,
             finish: Finish::Plain,
             refuge_spacing: 0.0,
+            services: Services::NONE,
             roughness_scale: 0.45,
             floor_roughness: 0.03,
             rocks: 0.0,

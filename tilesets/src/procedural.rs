@@ -22,6 +22,7 @@ use crate::marching::{Block, polygonise_columns};
 use crate::owner::Owners;
 use crate::passage::{Levels, Passage, Profile, material};
 use crate::ramp::{self, Helix, Sizing, Unfit};
+use crate::services::{ServiceSettings, Services};
 use crate::slope::Slope;
 use crate::textures::Textures;
 
@@ -61,6 +62,19 @@ pub struct Settings {
     pub refuge_spacing: Option<f64>,
     /// Rocks per tile (0 for none).
     pub rocks: Option<f64>,
+    /// `false`: no services (bolts, duct, pipes, cable, lights), in tile sets with them (mine;
+    /// see [`crate::services`]).
+    pub services: Option<bool>,
+    /// Metres between rock bolts, along the drift and around the back (mine: 1.2; 0: none).
+    pub bolt_spacing: Option<f64>,
+    /// The ventilation duct's diameter, metres (mine: 1.0; 0: none).
+    pub duct_diameter: Option<f64>,
+    /// Pipes along one wall (mine: 2).
+    pub pipes: Option<u32>,
+    /// A cable run along the pipes' wall (mine: true).
+    pub cable_run: Option<bool>,
+    /// Metres between lights on the back (mine: 20; 0: none).
+    pub light_spacing: Option<f64>,
     /// Lattice cells per tile pitch for the visual mesh: the detail level (multiple of 4).
     pub resolution: Option<u32>,
     /// Lattice cells per tile pitch for the collision mesh (multiple of 2, divides
@@ -108,6 +122,7 @@ pub struct Procedural {
     settings: Settings,
     enabled: [bool; 4],
     textures: Textures,
+    services: Services,
 }
 
 impl Procedural {
@@ -176,12 +191,26 @@ impl Procedural {
                 }
             }
         }
-        let textures = Textures::from_params(params, &style.materials)?;
+        let services = Services::from_params(
+            style.shape.services,
+            &ServiceSettings {
+                services: settings.services,
+                bolt_spacing: settings.bolt_spacing,
+                duct_diameter: settings.duct_diameter,
+                pipes: settings.pipes,
+                cable_run: settings.cable_run,
+                light_spacing: settings.light_spacing,
+            },
+            params,
+            style.name,
+        )?;
+        let textures = Textures::from_params(params, &services.materials(&style.materials))?;
         Ok(Self {
             style,
             settings,
             enabled,
             textures,
+            services,
         })
     }
 
@@ -214,6 +243,7 @@ impl Procedural {
             rooms: self.rooms(world, width),
             meander: (base.meander * pitch).min(room).max(0.0),
             hazard_lattice: pitch / f64::from(self.resolution().1),
+            services: self.services,
             ..base.clone()
         };
         passage.slope = self.slope(world, &passage);
@@ -800,14 +830,33 @@ impl TileSet for Procedural {
         })
     }
 
+    fn fixtures(
+        &self,
+        world: &Layout,
+        visual: &subtgraph_core::mesh::Mesh,
+        axes: &[(
+            subtgraph_core::grid::Cell,
+            &subtgraph_core::tileset::PassageAxis,
+        )],
+    ) -> Result<subtgraph_core::mesh::Fixtures, TileSetError> {
+        let seed = subtgraph_core::rng::derive_seed(world.resolved.seed, "services", 0);
+        let first = self.style.materials.len() as u8;
+        Ok(self
+            .services
+            .place(&self.passage(world), visual, axes, seed, first))
+    }
+
     fn materials(&self) -> Vec<Material> {
-        self.textures.apply(&self.style.materials)
+        self.textures
+            .apply(&self.services.materials(&self.style.materials))
     }
 
     fn textures(&self, seed: u64) -> Result<Vec<ImageFile>, TileSetError> {
-        Ok(self
-            .textures
-            .files(&self.style.materials, seed, f64::from(TEXTURE_REPEAT)))
+        Ok(self.textures.files(
+            &self.services.materials(&self.style.materials),
+            seed,
+            f64::from(TEXTURE_REPEAT),
+        ))
     }
 
     fn opening(&self, world: &Layout) -> Option<CrossSection> {

@@ -1,10 +1,12 @@
 //! Triangle meshes: what tile sets produce and exporters write.
 
 mod cluster;
+mod fixtures;
 
 use serde::{Deserialize, Serialize};
 
 pub use cluster::{Clustering, Grid};
+pub use fixtures::{Fixtures, Placement, Prototype, quaternion};
 
 use crate::vec3::{cross, sub};
 

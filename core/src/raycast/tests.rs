@@ -189,24 +189,26 @@ fn the_hierarchy_finds_what_testing_every_triangle_finds() {
         }
         m.triangles.push([3 * i, 3 * i + 1, 3 * i + 2]);
     }
-    let caster = RayCaster::new(&m);
-    assert_eq!(caster.triangle_count(), 3000);
-    let mut hits = 0;
-    for _ in 0..3000 {
-        let o = [0, 1, 2].map(|_| 50.0 * rng.next() - 5.0);
-        let d = rng.dir();
-        let got = caster.cast(o, d, 30.0);
-        let want = brute(&m, o, d, 30.0);
-        assert_eq!(got.map(|h| h.t as f32), want, "from {o:?} along {d:?}");
-        if let Some(h) = got {
-            // The reported triangle is hit at that distance.
-            let tri = m.triangles[h.triangle as usize].map(|v| m.positions[v as usize]);
-            let ray = Prepared::new(o, d).unwrap();
-            assert_eq!(ray.triangle(&tri, 31.0), Some(h.t as f32));
-            hits += 1;
+    // The heuristic's tree and the quick one (split in halves).
+    for caster in [RayCaster::new(&m), RayCaster::quick(&m)] {
+        assert_eq!(caster.triangle_count(), 3000);
+        let mut hits = 0;
+        for _ in 0..3000 {
+            let o = [0, 1, 2].map(|_| 50.0 * rng.next() - 5.0);
+            let d = rng.dir();
+            let got = caster.cast(o, d, 30.0);
+            let want = brute(&m, o, d, 30.0);
+            assert_eq!(got.map(|h| h.t as f32), want, "from {o:?} along {d:?}");
+            if let Some(h) = got {
+                // The reported triangle is hit at that distance.
+                let tri = m.triangles[h.triangle as usize].map(|v| m.positions[v as usize]);
+                let ray = Prepared::new(o, d).unwrap();
+                assert_eq!(ray.triangle(&tri, 31.0), Some(h.t as f32));
+                hits += 1;
+            }
         }
+        assert!(hits > 500, "{hits}");
     }
-    assert!(hits > 500, "{hits}");
 }
 
 #[test]
@@ -288,9 +290,9 @@ fn the_hierarchy_is_the_same_built_on_one_thread_or_many() {
         mesh.triangles
             .extend(s.triangles.iter().map(|t| t.map(|v| v + base)));
     }
-    let one = build::tree_with(&mesh, usize::MAX);
+    let one = build::tree_with(&mesh, usize::MAX, false);
     for parallel_min in [1, 16, 1000] {
-        let many = build::tree_with(&mesh, parallel_min);
+        let many = build::tree_with(&mesh, parallel_min, false);
         assert_eq!(
             one.1, many.1,
             "triangle order, parallel from {parallel_min}"
