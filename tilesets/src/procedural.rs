@@ -841,9 +841,18 @@ impl TileSet for Procedural {
     ) -> Result<subtgraph_core::mesh::Fixtures, TileSetError> {
         let seed = subtgraph_core::rng::derive_seed(world.resolved.seed, "services", 0);
         let first = self.style.materials.len() as u8;
-        Ok(self
-            .services
-            .place(&self.passage(world), visual, axes, seed, first))
+        let p = self.passage(world);
+        // The nominal section less its variation and relief: the rock is never nearer.
+        let drift = crate::services::Drift {
+            size: [p.width, p.height],
+            back: p.height * (1.0 - p.height_variation) - p.roughness,
+            wall: 0.5 * p.width * (1.0 - p.width_variation) - p.roughness,
+            rock: [
+                crate::passage::material::WALL,
+                crate::passage::material::STRIATED,
+            ],
+        };
+        Ok(self.services.place(drift, visual, axes, seed, first))
     }
 
     fn materials(&self) -> Vec<Material> {

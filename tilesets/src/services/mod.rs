@@ -29,8 +29,6 @@ use subtgraph_core::params::Params;
 use subtgraph_core::raycast::RayCaster;
 use subtgraph_core::tileset::PassageAxis;
 
-use crate::passage::Passage;
-
 /// The services' materials, in the order their prototypes name them (after the tile set's
 /// own materials).
 pub const MATERIALS: [(&str, [f32; 3]); 5] = [
@@ -158,11 +156,11 @@ impl Services {
         out
     }
 
-    /// Places the services along the tiles' passage axes in the welded `visual` surface
-    /// (`first_material`: index of `mine-bolt` among the world's materials).
+    /// Places the services along the tiles' passage axes in the welded `visual` surface of
+    /// `drift`s (`first_material`: index of `mine-bolt` among the world's materials).
     pub fn place(
         &self,
-        passage: &Passage,
+        drift: Drift,
         visual: &Mesh,
         axes: &[(subtgraph_core::grid::Cell, &PassageAxis)],
         seed: u64,
@@ -179,7 +177,7 @@ impl Services {
         let kit = Kit::new(first_material);
         let placer = place::Placer {
             services: self,
-            passage,
+            drift,
             visual,
             rays: rays.as_ref(),
             seed,
@@ -208,6 +206,22 @@ impl Services {
         fixtures.prototypes = kept;
         fixtures
     }
+}
+
+/// What the placement needs of the passage (kept apart from the tile sets' `Passage`, which
+/// carries the services' knobs).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Drift {
+    /// Nominal width and height, metres.
+    pub size: [f64; 2],
+    /// The nearest the rock comes to the axis sideways: half the nominal width less its
+    /// variation and relief, metres.
+    pub wall: f64,
+    /// The nearest the back comes to the floor: the nominal height less its variation and
+    /// relief, metres.
+    pub back: f64,
+    /// The materials of rock walls and back (plain and striated).
+    pub rock: [u8; 2],
 }
 
 /// The prototypes, in a fixed order ([`Kit::BOLT`] ...).

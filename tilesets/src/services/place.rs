@@ -9,7 +9,6 @@ use subtgraph_core::tileset::PassageAxis;
 use subtgraph_core::vec3::{cross, dot, sub, unit};
 
 use super::{Kit, Services};
-use crate::passage::{Passage, material};
 
 /// The lowest a part is mounted above the floor, metres: above a ground robot.
 pub const MOUNT: f64 = 1.7;
@@ -30,7 +29,7 @@ const DEAD_END_TRIM: f64 = 1.5;
 
 pub(crate) struct Placer<'a> {
     pub services: &'a Services,
-    pub passage: &'a Passage,
+    pub drift: super::Drift,
     pub visual: &'a Mesh,
     pub rays: Option<&'a RayCaster>,
     pub seed: u64,
@@ -117,7 +116,7 @@ impl Placer<'_> {
     /// Every placement, tile by tile (raster order), exit by exit.
     pub fn run(&self, axes: &[(Cell, &PassageAxis)]) -> Vec<Placement> {
         let mut out = Vec::new();
-        let clear = 0.5 * self.passage.width + 0.3;
+        let clear = 0.5 * self.drift.size[0] + 0.3;
         for &(cell, axis) in axes {
             let open: Vec<usize> = (0..4).filter(|&d| !axis.exits[d].is_empty()).collect();
             let through = open.len() == 2 && open[1] == open[0] + 2;
@@ -186,8 +185,8 @@ impl Placer<'_> {
             .materials
             .get(triangle as usize)
             .copied()
-            .unwrap_or(material::WALL);
-        m == material::WALL || m == material::STRIATED
+            .unwrap_or(self.drift.rock[0]);
+        self.drift.rock.contains(&m)
     }
 
     /// One ring of bolts around the back and upper walls at `p` (on the floor at the axis),
@@ -201,7 +200,7 @@ impl Placer<'_> {
         key: [i64; 2],
         out: &mut Vec<Placement>,
     ) {
-        let (w, h) = (self.passage.width, self.passage.height);
+        let [w, h] = self.drift.size;
         let spacing = self.services.bolt_spacing;
         let s = side(d);
         let radius = (0.5 * w).max(0.4 * h);
@@ -255,7 +254,7 @@ impl Placer<'_> {
         d: [f64; 3],
         out: &mut Vec<Placement>,
     ) {
-        let (w, h) = (self.passage.width, self.passage.height);
+        let [w, h] = self.drift.size;
         let origin = add(add(p, side(d), -0.25 * w), [0.0, 0.0, 1.0], 1.0);
         let Some(hit) = rays.cast(origin, [0.0, 0.0, 1.0], 2.0 * h) else {
             return;
@@ -283,11 +282,8 @@ impl Placer<'_> {
         wall_trim: f64,
         out: &mut Vec<Placement>,
     ) {
-        let p = self.passage;
         let sv = &self.services;
-        // The nominal section less its variation and relief: the rock is never nearer.
-        let back = p.height * (1.0 - p.height_variation) - p.roughness;
-        let wall = 0.5 * p.width * (1.0 - p.width_variation) - p.roughness;
+        let (back, wall, height) = (self.drift.back, self.drift.wall, self.drift.size[1]);
         if sv.duct_diameter > 0.0 {
             let r = 0.5 * sv.duct_diameter;
             let v = back - STAND_OFF - r;
@@ -297,13 +293,13 @@ impl Placer<'_> {
         }
         let u = wall - STAND_OFF - PIPE_RADIUS;
         for i in 0..sv.pipes {
-            let v = 0.55 * p.height - 0.25 * f64::from(i);
+            let v = 0.55 * height - 0.25 * f64::from(i);
             if v - PIPE_RADIUS >= MOUNT {
                 self.cylinders(cell, line, wall_trim, Kit::PIPE, u, v, PIPE_RADIUS, out);
             }
         }
         if sv.cable_run {
-            let v = 0.55 * p.height + 0.2;
+            let v = 0.55 * height + 0.2;
             let u = wall - STAND_OFF - CABLE_RADIUS;
             if v - CABLE_RADIUS >= MOUNT {
                 self.cylinders(cell, line, wall_trim, Kit::CABLE, u, v, CABLE_RADIUS, out);
