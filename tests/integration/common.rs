@@ -370,3 +370,30 @@ pub fn graph_json(world: &subtgraph::core::World) -> serde_json::Value {
 pub fn json_point(v: &serde_json::Value) -> [f64; 3] {
     [0, 1, 2].map(|k| v[k].as_f64().unwrap())
 }
+
+/// A one-level mine of about 25 x 25 cells (seed 3), with `extra` lines in its `[tileset]`,
+/// written as `dir/name.toml`.
+pub fn small_mine(dir: &Path, name: &str, extra: &str) -> PathBuf {
+    let path = dir.join(format!("{name}.toml"));
+    std::fs::write(
+        &path,
+        format!(
+            "[world]\nseed = 3\nlevels = 1\nmin_length = [500, 500]\ntile_pitch = 20.0\n\n\
+             [route]\ntype = \"linear\"\n\n[tileset]\ntype = \"mine\"\n{extra}\n"
+        ),
+    )
+    .unwrap();
+    path
+}
+
+/// `subtgraph generate PIPELINE --format FORMATS --out OUT`, which must succeed.
+pub fn generate_formats(pipeline: &Path, out: &Path, formats: &str) {
+    ok(&[
+        "generate",
+        arg(pipeline),
+        "--format",
+        formats,
+        "--out",
+        arg(out),
+    ]);
+}

@@ -9,21 +9,7 @@
 
 use std::path::Path;
 
-use crate::common::{self, arg};
-
-/// A one-level mine of about 25 x 25 cells, with `extra` lines in its `[tileset]`.
-fn small_mine(dir: &Path, name: &str, extra: &str) -> std::path::PathBuf {
-    let path = dir.join(format!("{name}.toml"));
-    std::fs::write(
-        &path,
-        format!(
-            "[world]\nseed = 3\nlevels = 1\nmin_length = [500, 500]\ntile_pitch = 20.0\n\n\
-             [route]\ntype = \"linear\"\n\n[tileset]\ntype = \"mine\"\n{extra}\n"
-        ),
-    )
-    .unwrap();
-    path
-}
+use crate::common::{self, arg, generate_formats as generate, small_mine};
 
 /// The wall relief RMS (cm) the independent reader measures on `world`, or `None` when the
 /// readers are not installed.
@@ -35,17 +21,6 @@ fn relief_cm(world: &Path) -> Option<f64> {
         "enough straight walls: {v}"
     );
     Some(v["relief_rms_cm"].as_f64().unwrap())
-}
-
-fn generate(pipeline: &Path, out: &Path, formats: &str) {
-    common::ok(&[
-        "generate",
-        arg(pipeline),
-        "--format",
-        formats,
-        "--out",
-        arg(out),
-    ]);
 }
 
 #[test]

@@ -406,15 +406,8 @@ impl Helix {
                     self.centre[1] - extent + 2.0 * extent * j as f64 / n as f64,
                 ];
                 self.floors_over(p, reach, &mut floors);
-                for (k, a) in floors.iter().enumerate() {
-                    for b in &floors[k + 1..] {
-                        let (low, high) = if a.0 < b.0 { (a, b) } else { (b, a) };
-                        let need = if low.1 { s.per_lead } else { s.per_turn };
-                        let dz = high.0 - low.0;
-                        if dz > STEP && dz < need {
-                            return false;
-                        }
-                    }
+                if !apart(&floors, s) {
+                    return false;
                 }
             }
         }
@@ -438,15 +431,8 @@ impl Helix {
                     floors.push((z, true));
                 }
             }
-            for (k, a) in floors.iter().enumerate() {
-                for b in &floors[k + 1..] {
-                    let (low, high) = if a.0 < b.0 { (a, b) } else { (b, a) };
-                    let need = if low.1 { s.per_lead } else { s.per_turn };
-                    let dz = high.0 - low.0;
-                    if dz > STEP && dz < need {
-                        return false;
-                    }
-                }
+            if !apart(&floors, s) {
+                return false;
             }
         }
         true
@@ -529,6 +515,22 @@ fn first_opening(world: &Layout, cell: Cell) -> Option<Direction> {
     Direction::ALL
         .into_iter()
         .find(|d| t.openings & d.bit() != 0)
+}
+
+/// Whether the floors over one point (height, and whether it is a lead's) are each a turn's
+/// room apart in height (a lead's room above a lead), or one floor within [`STEP`].
+fn apart(floors: &[(f64, bool)], s: &Sizing) -> bool {
+    for (k, a) in floors.iter().enumerate() {
+        for b in &floors[k + 1..] {
+            let (low, high) = if a.0 < b.0 { (a, b) } else { (b, a) };
+            let need = if low.1 { s.per_lead } else { s.per_turn };
+            let dz = high.0 - low.0;
+            if dz > STEP && dz < need {
+                return false;
+            }
+        }
+    }
+    true
 }
 
 /// The points of [`Helix::separated`]'s grid that two or more passages cover, with what covers
