@@ -6,8 +6,6 @@
 //! robot, and the labels; the services leave the rock's own files as they were; the same
 //! bytes on 1 and 3 threads; bad keys refused with what to change.
 
-use std::path::Path;
-
 use crate::common::{self, arg, generate_formats as generate, small_mine};
 
 #[test]
