@@ -14,11 +14,11 @@
 //! that stamp too: readers that take a bag's log times for the scans' (KISS-ICP does) then
 //! agree with the ground truth, which is at the scans' starts.
 
-use std::fs::File;
-use std::io::{self, BufWriter};
+use std::io;
 use std::path::{Path, PathBuf};
 
 use super::cdr::{self, FLOAT32, FLOAT64, Field, UINT8, UINT16, UINT32};
+use super::direct::{Aligned, DirectFile};
 use super::mcap::Mcap;
 use crate::frames::Pose;
 use crate::lidar::scan::Scan;
@@ -51,7 +51,7 @@ struct Topic {
 
 /// The bag being written.
 pub struct Bag {
-    mcap: Mcap<BufWriter<File>>,
+    mcap: Mcap<DirectFile>,
     dir: PathBuf,
     topics: Vec<Topic>,
     model: LidarModel,
@@ -67,8 +67,8 @@ pub fn ns(t: f64) -> u64 {
 impl Bag {
     /// Starts a bag in `dir` (which must exist).
     pub fn create(dir: &Path, model: &LidarModel, wheel: bool) -> io::Result<Bag> {
-        let file = File::create(dir.join("bag_0.mcap"))?;
-        let mut mcap = Mcap::new(BufWriter::with_capacity(1 << 22, file))?;
+        let file = DirectFile::create(&dir.join("bag_0.mcap"), Aligned::default())?;
+        let mut mcap = Mcap::new(file)?;
         let mut topics = Vec::new();
         let mut list: Vec<(&'static str, &'static str, String)> = vec![
             ("/points", "sensor_msgs/msg/PointCloud2", QOS.into()),
