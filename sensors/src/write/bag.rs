@@ -306,7 +306,7 @@ fn f(name: &'static str, offset: u32, datatype: u8) -> Field {
 /// `x.round() as u32`, inline: on x86-64's baseline (no SSE4.1) `round` is a library call,
 /// three of them a point. The same integer for every input: halves away from zero, negatives
 /// and NaN 0, beyond the range `u32::MAX` (`x - t` is exact: the fraction of a float is one).
-pub fn round_u32(x: f64) -> u32 {
+fn round_u32(x: f64) -> u32 {
     let t = x as u32;
     if x - f64::from(t) >= 0.5 && t < u32::MAX {
         t + 1
@@ -316,7 +316,7 @@ pub fn round_u32(x: f64) -> u32 {
 }
 
 /// `x.round() as u16`, inline, as [`round_u32`].
-pub fn round_u16(x: f32) -> u16 {
+fn round_u16(x: f32) -> u16 {
     let t = x as u16;
     if x - f32::from(t) >= 0.5 && t < u16::MAX {
         t + 1

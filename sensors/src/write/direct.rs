@@ -10,8 +10,7 @@
 //! written the ordinary way once the flag is cleared. The bytes on disk are the same.
 //!
 //! Where the file system refuses `O_DIRECT` (tmpfs, some network and overlay file systems),
-//! or on other systems, the file is written the ordinary way, unbuffered by us beyond the
-//! same buffer.
+//! or on other systems, the file is written the ordinary way, through the same buffer.
 
 use std::fs::File;
 use std::io::{self, Write};
@@ -41,6 +40,8 @@ impl Default for Aligned {
 }
 
 /// A file being written with `O_DIRECT` where the file system allows it (see the module).
+/// End it with [`finish`](DirectFile::finish) or `flush`: dropped, it loses what it has
+/// gathered (up to 4 MiB).
 pub struct DirectFile {
     file: File,
     buf: Aligned,
