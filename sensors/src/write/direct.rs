@@ -23,9 +23,9 @@ const ALIGN: usize = 4096;
 /// to stay out of the way of the scans' buffers.
 const CAPACITY: usize = 4 << 20;
 
-/// A buffer of [`CAPACITY`] bytes starting at a multiple of [`ALIGN`]: a vector a block longer,
-/// used from its first aligned byte (no allocator tricks, no unsafe code). Keep one to reuse
-/// it from file to file ([`DirectFile::finish`] gives it back).
+/// A buffer of 4 MiB starting at a multiple of 4 KiB: a vector a block longer, used from its
+/// first aligned byte (no allocator tricks, no unsafe code). Keep one to reuse it from file to
+/// file ([`DirectFile::finish`] gives it back).
 pub struct Aligned {
     raw: Vec<u8>,
     start: usize,
