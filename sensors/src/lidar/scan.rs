@@ -147,21 +147,28 @@ impl<'a> Scanner<'a> {
         let sigma = self.model.range_noise_m;
         let count = points.len() / per_group;
         let first = task * GROUPS_PER_TASK;
-        let mut poses = Vec::with_capacity(count);
-        let mut beams: Vec<Beam> = Vec::with_capacity(count * per_group);
-        let mut scratch = Vec::with_capacity(per_group);
-        for k in 0..count {
-            let g = first + k;
-            let dt = self.model.group_time(g);
-            poses.push((dt, self.pose(start + dt)));
-            match &self.table {
-                Some(t) => beams.extend_from_slice(&t[g * per_group..(g + 1) * per_group]),
-                None => {
+        let poses: Vec<(f64, Pose)> = (first..first + count)
+            .map(|g| {
+                let dt = self.model.group_time(g);
+                (dt, self.pose(start + dt))
+            })
+            .collect();
+        // A spinning model's beams are read from its table in place, not copied for every
+        // task; a non-repeating pattern's are drawn for this scan.
+        let drawn: Vec<Beam>;
+        let beams: &[Beam] = match &self.table {
+            Some(t) => &t[first * per_group..(first + count) * per_group],
+            None => {
+                let mut all = Vec::with_capacity(count * per_group);
+                let mut scratch = Vec::with_capacity(per_group);
+                for g in first..first + count {
                     self.model.beams(index, g, &mut scratch);
-                    beams.extend_from_slice(&scratch);
+                    all.extend_from_slice(&scratch);
                 }
+                drawn = all;
+                &drawn
             }
-        }
+        };
         let mut h = [0.0; 21];
         let mut r2 = 0.0;
         let mut returns = 0;

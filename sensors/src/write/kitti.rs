@@ -18,6 +18,7 @@ use std::fs::File;
 use std::io::{self, BufWriter, Write};
 use std::path::Path;
 
+use super::direct::{Aligned, DirectFile};
 use crate::frames::Pose;
 use crate::lidar::scan::Scan;
 
@@ -29,6 +30,8 @@ pub struct Kitti {
     stamps: BufWriter<File>,
     imu: BufWriter<File>,
     buf: Vec<u8>,
+    /// The scans' files' buffer, reused.
+    aligned: Option<Aligned>,
     /// Bytes written.
     pub bytes: u64,
 }
@@ -62,6 +65,7 @@ impl Kitti {
             stamps: create(&dir.join("velodyne/timestamps.txt"))?,
             imu,
             buf: Vec::new(),
+            aligned: None,
             bytes: calib.len() as u64,
         })
     }
@@ -75,7 +79,12 @@ impl Kitti {
             }
         }
         let name = format!("velodyne/{:06}.bin", scan.index);
-        std::fs::write(self.dir.join(name), &self.buf)?;
+        let mut file = DirectFile::create(
+            &self.dir.join(name),
+            self.aligned.take().unwrap_or_default(),
+        )?;
+        file.write_all(&self.buf)?;
+        self.aligned = Some(file.finish()?);
         let m = pose.matrix_3x4();
         let line: Vec<String> = m.iter().map(|x| format!("{x:.9e}")).collect();
         let pose_line = line.join(" ") + "\n";
