@@ -37,14 +37,7 @@ pub struct Bay {
 impl Bay {
     /// The bay's field at `p` (negative inside the recess), `v` metres above the floor.
     pub fn value(&self, p: [f64; 3], v: f64) -> f64 {
-        let d = [p[0] - self.c[0], p[1] - self.c[1]];
-        let a = d[0] * self.along[0] + d[1] * self.along[1];
-        let b = d[0] * self.toward[0] + d[1] * self.toward[1];
-        (a.abs() - 0.5 * LENGTH)
-            .max(b - self.reach)
-            .max(-b)
-            .max(-v)
-            .max(v - HEIGHT)
+        self.walls(p, v).max(-v)
     }
 
     /// The bay's [`value`](Self::value) without its floor: its walls and back alone, which a
