@@ -366,10 +366,16 @@ impl Helix {
         ]
     }
 
-    /// The floors over the horizontal point `p`: of the turns whose passage (and half the rock
-    /// beside it) covers it, and of the leads'.
-    fn floors_over(&self, p: [f64; 2], reach: f64, out: &mut Vec<(f64, bool)>) {
-        out.clear();
+    /// What covers the horizontal point `p` (a passage with `reach` metres beside it): calls
+    /// `turn` with where along the helix each turn covering it is, in order, and returns
+    /// which of the two `leads` (see [`leads`](Self::leads)) cover it.
+    fn covering(
+        &self,
+        p: [f64; 2],
+        reach: f64,
+        leads: &[([f64; 2], [f64; 2]); 2],
+        mut turn: impl FnMut(f64),
+    ) -> [bool; 2] {
         let (dx, dy) = (p[0] - self.centre[0], p[1] - self.centre[1]);
         let rho = (dx * dx + dy * dy).sqrt();
         if rho > self.radius - self.winding.inset - reach && rho < self.radius + reach {
@@ -377,16 +383,36 @@ impl Helix {
             let mut s = self.radius * (self.sense * (phi - self.start)).rem_euclid(TAU);
             while s <= self.length {
                 if (rho - self.radius_at(s)).abs() < reach {
-                    out.push((self.floor(s), false));
+                    turn(s);
                 }
                 s += self.radius * TAU;
             }
         }
         // A lead's body, not its round end at the helix: there lead and helix are one
         // passage, the lead's floor merging into the helix's.
-        for ((a, b), z) in self.leads().into_iter().zip(self.floors) {
-            if beside_segment(p, a, b) < reach {
-                out.push((z, true));
+        leads.map(|(a, b)| beside_segment(p, a, b) < reach)
+    }
+
+    /// The points [`separated`](Self::separated) looks at, row by row: a square grid every
+    /// [`SAMPLE`] metres or closer over the spiral and `reach` metres round it.
+    fn grid(&self, reach: f64) -> impl Iterator<Item = [f64; 2]> + '_ {
+        let extent = self.radius + reach;
+        let n = (2.0 * extent / SAMPLE).ceil() as usize;
+        (0..=n).flat_map(move |j| {
+            (0..=n).map(move |i| {
+                [
+                    self.centre[0] - extent + 2.0 * extent * i as f64 / n as f64,
+                    self.centre[1] - extent + 2.0 * extent * j as f64 / n as f64,
+                ]
+            })
+        })
+    }
+
+    /// Appends to `floors` the floors of the leads `covered` says cover a point.
+    fn push_leads(&self, covered: [bool; 2], floors: &mut Vec<(f64, bool)>) {
+        for (lead, z) in covered.into_iter().zip(self.floors) {
+            if lead {
+                floors.push((z, true));
             }
         }
     }
@@ -396,19 +422,14 @@ impl Helix {
     /// [`STEP`]: the passages merge into a wider one there).
     fn separated(&self, s: &Sizing) -> bool {
         let reach = s.half_width + 0.5 * s.rock;
-        let extent = self.radius + reach;
-        let n = (2.0 * extent / SAMPLE).ceil() as usize;
+        let leads = self.leads();
         let mut floors = Vec::new();
-        for j in 0..=n {
-            for i in 0..=n {
-                let p = [
-                    self.centre[0] - extent + 2.0 * extent * i as f64 / n as f64,
-                    self.centre[1] - extent + 2.0 * extent * j as f64 / n as f64,
-                ];
-                self.floors_over(p, reach, &mut floors);
-                if !apart(&floors, s) {
-                    return false;
-                }
+        for p in self.grid(reach) {
+            floors.clear();
+            let covered = self.covering(p, reach, &leads, |t| floors.push((self.floor(t), false)));
+            self.push_leads(covered, &mut floors);
+            if !apart(&floors, s) {
+                return false;
             }
         }
         true
@@ -426,11 +447,7 @@ impl Helix {
                     .iter()
                     .map(|&t| (self.floor(t), false)),
             );
-            for (lead, z) in point.leads.iter().zip(self.floors) {
-                if *lead {
-                    floors.push((z, true));
-                }
-            }
+            self.push_leads(point.leads, &mut floors);
             if !apart(&floors, s) {
                 return false;
             }
@@ -551,46 +568,26 @@ struct Overlap {
 }
 
 impl Overlaps {
-    /// What covers each point of `h`'s grid, as [`Helix::floors_over`] finds it (`h` unwound).
+    /// What covers each point of `h`'s grid, as [`Helix::covering`] finds it (`h` unwound).
     fn of(h: &Helix, s: &Sizing) -> Overlaps {
         debug_assert!(h.winding == Winding::NONE);
         let reach = s.half_width + 0.5 * s.rock;
-        let extent = h.radius + reach;
-        let n = (2.0 * extent / SAMPLE).ceil() as usize;
         let leads = h.leads();
         let mut out = Overlaps {
             points: Vec::new(),
             turns: Vec::new(),
         };
-        for j in 0..=n {
-            for i in 0..=n {
-                let p = [
-                    h.centre[0] - extent + 2.0 * extent * i as f64 / n as f64,
-                    h.centre[1] - extent + 2.0 * extent * j as f64 / n as f64,
-                ];
-                let first = out.turns.len();
-                let (dx, dy) = (p[0] - h.centre[0], p[1] - h.centre[1]);
-                let rho = (dx * dx + dy * dy).sqrt();
-                if rho > h.radius - h.winding.inset - reach && rho < h.radius + reach {
-                    let phi = dy.atan2(dx);
-                    let mut t = h.radius * (h.sense * (phi - h.start)).rem_euclid(TAU);
-                    while t <= h.length {
-                        if (rho - h.radius_at(t)).abs() < reach {
-                            out.turns.push(t);
-                        }
-                        t += h.radius * TAU;
-                    }
-                }
-                let covered = leads.map(|(a, b)| beside_segment(p, a, b) < reach);
-                let count = out.turns.len() - first + covered.iter().filter(|c| **c).count();
-                if count >= 2 {
-                    out.points.push(Overlap {
-                        turns: first..out.turns.len(),
-                        leads: covered,
-                    });
-                } else {
-                    out.turns.truncate(first);
-                }
+        for p in h.grid(reach) {
+            let first = out.turns.len();
+            let covered = h.covering(p, reach, &leads, |t| out.turns.push(t));
+            let count = out.turns.len() - first + covered.iter().filter(|c| **c).count();
+            if count >= 2 {
+                out.points.push(Overlap {
+                    turns: first..out.turns.len(),
+                    leads: covered,
+                });
+            } else {
+                out.turns.truncate(first);
             }
         }
         out
