@@ -97,10 +97,7 @@ fn clean_up_now() -> usize {
     for c in &pending {
         match c {
             Cleanup::Partial(p) => {
-                // A writer thread may create a subfolder while we remove: try twice.
-                for _ in 0..2 {
-                    let _ = fs::remove_dir_all(p);
-                }
+                remove_partial(p);
                 removed += usize::from(!p.exists());
             }
             Cleanup::Replaced(p) => {
@@ -111,6 +108,34 @@ fn clean_up_now() -> usize {
         }
     }
     removed
+}
+
+/// Removes temporary folder `p` while writer threads may still be adding files to it: its
+/// contents, then its manifest and the folder; when a writer made a file meanwhile, the
+/// manifest is put back and it goes again. A folder left behind in the end still says whose
+/// it is, so the next run's [`sweep_stale`] removes it.
+fn remove_partial(p: &Path) {
+    let keep = p.join(manifest::FILE);
+    let saved = fs::read(&keep).ok();
+    for _ in 0..4 {
+        let Ok(entries) = fs::read_dir(p) else { return };
+        for entry in entries.flatten() {
+            let path = entry.path();
+            if path != keep {
+                let _ = match entry.file_type() {
+                    Ok(t) if t.is_dir() => fs::remove_dir_all(&path),
+                    _ => fs::remove_file(&path),
+                };
+            }
+        }
+        let _ = fs::remove_file(&keep);
+        if fs::remove_dir(p).is_ok() {
+            return;
+        }
+        if let Some(bytes) = &saved {
+            let _ = fs::write(&keep, bytes);
+        }
+    }
 }
 
 /// Removes the temporary folders in `parent` left by runs that were killed (their process is
