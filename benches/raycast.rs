@@ -85,7 +85,7 @@ fn build(c: &mut Criterion) {
         group.sample_size(10);
         group.throughput(Throughput::Elements(p.mesh.triangle_count() as u64));
         group.bench_function(p.name, |b| b.iter(|| RayCaster::new(black_box(&p.mesh))));
-        // Split in halves, as the mine's bolt rings use it on the visual surface.
+        // In Morton order, as the mine's bolt rings use it on the visual surface.
         group.bench_function(format!("{}/quick", p.name), |b| {
             b.iter(|| RayCaster::quick(black_box(&p.mesh)))
         });

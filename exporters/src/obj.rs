@@ -89,12 +89,11 @@ impl Exporter for Obj {
                 )
             })?;
             if !mesh.fixtures.is_empty() {
+                // Without vertex normals (`baked` has none): a reader's face normals, from
+                // the winding, are the right ones for boxes and cylinders; a third of the
+                // file less.
+                let baked = mesh.fixtures.baked();
                 stream_file(out, "mesh/services.obj", |w| {
-                    // Without vertex normals: the parts are boxes and cylinders whose
-                    // averaged corner normals would shade them round, and a reader's face
-                    // normals (from the winding) are the right ones; a third of the file less.
-                    let mut baked = mesh.fixtures.baked();
-                    baked.normals.clear();
                     write_obj(w, &baked, "services", Some((&mesh.materials, "world.mtl")))
                 })?;
             }

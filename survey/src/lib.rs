@@ -170,6 +170,9 @@ impl<'w> WorldSurvey<'w> {
         self.scan
             .get_or_init(|| {
                 let mut all = mesh.collision.clone();
+                // Rays take their triangles' normals; the fixtures are baked without vertex
+                // normals, so the rock's go too rather than cover only part of the surface.
+                all.normals.clear();
                 all.append(&mesh.fixtures.baked());
                 Some((Arc::new(RayCaster::new(&all)), all))
             })

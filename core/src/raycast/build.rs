@@ -18,20 +18,20 @@ const NODE_COST: f32 = 1.0;
 /// A node of the binary tree: a box and either two children (stored side by side at `index`)
 /// or triangles.
 #[derive(Clone, Copy, Debug)]
-struct Node {
-    lo: [f32; 3],
+pub(super) struct Node {
+    pub(super) lo: [f32; 3],
     /// Interior: the first of the two children; leaf: the first triangle.
-    index: u32,
-    hi: [f32; 3],
+    pub(super) index: u32,
+    pub(super) hi: [f32; 3],
     /// Leaf: how many triangles (at least one); interior: 0.
-    count: u32,
+    pub(super) count: u32,
 }
 
 /// An axis-aligned box.
 #[derive(Clone, Copy, Debug)]
 pub(super) struct Aabb {
-    lo: [f32; 3],
-    hi: [f32; 3],
+    pub(super) lo: [f32; 3],
+    pub(super) hi: [f32; 3],
 }
 
 impl Aabb {
@@ -49,7 +49,7 @@ impl Aabb {
         }
     }
 
-    fn merge(&mut self, b: &Aabb) {
+    pub(super) fn merge(&mut self, b: &Aabb) {
         for k in 0..3 {
             self.lo[k] = if b.lo[k] < self.lo[k] {
                 b.lo[k]
@@ -92,20 +92,12 @@ const PARALLEL_MIN: usize = 1 << 15;
 
 /// The four-wide tree over `mesh` and the order its triangles are stored in (mesh indices).
 pub(super) fn tree(mesh: &Mesh) -> (Vec<Node4>, Vec<u32>) {
-    tree_with(mesh, PARALLEL_MIN, false)
+    tree_with(mesh, PARALLEL_MIN)
 }
 
-/// [`tree`] split in halves at every level rather than by the heuristic: built in a fraction
-/// of the time, for a tree asked a few rays per thousand triangles.
-pub(super) fn quick_tree(mesh: &Mesh) -> (Vec<Node4>, Vec<u32>) {
-    tree_with(mesh, PARALLEL_MIN, true)
-}
-
-/// [`tree`], with subtrees of at least `parallel_min` items built on two threads (`halves`:
-/// split in halves, as [`quick_tree`]).
-pub(super) fn tree_with(mesh: &Mesh, parallel_min: usize, halves: bool) -> (Vec<Node4>, Vec<u32>) {
-    let mut items: Vec<Item> = mesh
-        .triangles
+/// Every triangle of `mesh` as the builders see it, in mesh order.
+fn items_of(mesh: &Mesh) -> Vec<Item> {
+    mesh.triangles
         .par_iter()
         .enumerate()
         .map(|(i, t)| {
@@ -120,25 +112,32 @@ pub(super) fn tree_with(mesh: &Mesh, parallel_min: usize, halves: bool) -> (Vec<
                 id: i as u32,
             }
         })
-        .collect();
+        .collect()
+}
+
+/// [`tree`], with subtrees of at least `parallel_min` items built on two threads.
+pub(super) fn tree_with(mesh: &Mesh, parallel_min: usize) -> (Vec<Node4>, Vec<u32>) {
+    let mut items = items_of(mesh);
     if items.is_empty() {
         return (Vec::new(), Vec::new());
     }
-    let builder = Builder {
-        parallel_min,
-        halves,
-    };
+    let builder = Builder { parallel_min };
     let nodes = builder.subtree(&mut items, 0, 0, None);
     let order = items.iter().map(|it| it.id).collect();
+    (widen(&nodes), order)
+}
+
+/// The four-wide tree of binary tree `nodes` (its root first).
+pub(super) fn widen(nodes: &[Node]) -> Vec<Node4> {
     let mut wide = Vec::with_capacity(nodes.len() / 3 + 1);
     wide.push(Node4::EMPTY);
     if nodes[0].count > 0 {
         // A tree of one leaf: a root with that one child.
         wide[0].set(0, &nodes[0], nodes[0].index, nodes[0].count);
     } else {
-        collapse(&nodes, 0, &mut wide, 0);
+        collapse(nodes, 0, &mut wide, 0);
     }
-    (wide, order)
+    wide
 }
 
 /// Fills four-wide node `at` from binary node `node` (an interior one): its children, each
@@ -172,11 +171,9 @@ type Boxes = (Aabb, Aabb);
 /// How the binary tree is built.
 struct Builder {
     parallel_min: usize,
-    /// Every node split in halves along its centres' longest axis, not by the heuristic.
-    halves: bool,
 }
 
-const EMPTY_NODE: Node = Node {
+pub(super) const EMPTY_NODE: Node = Node {
     lo: [0.0; 3],
     index: 0,
     hi: [0.0; 3],
@@ -223,7 +220,7 @@ impl Builder {
         if count <= LEAF_SIZE {
             return leaf(nodes);
         }
-        let split = if depth < MEDIAN_DEPTH && !self.halves {
+        let split = if depth < MEDIAN_DEPTH {
             best_split(items, &centres, bounds.half_area(), count)
         } else {
             None

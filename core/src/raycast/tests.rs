@@ -114,7 +114,6 @@ fn no_ray_escapes_a_closed_sphere_even_through_its_vertices_and_edges() {
     let centre = [1234.5, -876.25, 40.0];
     let m = sphere(centre, 7.0, 4);
     assert!(m.edge_report().is_closed());
-    let caster = RayCaster::new(&m);
     // Aimed exactly at every vertex and every edge's midpoint, from the centre and from
     // points off it: the rays most likely to slip between two triangles.
     let mut rng = Lcg(7);
@@ -133,20 +132,23 @@ fn no_ray_escapes_a_closed_sphere_even_through_its_vertices_and_edges() {
             targets.push([0, 1, 2].map(|i| (f64::from(a[i]) + f64::from(b[i])) / 2.0));
         }
     }
-    let mut cast = 0;
-    for o in &origins {
-        for t in &targets {
-            let d = sub(*t, *o);
-            let hit = caster.cast(*o, d, 10.0);
-            assert!(hit.is_some(), "ray from {o:?} towards {t:?} escaped");
-            let h = hit.unwrap();
-            // It stops at the target (a vertex or an edge of the surface), within f32 rounding
-            // at 1.2 km from the frame's origin.
-            assert!((h.t - 1.0).abs() * dot(d, d).sqrt() < 2e-3, "{}", h.t);
-            cast += 1;
+    // The heuristic's tree and the quick one (in Morton order).
+    for caster in [RayCaster::new(&m), RayCaster::quick(&m)] {
+        let mut cast = 0;
+        for o in &origins {
+            for t in &targets {
+                let d = sub(*t, *o);
+                let hit = caster.cast(*o, d, 10.0);
+                assert!(hit.is_some(), "ray from {o:?} towards {t:?} escaped");
+                let h = hit.unwrap();
+                // It stops at the target (a vertex or an edge of the surface), within f32
+                // rounding at 1.2 km from the frame's origin.
+                assert!((h.t - 1.0).abs() * dot(d, d).sqrt() < 2e-3, "{}", h.t);
+                cast += 1;
+            }
         }
+        assert!(cast > 20_000);
     }
-    assert!(cast > 20_000);
 }
 
 #[test]
@@ -189,7 +191,7 @@ fn the_hierarchy_finds_what_testing_every_triangle_finds() {
         }
         m.triangles.push([3 * i, 3 * i + 1, 3 * i + 2]);
     }
-    // The heuristic's tree and the quick one (split in halves).
+    // The heuristic's tree and the quick one (in Morton order).
     for caster in [RayCaster::new(&m), RayCaster::quick(&m)] {
         assert_eq!(caster.triangle_count(), 3000);
         let mut hits = 0;
@@ -290,9 +292,9 @@ fn the_hierarchy_is_the_same_built_on_one_thread_or_many() {
         mesh.triangles
             .extend(s.triangles.iter().map(|t| t.map(|v| v + base)));
     }
-    let one = build::tree_with(&mesh, usize::MAX, false);
+    let one = build::tree_with(&mesh, usize::MAX);
     for parallel_min in [1, 16, 1000] {
-        let many = build::tree_with(&mesh, parallel_min, false);
+        let many = build::tree_with(&mesh, parallel_min);
         assert_eq!(
             one.1, many.1,
             "triangle order, parallel from {parallel_min}"

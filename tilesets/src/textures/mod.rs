@@ -22,6 +22,7 @@ pub mod rock;
 
 use std::collections::BTreeMap;
 
+use rayon::prelude::*;
 use subtgraph_core::error::ConfigError;
 use subtgraph_core::mesh::{ImageFile, Material};
 use subtgraph_core::params::Params;
@@ -174,16 +175,23 @@ impl Textures {
         if !self.any() {
             return Vec::new();
         }
-        let mut out = Vec::new();
-        for m in materials {
-            let user = self.user.get(&m.name);
-            let made = if user.is_some_and(|u| u.iter().all(Option::is_some)) {
-                None
-            } else {
+        // Materials on threads of their own as well as each one's rows: the rows' noise is
+        // most of the work, but each material's assembly and PNG encoding is serial.
+        let made: Vec<Option<[Vec<u8>; 3]>> = materials
+            .par_iter()
+            .map(|m| {
+                let user = self.user.get(&m.name);
+                if user.is_some_and(|u| u.iter().all(Option::is_some)) {
+                    return None;
+                }
                 let s = derive_seed(seed, &format!("texture:{}", m.name), 0);
                 let maps = rock::maps(&m.name, m.colour, s, self.size, repeat);
                 Some([maps.albedo, maps.normal, maps.roughness].map(|p| rock::png(maps.size, &p)))
-            };
+            })
+            .collect();
+        let mut out = Vec::new();
+        for (m, made) in materials.iter().zip(made) {
+            let user = self.user.get(&m.name);
             for k in 0..3 {
                 let bytes = match (user.and_then(|u| u[k].as_ref()), &made) {
                     (Some(b), _) => b.clone(),

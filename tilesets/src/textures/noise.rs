@@ -42,16 +42,16 @@ impl Tileable {
         let (x, y) = (u * period as f64, v * period as f64);
         let (x0, y0) = (x.floor(), y.floor());
         let (tx, ty) = (smooth(x - x0), smooth(y - y0));
-        let (ix, iy) = (x0 as i64, y0 as i64);
-        let at = |dx: i64, dy: i64| {
-            self.hash(
-                layer,
-                (ix + dx).rem_euclid(period),
-                (iy + dy).rem_euclid(period),
-            )
-        };
-        let a = at(0, 0) + (at(1, 0) - at(0, 0)) * tx;
-        let b = at(0, 1) + (at(1, 1) - at(0, 1)) * tx;
+        // The lattice corners wrapped once (an integer division each), their neighbours by a
+        // compare: a quarter of the divisions, the same corners.
+        let wrap = |i: i64| i.rem_euclid(period);
+        let next = |i: i64| if i + 1 == period { 0 } else { i + 1 };
+        let (x0, y0) = (wrap(x0 as i64), wrap(y0 as i64));
+        let (x1, y1) = (next(x0), next(y0));
+        let (h00, h10) = (self.hash(layer, x0, y0), self.hash(layer, x1, y0));
+        let (h01, h11) = (self.hash(layer, x0, y1), self.hash(layer, x1, y1));
+        let a = h00 + (h10 - h00) * tx;
+        let b = h01 + (h11 - h01) * tx;
         a + (b - a) * ty
     }
 
