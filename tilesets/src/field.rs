@@ -217,7 +217,16 @@ impl<'a> LocalField<'a> {
                     // A finish moves the walls and back, never the floor: the feature is
                     // evaluated again with the relief inside its profile ([`Relieved`]).
                     let relief = finish.relief(r, &self.finish, p, s.along);
-                    self.shape(&f.item, p, col, Some(relief)).base
+                    match s.section {
+                        // A corridor's section again, where `p` stands in it already known
+                        // (its distance from the centreline is most of a corridor's cost).
+                        Some([u, v, w, h]) => Relieved {
+                            profile: self.profile,
+                            relief,
+                        }
+                        .section(u, v, w, h),
+                        None => self.shape(&f.item, p, col, Some(relief)).base,
+                    }
                 }
             } else {
                 s.base
@@ -272,6 +281,7 @@ impl<'a> LocalField<'a> {
             None => self.profile,
         };
         let ps = self.passage;
+        let mut section = None;
         let (base, v, wall, along) = match *item {
             Feature::Corridor {
                 line,
@@ -283,8 +293,10 @@ impl<'a> LocalField<'a> {
                 let v = p[2] - floor - col.lift[level - self.lmin] - col.rubble;
                 let [w, h] =
                     squeeze.map_or([1.0, 1.0], |s| s.scale(line.from_middle([p[0], p[1]])));
+                let (w, h) = (w * col.width, h * col.height);
+                section = Some([u, v, w, h]);
                 (
-                    profile.section(u, v, w * col.width, h * col.height),
+                    profile.section(u, v, w, h),
                     v,
                     v.clamp(0.0, 1.0),
                     line.direction(),
@@ -337,6 +349,7 @@ impl<'a> LocalField<'a> {
             v,
             wall,
             along,
+            section,
         }
     }
 }
@@ -627,6 +640,9 @@ struct Shape {
     wall: f64,
     /// The drift's direction, for a blast round's overbreak.
     along: Option<[f64; 2]>,
+    /// A corridor's section at the point: across from its centreline, up from its floor, its
+    /// width and height there (what its profile was asked).
+    section: Option<[f64; 4]>,
 }
 
 /// A profile with a finish's relief on its walls and back: `relief` metres into the passage,
