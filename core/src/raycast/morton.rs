@@ -1,13 +1,15 @@
-//! The quick hierarchy: triangles ordered along a Morton curve and split in halves of that
-//! order, for a tree asked a few rays per thousand triangles (a mine's bolt rings on its
-//! visual surface).
+//! The quick hierarchy: triangles ordered along a Morton curve and split where their keys'
+//! highest differing bit changes (a linear BVH), for a tree asked a few rays per thousand
+//! triangles (a mine's bolt rings on its visual surface).
 //!
 //! Why not the surface area heuristic's builder with its splits replaced by medians: that
 //! partitions every level's items again (`select_nth` over 40-byte items, twenty levels
 //! deep for the mine's 2.5 M visual triangles) and it cost a tenth of the mine's whole
 //! `generate`. Here the order is one radix sort of 30-bit keys, and the tree is the sorted
-//! order halved, each node's box merged from its children's: linear after the sort. Casting
-//! into it is slower than into the heuristic's tree, which a few thousand rays do not notice.
+//! order split by its keys' bits, each node's box merged from its children's: linear after
+//! the sort. Casting into it is slower than into the heuristic's tree, which a few thousand
+//! rays do not notice. Its depth is at most the keys' 30 bits and the halvings of the
+//! largest run of one key, well inside the traversal's stack.
 
 use rayon::prelude::*;
 
@@ -44,10 +46,11 @@ pub(super) fn quick(mesh: &Mesh) -> RayCaster {
         .par_iter()
         .map(|&i| corners(&mesh.triangles[i as usize]))
         .collect();
+    let sorted: Vec<u32> = ids.iter().map(|&i| keys[i as usize]).collect();
     let mut nodes = Vec::with_capacity(2 * vertices.len() / super::LEAF_SIZE + 1);
     if !vertices.is_empty() {
         nodes.push(EMPTY_NODE);
-        halves(&mut nodes, 0, &vertices, 0);
+        split(&mut nodes, 0, &vertices, &sorted, 0);
     }
     RayCaster {
         nodes: if nodes.is_empty() {
@@ -114,8 +117,18 @@ fn radix_order(keys: &[u32]) -> Vec<u32> {
 }
 
 /// Builds binary node `at` over triangles `tris` (the triangles `offset..` of the whole
-/// order), appending its descendants to `nodes`; returns its box.
-fn halves(nodes: &mut Vec<Node>, at: usize, tris: &[[[f32; 3]; 3]], offset: usize) -> Aabb {
+/// order, `keys` theirs), appending its descendants to `nodes`; returns its box.
+///
+/// A node splits where its keys' highest differing bit changes (Karras's split), so its
+/// children are the two halves of an octree cell and their boxes barely overlap; triangles
+/// of one key are split in halves of their count.
+fn split(
+    nodes: &mut Vec<Node>,
+    at: usize,
+    tris: &[[[f32; 3]; 3]],
+    keys: &[u32],
+    offset: usize,
+) -> Aabb {
     let (bounds, index, count) = if tris.len() <= super::LEAF_SIZE {
         let mut b = Aabb::EMPTY;
         for p in tris.iter().flatten() {
@@ -123,13 +136,26 @@ fn halves(nodes: &mut Vec<Node>, at: usize, tris: &[[[f32; 3]; 3]], offset: usiz
         }
         (b, offset, tris.len())
     } else {
-        let first = nodes.len();
+        let (first, last) = (keys[0], keys[keys.len() - 1]);
+        let mid = if first == last {
+            tris.len() / 2
+        } else {
+            // The first key with the highest bit in which the range differs set.
+            let bit = 31 - (first ^ last).leading_zeros();
+            keys.partition_point(|&k| (k >> bit) & 1 == 0)
+        };
+        let child = nodes.len();
         nodes.push(EMPTY_NODE);
         nodes.push(EMPTY_NODE);
-        let mid = tris.len() / 2;
-        let mut b = halves(nodes, first, &tris[..mid], offset);
-        b.merge(&halves(nodes, first + 1, &tris[mid..], offset + mid));
-        (b, first, 0)
+        let mut b = split(nodes, child, &tris[..mid], &keys[..mid], offset);
+        b.merge(&split(
+            nodes,
+            child + 1,
+            &tris[mid..],
+            &keys[mid..],
+            offset + mid,
+        ));
+        (b, child, 0)
     };
     nodes[at] = Node {
         lo: bounds.lo,
