@@ -129,27 +129,35 @@ pub fn assemble_within(
     };
     let mut out = WorldMesh {
         materials: tileset.materials(),
-        textures: tileset.textures(layout.resolved.seed)?,
         ramps,
         ..WorldMesh::default()
     };
     // Tiles are made in parallel a chunk at a time and appended in raster order, so memory
     // holds the world plus one chunk, and the result does not depend on the thread count.
+    // The textures are made meanwhile, on the threads the appending leaves idle.
     let chunk = 64 * rayon::current_num_threads().max(1);
     let mut seams: Option<(Vec<u32>, Vec<u32>)> = Some((Vec::new(), Vec::new()));
-    for group in cells.chunks(chunk) {
-        let geometry: Vec<TileGeometry> = group
-            .par_iter()
-            .map(|&c| make(c))
-            .collect::<Result<_, _>>()?;
-        if out.visual.triangles.is_empty() {
-            reserve_from_first(&mut out, &geometry, cells.len(), &memory)?;
-        }
-        for (&cell, g) in group.iter().zip(&geometry) {
-            let floor_lift = tileset.floor_lift(layout, cell);
-            append_tile(&mut out, &mut seams, layout, cell, g, floor_lift);
-        }
-    }
+    let (textures, tiles) = rayon::join(
+        || tileset.textures(layout.resolved.seed),
+        || -> Result<(), TileSetError> {
+            for group in cells.chunks(chunk) {
+                let geometry: Vec<TileGeometry> = group
+                    .par_iter()
+                    .map(|&c| make(c))
+                    .collect::<Result<_, _>>()?;
+                if out.visual.triangles.is_empty() {
+                    reserve_from_first(&mut out, &geometry, cells.len(), &memory)?;
+                }
+                for (&cell, g) in group.iter().zip(&geometry) {
+                    let floor_lift = tileset.floor_lift(layout, cell);
+                    append_tile(&mut out, &mut seams, layout, cell, g, floor_lift);
+                }
+            }
+            Ok(())
+        },
+    );
+    out.textures = textures?;
+    tiles?;
     weld(&mut out, seams, tileset.texture_scale());
     let axes: Vec<_> = out
         .tiles
@@ -326,33 +334,36 @@ fn label_fixtures(out: &mut WorldMesh) {
 
 /// Welds the world's meshes (only the listed seam vertices, when every tile listed them),
 /// moves the tiles' triangle ranges with the welding, and computes the normals and texture
-/// coordinates the tile set left out (`scale`: metres per texture repeat).
+/// coordinates the tile set left out (`scale`: metres per texture repeat). The visual and
+/// the collision mesh are welded on two threads: each on its own is serial work.
 fn weld(out: &mut WorldMesh, seams: Option<(Vec<u32>, Vec<u32>)>, scale: f32) {
     let (visual_seams, collision_seams) = match seams {
         Some((v, c)) => (Some(v), Some(c)),
         None => (None, None),
     };
-    for (which, mesh, seams) in [
-        (0, &mut out.visual, visual_seams),
-        (1, &mut out.collision, collision_seams),
-    ] {
-        let kept = match seams {
-            Some(s) => mesh.weld_among(&s),
-            None => mesh.weld(),
-        };
-        for t in &mut out.tiles {
-            let r = if which == 0 {
-                &mut t.visual_triangles
-            } else {
-                &mut t.collision_triangles
-            };
-            *r = kept[r.start]..kept[r.end];
-        }
-        if mesh.normals.len() != mesh.positions.len() {
-            mesh.compute_normals();
-        }
-        if mesh.uvs.len() != mesh.positions.len() {
-            mesh.compute_box_uvs(scale);
-        }
+    let (visual, collision) = (&mut out.visual, &mut out.collision);
+    let (kept_visual, kept_collision) = rayon::join(
+        || weld_one(visual, visual_seams, scale),
+        || weld_one(collision, collision_seams, scale),
+    );
+    for t in &mut out.tiles {
+        let (v, c) = (&mut t.visual_triangles, &mut t.collision_triangles);
+        *v = kept_visual[v.start]..kept_visual[v.end];
+        *c = kept_collision[c.start]..kept_collision[c.end];
     }
+}
+
+/// [`weld`] of one mesh: where each of its triangles went (as `Mesh::weld` says).
+fn weld_one(mesh: &mut crate::mesh::Mesh, seams: Option<Vec<u32>>, scale: f32) -> Vec<usize> {
+    let kept = match seams {
+        Some(s) => mesh.weld_among(&s),
+        None => mesh.weld(),
+    };
+    if mesh.normals.len() != mesh.positions.len() {
+        mesh.compute_normals();
+    }
+    if mesh.uvs.len() != mesh.positions.len() {
+        mesh.compute_box_uvs(scale);
+    }
+    kept
 }
