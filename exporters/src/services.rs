@@ -5,8 +5,8 @@
 //!
 //! - `mesh/services.obj`: every copy, grouped by material (`world.mtl`); written by the OBJ
 //!   exporter and, when it is not asked for, by the SDF exporter, which names it.
-//! - `mesh/services/<material>.obj`: one file per material, for URDF, whose `<visual>` has
-//!   one colour.
+//! - `mesh/services/<material>.obj`: one file per material, positions and faces alone, for
+//!   URDF, whose `<visual>` has one colour.
 //! - MJCF bakes its own, per part and material, as `.msh` (`crate::mjcf`).
 
 use std::ops::Range;
@@ -110,8 +110,8 @@ pub(crate) fn write_services_obj(
     Ok(Some(SERVICES_OBJ))
 }
 
-/// Writes `mesh/services/<material>.obj` per material of the services (no material library:
-/// the format names the colour), unless an earlier exporter did, and returns each material
+/// Writes `mesh/services/<material>.obj` per material of the services (no material library
+/// and no texture coordinates: the format names the colour), unless an earlier exporter did, and returns each material
 /// with its file's path, by material index.
 pub(crate) fn write_material_objs<'m>(
     out: &mut dyn WorldWriter,
@@ -125,7 +125,9 @@ pub(crate) fn write_material_objs<'m>(
         };
         let path = format!("mesh/services/{}.obj", material.name);
         if !out.contains(&path) {
-            let baked = bake(f, copies);
+            let mut baked = bake(f, copies);
+            // A colour, no texture: no coordinates to read (a third of the file).
+            baked.uvs.clear();
             stream_file(out, &path, |w| {
                 write_obj(w, &baked, &format!("services-{}", material.name), None)
             })?;
@@ -184,7 +186,9 @@ mod tests {
         assert_eq!(ours.triangles, core.triangles);
         assert_eq!(ours.materials, core.materials);
         assert!(ours.normals.is_empty());
-        assert_eq!(ours.positions[1], [4.0, 0.0, 2.0]);
+        // Scaled by 2 along x, then moved: the first copy at x = 0, the second at x = 1.
+        assert_eq!(ours.positions[1], [2.0, 0.0, 2.0]);
+        assert_eq!(ours.positions[3], [1.0, 0.0, 2.0]);
     }
 
     #[test]
