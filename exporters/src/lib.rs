@@ -38,6 +38,7 @@ mod obj;
 mod occupancy_npy;
 pub mod parts;
 mod sdf;
+mod services;
 mod tasks;
 mod text;
 mod topology_json;

@@ -33,6 +33,11 @@
 //! `visual = "none"` leaves the visual meshes out for loops that never render (the height
 //! fields stay, drawn in group 3).
 //!
+//! A world with fixtures (a mine's services) bakes them per part and material into
+//! `mujoco/meshes/<part>-services-<material>-<k>.msh` (pieces of the same size), each a
+//! visual-only geom in group 1 with its material's colour: they are mounted above a robot, so
+//! nothing collides with them. `visual = "none"` leaves them out too.
+//!
 //! A ramp between levels (`world.connections = "ramp"`) is a spiral with several floors over
 //! one point, which no height field holds: its two tiles collide as convex slabs
 //! ([`convex_pieces`](subtgraph_survey::convex_pieces)), cut from those tiles' collision triangles alone, and the rest of the
@@ -327,6 +332,74 @@ fn write_visual_meshes(
     Ok(files)
 }
 
+/// A part's meshes beside its collision: its visual pieces and its services' pieces.
+#[derive(Clone, Copy)]
+struct PartMeshes<'a> {
+    visuals: &'a [String],
+    services: &'a [ServiceMesh],
+}
+
+/// One piece of a part's services of one material: its asset and geom name, its `.msh`
+/// (relative to the world folder) and its material's colour.
+struct ServiceMesh {
+    name: String,
+    file: String,
+    colour: [f32; 3],
+}
+
+/// Writes each part's services (the world's fixtures whose tile is in the part) baked per
+/// material, as `mujoco/meshes/<part>-services-<material>-<k>.msh` in pieces of at most
+/// [`VISUAL_PIECE`] triangles (every copy whole): MuJoCo gives a geom one colour, and compiles
+/// the pieces on its thread pool as it does the rock's.
+fn write_service_meshes(
+    out: &mut dyn WorldWriter,
+    mesh: &WorldMesh,
+    parts: &[Part],
+) -> Result<Vec<Vec<ServiceMesh>>, ExportError> {
+    let f = &mesh.fixtures;
+    if f.is_empty() {
+        return Ok(Vec::new());
+    }
+    let mut part_of = std::collections::BTreeMap::new();
+    for (i, p) in parts.iter().enumerate() {
+        for &t in &p.tiles {
+            part_of.insert(mesh.tiles[t].cell, i);
+        }
+    }
+    let mut copies = vec![Vec::new(); parts.len()];
+    for (k, p) in f.placements.iter().enumerate() {
+        // A copy serves a tile of some part; the first part takes any other.
+        copies[part_of.get(&p.cell).copied().unwrap_or(0)].push(k);
+    }
+    let mut files = Vec::with_capacity(parts.len());
+    for (part, copies) in parts.iter().zip(copies) {
+        let mut meshes = Vec::new();
+        for (m, list) in crate::services::by_material(f, copies) {
+            let Some(material) = mesh.materials.get(usize::from(m)) else {
+                continue;
+            };
+            for (k, run) in crate::services::runs(f, &list, VISUAL_PIECE)
+                .into_iter()
+                .enumerate()
+            {
+                let name = format!("{}-services-{}-{k}", part.name, material.name);
+                let file = format!("mujoco/meshes/{name}.msh");
+                let mut baked = f.bake(list[run].iter().copied());
+                // Plain colour, no texture: no coordinates to read.
+                baked.uvs.clear();
+                write_msh(out, &file, &baked)?;
+                meshes.push(ServiceMesh {
+                    name,
+                    file,
+                    colour: material.colour,
+                });
+            }
+        }
+        files.push(meshes);
+    }
+    Ok(files)
+}
+
 /// How `visual = "coarse"` simplifies a visual mesh: every vertex snapped to the centre of
 /// its `cell`-sized cube (vertices in one cube become one, their normals averaged) and the
 /// triangles that collapse dropped ([`Mesh::clustered`]). Snapping to fixed points keeps the
@@ -539,11 +612,14 @@ impl Exporter for Mjcf {
             ));
         };
         let parts = parts(world, mesh, self.split);
-        let files = if self.visual {
+        let (files, services) = if self.visual {
             crate::text::write_textures(out, mesh)?;
-            write_visual_meshes(out, mesh, &parts, self.visual_cell)?
+            (
+                write_visual_meshes(out, mesh, &parts, self.visual_cell)?,
+                write_service_meshes(out, mesh, &parts)?,
+            )
         } else {
-            Vec::new()
+            (Vec::new(), Vec::new())
         };
         // The survey's height fields, found for this step when MuJoCo's writer asks.
         let fields = match self.collision {
@@ -574,6 +650,7 @@ impl Exporter for Mjcf {
         );
         for (i, (part, collision)) in parts.iter().zip(&collision).enumerate() {
             let visuals: &[String] = files.get(i).map_or(&[], |f| f.as_slice());
+            let services: &[ServiceMesh] = services.get(i).map_or(&[], |f| f.as_slice());
             // The whole world as one part is named `world`: its file must not replace the
             // main file.
             let stem = if part.name == "world" {
@@ -583,7 +660,8 @@ impl Exporter for Mjcf {
             };
             main.push_str(&format!("  <include file=\"{}.xml\"/>\n", xml_escape(stem)));
             let path = format!("mujoco/{stem}.xml");
-            write_part(out, &path, mesh, part, collision, visuals, &tiles)?;
+            let meshes = PartMeshes { visuals, services };
+            write_part(out, &path, mesh, part, collision, &meshes, &tiles)?;
         }
         artifact_bodies(&mut main, crate::artifacts_of(survey));
         main.push_str("</mujoco>\n");
@@ -679,9 +757,10 @@ fn write_part(
     mesh: &WorldMesh,
     part: &Part,
     collision: &PartCollision,
-    visuals: &[String],
+    meshes: &PartMeshes,
     tiles: &Tiles,
 ) -> Result<(), ExportError> {
+    let PartMeshes { visuals, services } = *meshes;
     let name = xml_escape(&part.name);
     let colour = part_colour(mesh, part);
     // MuJoCo gives a geom one material: the part's most used one, its albedo repeated by the
@@ -749,6 +828,13 @@ fn write_part(
                 xml_escape(file)
             ));
         }
+        for m in services {
+            head.push_str(&format!(
+                "    <mesh name=\"{}\" file=\"{}\" inertia=\"shell\"/>\n",
+                xml_escape(&m.name),
+                xml_escape(&m.file)
+            ));
+        }
         w.write_all(head.as_bytes())?;
         write_lines(w, count, asset)?;
         let mut mid = Vec::new();
@@ -765,6 +851,14 @@ fn write_part(
                 push_colour(&mut mid, colour, 1.0);
                 mid.extend_from_slice(b"\"/>\n");
             }
+        }
+        for m in services {
+            let n = xml_escape(&m.name);
+            mid.extend_from_slice(
+                format!("    <geom name=\"{n}\" type=\"mesh\" mesh=\"{n}\" group=\"1\" contype=\"0\" conaffinity=\"0\" rgba=\"").as_bytes(),
+            );
+            push_colour(&mut mid, m.colour, 1.0);
+            mid.extend_from_slice(b"\"/>\n");
         }
         w.write_all(&mid)?;
         write_lines(w, count, geom)?;

@@ -78,8 +78,11 @@ impl Exporter for Obj {
             ));
         };
         if self.visual && !out.contains("mesh/world.obj") {
-            write_file(out, "mesh/world.mtl", mtl(&mesh.materials, "").as_bytes())?;
-            crate::text::write_textures(out, mesh)?;
+            // The SDF exporter may have written the library already, for services.obj.
+            if !out.contains("mesh/world.mtl") {
+                write_file(out, "mesh/world.mtl", mtl(&mesh.materials, "").as_bytes())?;
+                crate::text::write_textures(out, mesh)?;
+            }
             stream_file(out, "mesh/world.obj", |w| {
                 write_obj(
                     w,
@@ -88,15 +91,7 @@ impl Exporter for Obj {
                     Some((&mesh.materials, "world.mtl")),
                 )
             })?;
-            if !mesh.fixtures.is_empty() {
-                // Without vertex normals (`baked` has none): a reader's face normals, from
-                // the winding, are the right ones for boxes and cylinders; a third of the
-                // file less.
-                let baked = mesh.fixtures.baked();
-                stream_file(out, "mesh/services.obj", |w| {
-                    write_obj(w, &baked, "services", Some((&mesh.materials, "world.mtl")))
-                })?;
-            }
+            crate::services::write_services_obj(out, mesh)?;
         }
         if !out.contains("mesh/collision.obj") {
             stream_file(out, "mesh/collision.obj", |w| {

@@ -14,6 +14,10 @@
 //! with the material's `<surface><friction>` (ODE `mu`/`mu2`, Bullet `friction`), and the rest
 //! to `<part>-collision-rock.obj` with the default surface.
 //!
+//! A world with fixtures (a mine's services) has a static model `subt-services` whose one
+//! visual is `mesh/services.obj` (shared with the OBJ exporter, written here when the OBJ is
+//! not asked for), and no collision: they are mounted above a robot.
+//!
 //! Colours come from the OBJ's material library (one `usemtl` per tile set material). An SDF
 //! `<material>` on a visual replaces every colour of its mesh in gz-sim, so it is written only
 //! when the tile set has a single material, as a fallback for viewers that ignore MTL files.
@@ -334,6 +338,14 @@ impl Exporter for Sdf {
                 }
             }
             s.push_str("      </link>\n    </model>\n");
+        }
+        if let Some(services) = crate::services::write_services_obj(out, mesh)? {
+            // The services: seen, not touched (mounted above a robot), so a visual alone;
+            // their colours and maps per face from the OBJ's material library.
+            let _ = write!(
+                s,
+                "    <model name=\"subt-services\">\n      <static>true</static>\n      <link name=\"link\">\n        <visual name=\"visual\">\n          <geometry>\n            <mesh>\n              <uri>../{services}</uri>\n            </mesh>\n          </geometry>\n        </visual>\n      </link>\n    </model>\n"
+            );
         }
         artifact_models(&mut s, crate::artifacts_of(survey));
         s.push_str("  </world>\n</sdf>\n");

@@ -8,6 +8,10 @@
 //! world that never moves. The link has zero mass (static); load it with
 //! `loadURDF("urdf/world.urdf", useFixedBase=True)`. Other URDF readers ignore the attribute.
 //!
+//! A world with fixtures (a mine's services) has one more `<visual>` per material on `world`,
+//! `mesh/services/<material>.obj` in the material's colour, and no collision for them: they
+//! are mounted above a robot.
+//!
 //! Floor patches (`[hazards] friction`): PyBullet's friction (`<contact><lateral_friction>`)
 //! is per link, so each part's patched floors of one material are a link of their own
 //! (`hazard-<part>-<material>`, fixed to `world`), and `world` collides with the rest.
@@ -122,6 +126,16 @@ impl Exporter for Urdf {
             s.push_str(&format!(
                 "    <collision name=\"{name}\" concave=\"yes\">\n      <geometry>\n        <mesh filename=\"../{}\"/>\n      </geometry>\n    </collision>\n",
                 xml_escape(&collision)
+            ));
+        }
+        // The services: a visual per material (a URDF visual has one colour), no
+        // collision (they are mounted above a robot).
+        for (m, path) in crate::services::write_material_objs(out, mesh)? {
+            let name = xml_escape(&m.name);
+            let [r, g, b] = m.colour;
+            s.push_str(&format!(
+                "    <visual name=\"services-{name}\">\n      <geometry>\n        <mesh filename=\"../{}\"/>\n      </geometry>\n      <material name=\"{name}\">\n        <color rgba=\"{r:.4} {g:.4} {b:.4} 1\"/>\n      </material>\n    </visual>\n",
+                xml_escape(&path)
             ));
         }
         let artifacts = crate::artifacts_of(survey);

@@ -34,7 +34,7 @@ fn level_parts(world: &Path) -> BTreeSet<String> {
 
 /// `tests/readers/sdf_check.cc` compiled against libsdformat 12, or `None` (skipped with a
 /// message) when pkg-config does not know `sdformat12`, unless `SUBTGRAPH_REQUIRE_SDFORMAT=1`.
-fn sdf_checker(dir: &Path) -> Option<PathBuf> {
+pub(crate) fn sdf_checker(dir: &Path) -> Option<PathBuf> {
     let flags = Command::new("pkg-config")
         .args(["--cflags", "--libs", "sdformat12"])
         .output()
@@ -65,7 +65,7 @@ fn sdf_checker(dir: &Path) -> Option<PathBuf> {
 }
 
 /// Runs the SDF checker on a world; returns its report lines.
-fn check_sdf(checker: &Path, sdf: &Path) -> Vec<String> {
+pub(crate) fn check_sdf(checker: &Path, sdf: &Path) -> Vec<String> {
     let out = Command::new(checker).arg(sdf).output().unwrap();
     assert!(
         out.status.success(),
@@ -80,7 +80,7 @@ fn check_sdf(checker: &Path, sdf: &Path) -> Vec<String> {
         .collect()
 }
 
-fn count(report: &[String], key: &str) -> usize {
+pub(crate) fn count(report: &[String], key: &str) -> usize {
     report
         .iter()
         .find_map(|l| l.strip_prefix(&format!("{key} ")))

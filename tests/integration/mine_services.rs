@@ -3,8 +3,10 @@
 //! (tests/readers/services_check.py: trimesh over the OBJ and GLB, usd-core over the USD)
 //! finds the same copies of each part in the three formats, each part's mesh stored once in
 //! the GLB and the USD, the bolt plates on the rock, the duct under the back and above a
-//! robot, and the labels; the services leave the rock's own files as they were; the same
-//! bytes on 1 and 3 threads; bad keys refused with what to change.
+//! robot, and the labels; SDF, URDF and MJCF carry them as visual geometry only (libsdformat,
+//! MuJoCo and PyBullet against services.obj: tests/readers/services_formats_check.py); the
+//! services leave the rock's own files as they were; the same bytes on 1 and 3 threads; bad
+//! keys refused with what to change.
 
 use crate::common::{self, arg, generate_formats as generate, small_mine};
 
@@ -108,7 +110,7 @@ fn services_are_the_same_on_one_and_three_threads() {
     common::assert_same_on_one_and_three_threads(
         dir.path(),
         &small_mine(dir.path(), "threads", ""),
-        "obj,gltf,usd",
+        "obj,gltf,usd,sdf,urdf,mjcf",
     );
 }
 
@@ -132,4 +134,102 @@ fn bad_service_keys_say_what_to_change() {
     std::fs::write(&cave, text).unwrap();
     let err = common::fails(&["validate", arg(&cave)]);
     assert!(err.contains("has no services"), "{err}");
+}
+
+/// SDF, URDF and MJCF carry the services as visual geometry only (they are mounted above a
+/// robot), each format standing alone: `--format sdf,urdf,mjcf` without the OBJ. Read by
+/// libsdformat (tests/readers/sdf_check.cc), MuJoCo and PyBullet
+/// (tests/readers/services_formats_check.py), each against services.obj read apart.
+#[test]
+fn services_are_visual_only_in_sdf_urdf_and_mjcf() {
+    let dir = tempfile::tempdir().unwrap();
+    let w = dir.path().join("world");
+    generate(&small_mine(dir.path(), "on", ""), &w, "sdf,urdf,mjcf");
+    assert!(!w.join("mesh/world.obj").exists(), "no OBJ asked for");
+    for f in ["mesh/services.obj", "mesh/world.mtl"] {
+        assert!(w.join(f).is_file(), "{f}: the SDF names it");
+    }
+    if let Some(checker) = crate::export_scenes::sdf_checker(dir.path()) {
+        let report = crate::export_scenes::check_sdf(&checker, &w.join("gazebo/world.sdf"));
+        let services = w.join("mesh/services.obj").canonicalize().unwrap();
+        let visual = format!("visual {}", services.display());
+        assert!(report.contains(&visual), "{visual} in {report:?}");
+        assert_eq!(crate::export_scenes::count(&report, "missing"), 0);
+        // One more visual than collisions (the services' model), and none of its collisions.
+        let count = |k| crate::export_scenes::count(&report, k);
+        assert_eq!(count("visuals"), count("collisions") + 1, "{report:?}");
+        assert!(
+            !report
+                .iter()
+                .any(|l| l.starts_with("collision ") && l.contains("services"))
+        );
+        assert!(
+            !report.iter().any(|l| l.ends_with(" subt-services")),
+            "{report:?}"
+        );
+    }
+    let Some(out) = common::read_with_python(
+        &["mujoco", "pybullet", "trimesh", "numpy"],
+        "services_formats_check.py",
+        &[arg(&w), "--mujoco", "--pybullet"],
+    ) else {
+        return;
+    };
+    let v: serde_json::Value = serde_json::from_str(out.trim()).unwrap();
+    let obj = &v["services_obj_faces"];
+    assert_eq!(obj.as_object().unwrap().len(), 5, "five materials: {v}");
+    assert_eq!(v["mujoco_faces"], *obj, "{v}");
+    assert_eq!(v["pybullet_faces"], *obj, "{v}");
+}
+
+/// Off, SDF, URDF and MJCF name no services and write no file for them; the rock's files are
+/// the same bytes with them on or off, and MJCF's `visual = "none"` leaves them out.
+#[test]
+fn services_off_leave_sdf_urdf_and_mjcf_without_them() {
+    let dir = tempfile::tempdir().unwrap();
+    let (on, off) = (dir.path().join("on"), dir.path().join("off"));
+    let formats = "sdf,urdf,mjcf";
+    generate(&small_mine(dir.path(), "on", ""), &on, formats);
+    generate(
+        &small_mine(dir.path(), "off", "services = false"),
+        &off,
+        formats,
+    );
+    for f in ["gazebo/world.sdf", "urdf/world.urdf", "mujoco/level-0.xml"] {
+        let text = std::fs::read_to_string(off.join(f)).unwrap();
+        assert!(!text.contains("services"), "{f} names services when off");
+        let text = std::fs::read_to_string(on.join(f)).unwrap();
+        assert!(text.contains("services"), "{f} names no services when on");
+    }
+    for f in ["mesh/services.obj", "mesh/services", "mesh/world.mtl"] {
+        assert!(!off.join(f).exists(), "{f} with services = false");
+    }
+    let msh = |w: &std::path::Path| {
+        std::fs::read_dir(w.join("mujoco/meshes"))
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .filter(|n| n.contains("services"))
+            .count()
+    };
+    assert_eq!(msh(&off), 0);
+    assert!(msh(&on) >= 5, "a mesh per material at least");
+    for f in [
+        "mesh/parts/level/level-0.obj",
+        "mesh/parts/level/level-0-collision.obj",
+        "mujoco/meshes/level-0-0.msh",
+        "mujoco/world.xml",
+    ] {
+        assert!(
+            std::fs::read(on.join(f)).unwrap() == std::fs::read(off.join(f)).unwrap(),
+            "{f} changed with the services"
+        );
+    }
+    let none = dir.path().join("none");
+    let pipeline = small_mine(dir.path(), "none", "");
+    let text = std::fs::read_to_string(&pipeline).unwrap()
+        + "\n[[export]]\ntype = \"mjcf\"\nvisual = \"none\"\n";
+    std::fs::write(&pipeline, text).unwrap();
+    common::ok(&["generate", arg(&pipeline), "--out", arg(&none)]);
+    let part = std::fs::read_to_string(none.join("mujoco/level-0.xml")).unwrap();
+    assert!(!part.contains("services"), "visual = \"none\": no services");
 }

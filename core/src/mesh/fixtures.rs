@@ -133,29 +133,39 @@ impl Fixtures {
     }
 
     /// Every copy as one mesh in world coordinates (for formats without instances, and for
-    /// the ray caster): triangles in placement order, each copy's material its prototype's,
-    /// without vertex normals. Neither user wants them: the parts are boxes and cylinders
-    /// whose averaged corner normals would shade them round, so the OBJ leaves readers to
-    /// take face normals, and a ray's hit takes its triangle's. Working them out for every
-    /// copy cost the mine's `generate` a fiftieth of its time.
+    /// the ray caster): see [`bake`](Self::bake).
     pub fn baked(&self) -> Mesh {
-        let mut out = Mesh::default();
-        for p in &self.placements {
-            out.append(&self.placed(p));
-        }
-        out
+        self.bake(0..self.placements.len())
     }
 
-    /// One copy in world coordinates, without vertex normals (see [`baked`](Self::baked)).
-    pub fn placed(&self, p: &Placement) -> Mesh {
-        let proto = &self.prototypes[p.prototype as usize];
-        let mut m = proto.mesh.clone();
-        for v in &mut m.positions {
-            *v = p.apply(*v).map(|c| c as f32);
+    /// The copies `copies` (indices into [`placements`](Self::placements), in that order)
+    /// baked into one mesh in world coordinates: each copy's material its prototype's, with
+    /// the prototypes' texture coordinates, without vertex normals. Neither user wants
+    /// normals: the parts are boxes and cylinders whose averaged corner normals would shade
+    /// them round, so the OBJ leaves readers to take face normals, and a ray's hit takes its
+    /// triangle's. Working them out for every copy cost the mine's `generate` a fiftieth of
+    /// its time.
+    pub fn bake(&self, copies: impl IntoIterator<Item = usize>) -> Mesh {
+        let mut out = Mesh::default();
+        for i in copies {
+            let p = &self.placements[i];
+            let proto = &self.prototypes[p.prototype as usize];
+            let m = &proto.mesh;
+            let base = out.positions.len() as u32;
+            out.positions
+                .extend(m.positions.iter().map(|&v| p.apply(v).map(|c| c as f32)));
+            if m.uvs.len() == m.positions.len() {
+                out.uvs.extend_from_slice(&m.uvs);
+            }
+            out.triangles
+                .extend(m.triangles.iter().map(|t| t.map(|v| v + base)));
+            out.materials
+                .extend(std::iter::repeat_n(proto.material, m.triangles.len()));
         }
-        m.normals.clear();
-        m.materials = vec![proto.material; m.triangles.len()];
-        m
+        if out.uvs.len() != out.positions.len() {
+            out.uvs.clear();
+        }
+        out
     }
 
     /// How many copies of each prototype.
