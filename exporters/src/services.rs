@@ -13,7 +13,7 @@ use std::ops::Range;
 
 use subtgraph_core::assembly::WorldMesh;
 use subtgraph_core::export::{ExportError, WorldWriter, stream_file, write_file};
-use subtgraph_core::mesh::{Fixtures, Material, Mesh, Placement};
+use subtgraph_core::mesh::{Fixtures, Material};
 
 use crate::text::{mtl, write_obj};
 
@@ -114,7 +114,7 @@ pub(crate) fn write_material_objs<'m>(
 mod tests {
     use super::*;
     use subtgraph_core::grid::Cell;
-    use subtgraph_core::mesh::Prototype;
+    use subtgraph_core::mesh::{Mesh, Placement, Prototype};
 
     fn fixtures() -> Fixtures {
         let tri = |n: usize| Mesh {
