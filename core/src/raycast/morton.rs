@@ -40,18 +40,25 @@ pub(super) fn quick(mesh: &Mesh) -> RayCaster {
     for &c in &centres {
         all.grow(c);
     }
+    // Each step's inputs are dropped as soon as it is done: over the mine's 2.5 M visual
+    // triangles they are tens of megabytes each.
     let keys: Vec<u32> = centres.par_iter().map(|&c| key(c, &all)).collect();
+    drop(centres);
     let ids = radix_order(&keys);
+    let sorted: Vec<u32> = ids.iter().map(|&i| keys[i as usize]).collect();
+    drop(keys);
     let vertices: Vec<[[f32; 3]; 3]> = ids
         .par_iter()
         .map(|&i| corners(&mesh.triangles[i as usize]))
         .collect();
-    let sorted: Vec<u32> = ids.iter().map(|&i| keys[i as usize]).collect();
-    let mut nodes = Vec::with_capacity(2 * vertices.len() / super::LEAF_SIZE + 1);
+    // Exactly as many nodes as the tree has: a growing vector would double (and copy) tens
+    // of megabytes once it outgrew a guess.
+    let mut nodes = Vec::with_capacity(if sorted.is_empty() { 0 } else { count(&sorted) });
     if !vertices.is_empty() {
         nodes.push(EMPTY_NODE);
         split(&mut nodes, 0, &vertices, &sorted, 0);
     }
+    drop(sorted);
     RayCaster {
         nodes: if nodes.is_empty() {
             Vec::new()
@@ -136,14 +143,7 @@ fn split(
         }
         (b, offset, tris.len())
     } else {
-        let (first, last) = (keys[0], keys[keys.len() - 1]);
-        let mid = if first == last {
-            tris.len() / 2
-        } else {
-            // The first key with the highest bit in which the range differs set.
-            let bit = 31 - (first ^ last).leading_zeros();
-            keys.partition_point(|&k| (k >> bit) & 1 == 0)
-        };
+        let mid = mid_of(keys);
         let child = nodes.len();
         nodes.push(EMPTY_NODE);
         nodes.push(EMPTY_NODE);
@@ -164,6 +164,28 @@ fn split(
         count: count as u32,
     };
     bounds
+}
+
+/// Where a node over `keys` (more than a leaf's) splits: the first key with the highest bit
+/// in which the range differs set; in halves when they are all one key, or few enough that
+/// a split by bit would leave slivers of leaves.
+fn mid_of(keys: &[u32]) -> usize {
+    let (first, last) = (keys[0], keys[keys.len() - 1]);
+    if first == last || keys.len() <= 2 * super::LEAF_SIZE {
+        keys.len() / 2
+    } else {
+        let bit = 31 - (first ^ last).leading_zeros();
+        keys.partition_point(|&k| (k >> bit) & 1 == 0)
+    }
+}
+
+/// How many binary nodes [`split`] makes over `keys` (at least one).
+fn count(keys: &[u32]) -> usize {
+    if keys.len() <= super::LEAF_SIZE {
+        return 1;
+    }
+    let mid = mid_of(keys);
+    1 + count(&keys[..mid]) + count(&keys[mid..])
 }
 
 #[cfg(test)]
