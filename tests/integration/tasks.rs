@@ -17,14 +17,17 @@ fn temp(name: &str) -> PathBuf {
     dir
 }
 
-/// A preset's pipeline with a `tasks` export of small counts (the Python A* is slow).
+/// A preset's pipeline with a `tasks` export of small counts (the Python A* is slow) and the
+/// collision surface the check reads (no visual OBJ: a lava tube's is about 500 MB).
 fn preset_with_tasks(dir: &Path, preset: &str, seed: u64, keys: &str) -> PathBuf {
     let text = subtgraph::presets::text(preset).unwrap();
     let path = dir.join(format!("{preset}.toml"));
     let text = text.replacen("seed = ", &format!("seed = {seed} # was "), 1);
     std::fs::write(
         &path,
-        format!("{text}\n[[export]]\ntype = \"tasks\"\n{keys}"),
+        format!(
+            "{text}\n[[export]]\ntype = \"obj\"\nvisual = \"none\"\n\n[[export]]\ntype = \"tasks\"\n{keys}"
+        ),
     )
     .unwrap();
     path
@@ -41,7 +44,8 @@ fn every_presets_optimal_lengths_agree_with_an_independent_astar_and_cells_are_f
             "problems = 12\nagents = 6\ninstances = 2\n",
         );
         let out = dir.join(preset);
-        ok(&["generate", arg(&p), "--out", arg(&out)]);
+        ok(&["generate", arg(&p), "--format", "tasks", "--out", arg(&out)]);
+        assert!(out.join("mesh/collision.obj").is_file());
         let meta = std::fs::read_to_string(out.join("tasks/tasks.json")).unwrap();
         assert!(meta.contains(&format!("\"seed\": {seed},")), "{meta}");
         assert!(meta.contains("\"source\": \"collision-mesh\""), "{meta}");

@@ -82,6 +82,27 @@ if with_mesh:
     assert mesh.is_watertight, "the collision surface is closed"
 
 
+def plane_squares(lo, hi, size):
+    """Triangle indices by the squares of the plane (`size` metres a side) their bounding boxes
+    (`lo`, `hi`: (T, 2)) cover: a vertical line meets only triangles of its own square."""
+    blo = np.floor(lo / size).astype(np.int64)
+    bhi = np.floor(hi / size).astype(np.int64)
+    ny = bhi[:, 1] - blo[:, 1] + 1
+    count = (bhi[:, 0] - blo[:, 0] + 1) * ny
+    t = np.repeat(np.arange(len(lo)), count)
+    k = np.arange(count.sum()) - np.repeat(np.cumsum(count) - count, count)
+    bx = blo[t, 0] + k // np.repeat(ny, count)
+    by = blo[t, 1] + k % np.repeat(ny, count)
+    order = np.lexsort((t, by, bx))
+    t, bx, by = t[order], bx[order], by[order]
+    starts = np.nonzero(np.r_[True, (bx[1:] != bx[:-1]) | (by[1:] != by[:-1])])[0]
+    ends = np.r_[starts[1:], len(t)]
+    return {(int(bx[s]), int(by[s])): t[s:e] for s, e in zip(starts, ends)}
+
+
+SQUARES = {}
+
+
 def crossings(points):
     """Heights where the vertical line through each point crosses the collision surface: our
     own numpy ray parity, in floating point (trimesh.contains needs rtree, not installed)."""
@@ -89,11 +110,14 @@ def crossings(points):
     a, b, c = tri[:, 0], tri[:, 1], tri[:, 2]
     lo, hi = tri[:, :, :2].min(axis=1), tri[:, :, :2].max(axis=1)
     area = (b[:, 0] - a[:, 0]) * (c[:, 1] - a[:, 1]) - (b[:, 1] - a[:, 1]) * (c[:, 0] - a[:, 0])
+    if not SQUARES:
+        SQUARES.update(plane_squares(lo, hi, 4.0))
     out = []
     # Lines through shared edges would count twice in this simple test: nudge them off by a
     # few micrometres (the exporter's own test is exact on edges).
     for p in np.asarray(points, dtype=float) + [3.1e-6, 1.7e-6, 0.0]:
-        m = (lo[:, 0] <= p[0]) & (p[0] <= hi[:, 0]) & (lo[:, 1] <= p[1]) & (p[1] <= hi[:, 1]) & (area != 0)
+        near = SQUARES.get((math.floor(p[0] / 4.0), math.floor(p[1] / 4.0)), np.zeros(0, np.int64))
+        m = near[(lo[near, 0] <= p[0]) & (p[0] <= hi[near, 0]) & (lo[near, 1] <= p[1]) & (p[1] <= hi[near, 1]) & (area[near] != 0)]
         A, B, C, S = a[m], b[m], c[m], area[m]
 
         def edge(u, v):

@@ -42,13 +42,38 @@ regions = doc["regions"]
 mesh = trimesh.load(world / "mesh/collision.obj", force="mesh", process=False)
 tri = mesh.vertices[mesh.faces]
 lo, hi = tri.min(axis=1), tri.max(axis=1)
+E = 1e-4  # the mesh's coordinates are 32-bit floats
+BUCKET = 2.0
+
+
+def buckets():
+    """The triangles by the squares of the plane (BUCKET metres a side) their bounding boxes,
+    grown by E, cover: a vertical line meets only triangles of its square."""
+    blo = np.floor((lo[:, :2] - E) / BUCKET).astype(np.int64)
+    bhi = np.floor((hi[:, :2] + E) / BUCKET).astype(np.int64)
+    nx, ny = bhi[:, 0] - blo[:, 0] + 1, bhi[:, 1] - blo[:, 1] + 1
+    count = nx * ny
+    t = np.repeat(np.arange(len(tri)), count)
+    k = np.arange(count.sum()) - np.repeat(np.cumsum(count) - count, count)
+    bx = blo[t, 0] + k // np.repeat(ny, count)
+    by = blo[t, 1] + k % np.repeat(ny, count)
+    order = np.lexsort((t, by, bx))
+    t, bx, by = t[order], bx[order], by[order]
+    starts = np.nonzero(np.r_[True, (bx[1:] != bx[:-1]) | (by[1:] != by[:-1])])[0]
+    ends = np.r_[starts[1:], len(t)]
+    return {(int(bx[s]), int(by[s])): t[s:e] for s, e in zip(starts, ends)}
+
+
+SQUARES = buckets()
 
 
 def down(x, y, z):
     """Height of the highest collision surface under (x, y) below z, or None."""
-    e = 1e-4  # the mesh's coordinates are 32-bit floats
-    m = (lo[:, 0] <= x + e) & (hi[:, 0] >= x - e) & (lo[:, 1] <= y + e) & (hi[:, 1] >= y - e)
-    m &= lo[:, 2] < z
+    e = E
+    near = SQUARES.get((int(np.floor(x / BUCKET)), int(np.floor(y / BUCKET))), np.zeros(0, np.int64))
+    m = (lo[near, 0] <= x + e) & (hi[near, 0] >= x - e) & (lo[near, 1] <= y + e) & (hi[near, 1] >= y - e)
+    m &= lo[near, 2] < z
+    m = near[m]
     a, b, c = tri[m, 0], tri[m, 1], tri[m, 2]
     d = (b[:, 1] - c[:, 1]) * (a[:, 0] - c[:, 0]) + (c[:, 0] - b[:, 0]) * (a[:, 1] - c[:, 1])
     ok = d != 0

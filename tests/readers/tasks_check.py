@@ -62,39 +62,38 @@ def read_scen(path, map_name, w, h):
 
 
 def astar(free, w, h, start, goal):
-    """MovingAI's optimal octile length from start (x, y) to goal, None if unreachable."""
+    """MovingAI's optimal octile length from start (x, y) to goal, None if unreachable. Cells
+    are numbered y * (w + 2) + x on the map framed by a row and a column of rock on every side
+    (FLAT), so that a move never leaves the map."""
     flat = FLAT[id(free)]
-
-    def ok(x, y):
-        return 0 <= x < w and 0 <= y < h and flat[y * w + x]
-
+    row = w + 2
+    straight = [(d, 1.0) for d in (-1, 1, -row, row)]
+    # A diagonal move and the two straight cells it passes between (no corner cutting).
+    diagonal = [(dx + dy * row, dx, dy * row) for dx in (-1, 1) for dy in (-1, 1)]
     gx, gy = goal
+    s, g_cell = (start[1] + 1) * row + start[0] + 1, (gy + 1) * row + gx + 1
 
-    def hval(x, y):
-        dx, dy = abs(x - gx), abs(y - gy)
+    def hval(i):
+        y, x = divmod(i, row)
+        dx, dy = abs(x - 1 - gx), abs(y - 1 - gy)
         return max(dx, dy) + (SQRT2 - 1.0) * min(dx, dy)
 
-    best = {start: 0.0}
-    heap = [(hval(*start), 0.0, start)]
+    best = {s: 0.0}
+    heap = [(hval(s), 0.0, s)]
     done = set()
     while heap:
-        _, g, (x, y) = heapq.heappop(heap)
-        if (x, y) in done:
+        _, g, i = heapq.heappop(heap)
+        if i in done:
             continue
-        done.add((x, y))
-        if (x, y) == goal:
+        done.add(i)
+        if i == g_cell:
             return g
-        for dx in (-1, 0, 1):
-            for dy in (-1, 0, 1):
-                if (dx, dy) == (0, 0) or not ok(x + dx, y + dy):
-                    continue
-                if dx and dy and not (ok(x + dx, y) and ok(x, y + dy)):
-                    continue  # no corner cutting
-                n = (x + dx, y + dy)
-                ng = g + (SQRT2 if dx and dy else 1.0)
-                if ng < best.get(n, math.inf):
-                    best[n] = ng
-                    heapq.heappush(heap, (ng + hval(*n), ng, n))
+        steps = [(i + d, g + c) for d, c in straight if flat[i + d]]
+        steps += [(i + d, g + SQRT2) for d, a, b in diagonal if flat[i + d] and flat[i + a] and flat[i + b]]
+        for n, ng in steps:
+            if ng < best.get(n, math.inf):
+                best[n] = ng
+                heapq.heappush(heap, (ng + hval(n), ng, n))
     return None
 
 
@@ -102,7 +101,7 @@ FLAT = {}
 
 
 def check_rows(rows, free, w, h, what):
-    FLAT[id(free)] = free.ravel().tolist()
+    FLAT[id(free)] = np.pad(free, 1).ravel().tolist()
     for k, (bucket, sx, sy, gx, gy, length) in enumerate(rows):
         assert free[sy, sx] and free[gy, gx], f"{what} row {k}: start and goal passable"
         assert (sx, sy) != (gx, gy)
@@ -120,16 +119,42 @@ if with_mesh:
     assert mesh.is_watertight, "the collision surface is closed"
 
 
-def crossings(points):
-    """Heights where the vertical line through each point crosses the collision surface."""
+BUCKET = 4.0
+
+
+def buckets():
+    """The collision surface's triangles (those not edge-on from above) by the squares of the
+    plane, BUCKET metres a side, their bounding boxes cover: a point's vertical line meets
+    only triangles of its square."""
     tri = mesh.triangles
     a, b, c = tri[:, 0], tri[:, 1], tri[:, 2]
-    lo, hi = tri[:, :, :2].min(axis=1), tri[:, :, :2].max(axis=1)
     area = (b[:, 0] - a[:, 0]) * (c[:, 1] - a[:, 1]) - (b[:, 1] - a[:, 1]) * (c[:, 0] - a[:, 0])
+    lo = np.floor(tri[:, :, :2].min(axis=1) / BUCKET).astype(np.int64)
+    hi = np.floor(tri[:, :, :2].max(axis=1) / BUCKET).astype(np.int64)
+    keep = np.nonzero(area != 0)[0]
+    nx, ny = hi[keep, 0] - lo[keep, 0] + 1, hi[keep, 1] - lo[keep, 1] + 1
+    count = nx * ny
+    t = np.repeat(keep, count)
+    k = np.arange(count.sum()) - np.repeat(np.cumsum(count) - count, count)
+    bx = lo[t, 0] + k // np.repeat(ny, count)
+    by = lo[t, 1] + k % np.repeat(ny, count)
+    order = np.lexsort((t, by, bx))
+    t, bx, by = t[order], bx[order], by[order]
+    starts = np.nonzero(np.r_[True, (bx[1:] != bx[:-1]) | (by[1:] != by[:-1])])[0]
+    ends = np.r_[starts[1:], len(t)]
+    return tri, area, {(int(bx[s]), int(by[s])): t[s:e] for s, e in zip(starts, ends)}
+
+
+def crossings(points):
+    """Heights where the vertical line through each point crosses the collision surface."""
     out = []
     for p in np.asarray(points, dtype=float) + [3.1e-6, 1.7e-6, 0.0]:
-        m = (lo[:, 0] <= p[0]) & (p[0] <= hi[:, 0]) & (lo[:, 1] <= p[1]) & (p[1] <= hi[:, 1]) & (area != 0)
-        A, B, C, S = a[m], b[m], c[m], area[m]
+        ts = BUCKETS[2].get((math.floor(p[0] / BUCKET), math.floor(p[1] / BUCKET)))
+        if ts is None:
+            out.append(np.zeros(0))
+            continue
+        tri, S = BUCKETS[0][ts], BUCKETS[1][ts]
+        A, B, C = tri[:, 0], tri[:, 1], tri[:, 2]
 
         def edge(u, v):
             return (v[:, 0] - u[:, 0]) * (p[1] - u[:, 1]) - (v[:, 1] - u[:, 1]) * (p[0] - u[:, 0])
@@ -140,6 +165,8 @@ def crossings(points):
         out.append(np.sort(z[inside]))
     return out
 
+
+BUCKETS = buckets() if mesh is not None else None
 
 res = meta["resolution_m"]
 ox, oy = meta["origin"]

@@ -18,11 +18,15 @@ import trimesh
 world = Path(sys.argv[1])
 arts = json.loads((world / "ground_truth/artifacts.json").read_text())["artifacts"]
 mesh = trimesh.load(world / "mesh/collision.obj", force="mesh", process=False)
-tri = mesh.vertices[mesh.faces]
+all_tri = mesh.vertices[mesh.faces]
+lo, hi = all_tri.min(axis=1), all_tri.max(axis=1)
 
 
 def crossings(p, q):
-    """Parameters t in [0, 1] where the segment p-q crosses a triangle (Moller-Trumbore)."""
+    """Parameters t in [0, 1] where the segment p-q crosses a triangle (Moller-Trumbore), of
+    the triangles whose bounding box meets the segment's (no other can cross it)."""
+    near = np.all((hi >= np.minimum(p, q) - 1e-9) & (lo <= np.maximum(p, q) + 1e-9), axis=1)
+    tri = all_tri[near]
     d = q - p
     e1, e2 = tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0]
     h = np.cross(d, e2)
