@@ -141,11 +141,11 @@ impl RayCaster {
     }
 
     /// Builds a hierarchy over every triangle of `mesh` in the order of a Morton curve, split
-    /// in halves of that order rather than by the surface area heuristic: built in linear
-    /// time after one radix sort, in an eighth of the heuristic's time (59 against 463 ms
-    /// over the mine preset's collision surface, side by side on a loaded machine, `cargo
-    /// bench --bench raycast -- raycast-build`), slower to cast into, for a few rays per
-    /// thousand triangles (a mine's bolt plates on its visual surface). The same
+    /// by the bits of its keys rather than by the surface area heuristic: built in linear
+    /// time after one radix sort, in a sixth of the heuristic's time (26 against 165 ms over
+    /// the mine preset's collision surface on a quiet machine, `cargo bench --bench raycast
+    /// -- raycast-build`; the earlier tree split in halves took 79), slower to cast into, for
+    /// a few rays per thousand triangles (a mine's bolt plates on its visual surface). The same
     /// hit distances as [`RayCaster::new`]'s (at an edge shared by two triangles, either may
     /// be the one reported).
     pub fn quick(mesh: &Mesh) -> RayCaster {

@@ -21,6 +21,11 @@ use crate::mesh::Mesh;
 /// kilometre, enough for an order that only needs to keep neighbours together).
 const CELLS: u32 = 1 << 10;
 
+/// Triangles a leaf holds at most: four times the heuristic tree's. A few rays test a few
+/// more triangles each, and the tree has a quarter of the nodes: over the mine's 2.5 M visual
+/// triangles, leaves of four made 150 MB of nodes, more than the triangles themselves.
+const LEAF: usize = 4 * super::LEAF_SIZE;
+
 /// The quick hierarchy over every triangle of `mesh`, its triangles' normals left to the
 /// hits. The same hierarchy on any number of threads.
 pub(super) fn quick(mesh: &Mesh) -> RayCaster {
@@ -136,7 +141,7 @@ fn split(
     keys: &[u32],
     offset: usize,
 ) -> Aabb {
-    let (bounds, index, count) = if tris.len() <= super::LEAF_SIZE {
+    let (bounds, index, count) = if tris.len() <= LEAF {
         let mut b = Aabb::EMPTY;
         for p in tris.iter().flatten() {
             b.grow(*p);
@@ -171,7 +176,7 @@ fn split(
 /// a split by bit would leave slivers of leaves.
 fn mid_of(keys: &[u32]) -> usize {
     let (first, last) = (keys[0], keys[keys.len() - 1]);
-    if first == last || keys.len() <= 2 * super::LEAF_SIZE {
+    if first == last || keys.len() <= 2 * LEAF {
         keys.len() / 2
     } else {
         let bit = 31 - (first ^ last).leading_zeros();
@@ -181,7 +186,7 @@ fn mid_of(keys: &[u32]) -> usize {
 
 /// How many binary nodes [`split`] makes over `keys` (at least one).
 fn count(keys: &[u32]) -> usize {
-    if keys.len() <= super::LEAF_SIZE {
+    if keys.len() <= LEAF {
         return 1;
     }
     let mid = mid_of(keys);
