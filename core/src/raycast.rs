@@ -146,8 +146,8 @@ impl RayCaster {
     /// the mine preset's collision surface on a quiet machine, `cargo bench --bench raycast
     /// -- raycast-build`; the earlier tree split in halves took 79), slower to cast into, for
     /// a few rays per thousand triangles (a mine's bolt plates on its visual surface). The same
-    /// hit distances as [`RayCaster::new`]'s (at an edge shared by two triangles, either may
-    /// be the one reported).
+    /// hits as [`RayCaster::new`]'s, except at an edge two triangles share, where either may be
+    /// the one reported (their distances differ in the last bits).
     pub fn quick(mesh: &Mesh) -> RayCaster {
         morton::quick(mesh)
     }
