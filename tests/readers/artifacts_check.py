@@ -27,6 +27,7 @@ import tomllib
 from pathlib import Path
 
 import numpy as np
+from plane_squares import plane_squares
 
 world = Path(sys.argv[1])
 mode = sys.argv[2]
@@ -35,24 +36,6 @@ arts = doc["artifacts"]
 DROP = 0.5
 REST = 0.3
 
-
-
-def plane_squares(lo, hi, size):
-    """Triangle indices by the squares of the plane (`size` metres a side) their bounding boxes
-    (`lo`, `hi`: (T, 2)) cover: a vertical line meets only triangles of its own square."""
-    blo = np.floor(lo / size).astype(np.int64)
-    bhi = np.floor(hi / size).astype(np.int64)
-    ny = bhi[:, 1] - blo[:, 1] + 1
-    count = (bhi[:, 0] - blo[:, 0] + 1) * ny
-    t = np.repeat(np.arange(len(lo)), count)
-    k = np.arange(count.sum()) - np.repeat(np.cumsum(count) - count, count)
-    bx = blo[t, 0] + k // np.repeat(ny, count)
-    by = blo[t, 1] + k % np.repeat(ny, count)
-    order = np.lexsort((t, by, bx))
-    t, bx, by = t[order], bx[order], by[order]
-    starts = np.nonzero(np.r_[True, (bx[1:] != bx[:-1]) | (by[1:] != by[:-1])])[0]
-    ends = np.r_[starts[1:], len(t)]
-    return {(int(bx[s]), int(by[s])): t[s:e] for s, e in zip(starts, ends)}
 
 
 def footprint(a, n=5):

@@ -20,6 +20,7 @@ import sys
 from pathlib import Path
 
 import numpy as np
+from plane_squares import plane_squares
 
 NEAR = 12.5
 TOL = 0.3
@@ -89,24 +90,8 @@ class Soup:
         self.tri = np.asarray(triangles, dtype=float)
         a, b, c = self.tri[:, 0], self.tri[:, 1], self.tri[:, 2]
         self.area = (b[:, 0] - a[:, 0]) * (c[:, 1] - a[:, 1]) - (b[:, 1] - a[:, 1]) * (c[:, 0] - a[:, 0])
-        lo = np.floor(self.tri[:, :, :2].min(axis=1) / BUCKET).astype(np.int64)
-        hi = np.floor(self.tri[:, :, :2].max(axis=1) / BUCKET).astype(np.int64)
-        # Every (triangle, bucket) pair its bounding box covers, without a Python loop.
-        keep = np.nonzero(self.area != 0)[0]
-        nx = hi[keep, 0] - lo[keep, 0] + 1
-        ny = hi[keep, 1] - lo[keep, 1] + 1
-        count = nx * ny
-        t = np.repeat(keep, count)
-        k = np.arange(count.sum()) - np.repeat(np.cumsum(count) - count, count)
-        bx = lo[t, 0] + k // np.repeat(ny, count)
-        by = lo[t, 1] + k % np.repeat(ny, count)
-        order = np.lexsort((t, by, bx))
-        t, bx, by = t[order], bx[order], by[order]
-        starts = np.nonzero(np.r_[True, (bx[1:] != bx[:-1]) | (by[1:] != by[:-1])])[0]
-        ends = np.r_[starts[1:], len(t)]
-        self.buckets = {
-            (int(bx[s]), int(by[s])): t[s:e] for s, e in zip(starts, ends)
-        }
+        lo, hi = self.tri[:, :, :2].min(axis=1), self.tri[:, :, :2].max(axis=1)
+        self.buckets = plane_squares(lo, hi, BUCKET, keep=np.nonzero(self.area != 0)[0])
 
     def crossings(self, x, y):
         """(height, faces up) of every crossing of the vertical line through (x, y), sorted."""

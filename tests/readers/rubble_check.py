@@ -25,6 +25,7 @@ from pathlib import Path
 
 import numpy as np
 import trimesh
+from plane_squares import plane_squares
 
 FLOOR_TOL = 0.45
 BALL = 0.5
@@ -45,26 +46,8 @@ lo, hi = tri.min(axis=1), tri.max(axis=1)
 E = 1e-4  # the mesh's coordinates are 32-bit floats
 BUCKET = 2.0
 
-
-def buckets():
-    """The triangles by the squares of the plane (BUCKET metres a side) their bounding boxes,
-    grown by E, cover: a vertical line meets only triangles of its square."""
-    blo = np.floor((lo[:, :2] - E) / BUCKET).astype(np.int64)
-    bhi = np.floor((hi[:, :2] + E) / BUCKET).astype(np.int64)
-    nx, ny = bhi[:, 0] - blo[:, 0] + 1, bhi[:, 1] - blo[:, 1] + 1
-    count = nx * ny
-    t = np.repeat(np.arange(len(tri)), count)
-    k = np.arange(count.sum()) - np.repeat(np.cumsum(count) - count, count)
-    bx = blo[t, 0] + k // np.repeat(ny, count)
-    by = blo[t, 1] + k % np.repeat(ny, count)
-    order = np.lexsort((t, by, bx))
-    t, bx, by = t[order], bx[order], by[order]
-    starts = np.nonzero(np.r_[True, (bx[1:] != bx[:-1]) | (by[1:] != by[:-1])])[0]
-    ends = np.r_[starts[1:], len(t)]
-    return {(int(bx[s]), int(by[s])): t[s:e] for s, e in zip(starts, ends)}
-
-
-SQUARES = buckets()
+# A vertical line meets only the triangles of its square (boxes grown by E).
+SQUARES = plane_squares(lo[:, :2] - E, hi[:, :2] + E, BUCKET)
 
 
 def down(x, y, z):

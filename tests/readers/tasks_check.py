@@ -21,6 +21,7 @@ import tomllib
 from pathlib import Path
 
 import numpy as np
+from plane_squares import plane_squares
 
 world = Path(sys.argv[1])
 with_mesh = sys.argv[2] == "mesh"
@@ -129,20 +130,8 @@ def buckets():
     tri = mesh.triangles
     a, b, c = tri[:, 0], tri[:, 1], tri[:, 2]
     area = (b[:, 0] - a[:, 0]) * (c[:, 1] - a[:, 1]) - (b[:, 1] - a[:, 1]) * (c[:, 0] - a[:, 0])
-    lo = np.floor(tri[:, :, :2].min(axis=1) / BUCKET).astype(np.int64)
-    hi = np.floor(tri[:, :, :2].max(axis=1) / BUCKET).astype(np.int64)
-    keep = np.nonzero(area != 0)[0]
-    nx, ny = hi[keep, 0] - lo[keep, 0] + 1, hi[keep, 1] - lo[keep, 1] + 1
-    count = nx * ny
-    t = np.repeat(keep, count)
-    k = np.arange(count.sum()) - np.repeat(np.cumsum(count) - count, count)
-    bx = lo[t, 0] + k // np.repeat(ny, count)
-    by = lo[t, 1] + k % np.repeat(ny, count)
-    order = np.lexsort((t, by, bx))
-    t, bx, by = t[order], bx[order], by[order]
-    starts = np.nonzero(np.r_[True, (bx[1:] != bx[:-1]) | (by[1:] != by[:-1])])[0]
-    ends = np.r_[starts[1:], len(t)]
-    return tri, area, {(int(bx[s]), int(by[s])): t[s:e] for s, e in zip(starts, ends)}
+    lo, hi = tri[:, :, :2].min(axis=1), tri[:, :, :2].max(axis=1)
+    return tri, area, plane_squares(lo, hi, BUCKET, keep=np.nonzero(area != 0)[0])
 
 
 def crossings(points):
