@@ -58,14 +58,7 @@ fn services_are_instanced_on_the_rock_and_labelled() {
 #[test]
 fn services_leave_the_rock_as_it_was_and_off_write_nothing() {
     let dir = tempfile::tempdir().unwrap();
-    let (on, off) = (dir.path().join("on"), dir.path().join("off"));
-    let formats = "obj,gltf,usd,ground-truth";
-    generate(&small_mine(dir.path(), "on", ""), &on, formats);
-    generate(
-        &small_mine(dir.path(), "off", "services = false"),
-        &off,
-        formats,
-    );
+    let (on, off) = on_and_off(dir.path(), "obj,gltf,usd,ground-truth");
     // The rock's meshes and every ground truth file but the labels are the same bytes.
     for f in [
         "mesh/world.obj",
@@ -187,14 +180,7 @@ fn services_are_visual_only_in_sdf_urdf_and_mjcf() {
 #[test]
 fn services_off_leave_sdf_urdf_and_mjcf_without_them() {
     let dir = tempfile::tempdir().unwrap();
-    let (on, off) = (dir.path().join("on"), dir.path().join("off"));
-    let formats = "sdf,urdf,mjcf";
-    generate(&small_mine(dir.path(), "on", ""), &on, formats);
-    generate(
-        &small_mine(dir.path(), "off", "services = false"),
-        &off,
-        formats,
-    );
+    let (on, off) = on_and_off(dir.path(), "sdf,urdf,mjcf");
     for f in ["gazebo/world.sdf", "urdf/world.urdf", "mujoco/level-0.xml"] {
         let text = std::fs::read_to_string(off.join(f)).unwrap();
         assert!(!text.contains("services"), "{f} names services when off");
@@ -232,4 +218,13 @@ fn services_off_leave_sdf_urdf_and_mjcf_without_them() {
     common::ok(&["generate", arg(&pipeline), "--out", arg(&none)]);
     let part = std::fs::read_to_string(none.join("mujoco/level-0.xml")).unwrap();
     assert!(!part.contains("services"), "visual = \"none\": no services");
+}
+
+/// The small mine written in `formats` with its services (`on`) and without (`off`), in
+/// folders of those names under `dir`.
+fn on_and_off(dir: &std::path::Path, formats: &str) -> (std::path::PathBuf, std::path::PathBuf) {
+    let (on, off) = (dir.join("on"), dir.join("off"));
+    generate(&small_mine(dir, "on", ""), &on, formats);
+    generate(&small_mine(dir, "off", "services = false"), &off, formats);
+    (on, off)
 }
