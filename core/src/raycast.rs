@@ -135,9 +135,7 @@ impl RayCaster {
     /// collision triangles of the lava-tube preset, on two cores; the same hierarchy on any
     /// number of threads).
     pub fn new(mesh: &Mesh) -> RayCaster {
-        let mut caster = Self::from_tree(mesh, build::tree(mesh));
-        caster.normals = caster.vertices.par_iter().map(normal).collect();
-        caster
+        Self::from_tree(mesh, build::tree(mesh))
     }
 
     /// Builds a hierarchy over every triangle of `mesh` in the order of a Morton curve, split
@@ -157,11 +155,12 @@ impl RayCaster {
             .par_iter()
             .map(|&i| mesh.triangles[i as usize].map(|v| mesh.positions[v as usize]))
             .collect::<Vec<_>>();
+        let normals = vertices.par_iter().map(normal).collect();
         RayCaster {
             nodes,
             vertices,
             ids,
-            normals: Vec::new(),
+            normals,
         }
     }
 

@@ -9,12 +9,12 @@
 
 use subtgraph_core::World;
 use subtgraph_core::error::ConfigError;
-use subtgraph_core::export::{ExportError, Exporter, WorldWriter, stream_file, write_file};
+use subtgraph_core::export::{ExportError, Exporter, WorldWriter, stream_file};
 use subtgraph_core::params::Params;
 use subtgraph_core::survey::Survey;
 
 use crate::parts::{Split, parts, write_part_meshes};
-use crate::text::{mtl, write_obj};
+use crate::text::write_obj;
 
 /// Writes the world's meshes as Wavefront OBJ: `mesh/world.obj` (visual, one object, grouped
 /// by material), `mesh/world.mtl` and `mesh/collision.obj`. Every world folder with geometry
@@ -78,11 +78,7 @@ impl Exporter for Obj {
             ));
         };
         if self.visual && !out.contains("mesh/world.obj") {
-            // The SDF exporter may have written the library already, for services.obj.
-            if !out.contains("mesh/world.mtl") {
-                write_file(out, "mesh/world.mtl", mtl(&mesh.materials, "").as_bytes())?;
-                crate::text::write_textures(out, mesh)?;
-            }
+            crate::text::write_world_mtl(out, mesh)?;
             stream_file(out, "mesh/world.obj", |w| {
                 write_obj(
                     w,

@@ -12,10 +12,10 @@
 use std::ops::Range;
 
 use subtgraph_core::assembly::WorldMesh;
-use subtgraph_core::export::{ExportError, WorldWriter, stream_file, write_file};
+use subtgraph_core::export::{ExportError, WorldWriter, stream_file};
 use subtgraph_core::mesh::{Fixtures, Material};
 
-use crate::text::{mtl, write_obj};
+use crate::text::write_obj;
 
 /// Where the baked services go.
 pub(crate) const SERVICES_OBJ: &str = "mesh/services.obj";
@@ -69,10 +69,7 @@ pub(crate) fn write_services_obj(
     if mesh.fixtures.is_empty() {
         return Ok(None);
     }
-    if !out.contains("mesh/world.mtl") {
-        write_file(out, "mesh/world.mtl", mtl(&mesh.materials, "").as_bytes())?;
-        crate::text::write_textures(out, mesh)?;
-    }
+    crate::text::write_world_mtl(out, mesh)?;
     if !out.contains(SERVICES_OBJ) {
         let f = &mesh.fixtures;
         let baked = f.baked();
@@ -84,8 +81,8 @@ pub(crate) fn write_services_obj(
 }
 
 /// Writes `mesh/services/<material>.obj` per material of the services (no material library
-/// and no texture coordinates: the format names the colour), unless an earlier exporter did, and returns each material
-/// with its file's path, by material index.
+/// and no texture coordinates: the format names the colour), unless an earlier exporter did,
+/// and returns each material with its file's path, by material index.
 pub(crate) fn write_material_objs<'m>(
     out: &mut dyn WorldWriter,
     mesh: &'m WorldMesh,

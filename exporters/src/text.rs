@@ -115,6 +115,23 @@ pub(crate) fn mtl(materials: &[Material], to_mesh: &str) -> String {
     s
 }
 
+/// Writes `mesh/world.mtl` and the texture images it names, unless an earlier exporter of the
+/// same world folder already did: the OBJ exporter, and the SDF exporter's services, name it.
+pub(crate) fn write_world_mtl(
+    out: &mut dyn subtgraph_core::export::WorldWriter,
+    mesh: &subtgraph_core::assembly::WorldMesh,
+) -> Result<(), subtgraph_core::export::ExportError> {
+    if !out.contains("mesh/world.mtl") {
+        subtgraph_core::export::write_file(
+            out,
+            "mesh/world.mtl",
+            mtl(&mesh.materials, "").as_bytes(),
+        )?;
+        write_textures(out, mesh)?;
+    }
+    Ok(())
+}
+
 /// Writes the world's texture images under `mesh/`, unless an earlier exporter of the same
 /// world folder already did: every format that names them calls this.
 pub(crate) fn write_textures(
