@@ -63,7 +63,7 @@ def obj_triangles(path):
     indices (1-based, or negative from the end; `v/vt/vn` forms), read with numpy. Polygons
     are fanned into triangles. The `v` and `f` lines are found by numpy over the file's bytes
     and taken a run of lines at a time, not by a Python loop over lines: a lava tube's
-    collision surface is a million triangles (4.5 s a file line by line)."""
+    collision surface is a million triangles (2.6 s line by line, 1.8 s so)."""
     data = Path(path).read_bytes()
     buf = np.frombuffer(data + b"\n", dtype=np.uint8)
     ends = np.flatnonzero(buf == ord("\n"))
@@ -89,8 +89,9 @@ def obj_triangles(path):
         flat = np.fromstring(ftext, dtype=np.int64, sep=" ")
     elif b"//" not in ftext:
         # `v/vt/vn` (or `v/vt`): with every reference in the first one's form, the slashes
-        # made blanks give each reference's numbers in turn.
-        # Every line is "\n" and a blank before each reference, so the blanks count them.
+        # made blanks give each reference's numbers in turn. Each line is a newline and a
+        # blank before each reference, so the blanks count the references; anything else
+        # (mixed forms, extra blanks) fails the counts and is read the slow way.
         parts = ftext.split(None, 1)[0].count(b"/") + 1
         refs = ftext.count(b" ")
         blanks = ftext.translate(bytes.maketrans(b"/", b" "))
