@@ -37,12 +37,11 @@ fn pieces(mesh: &Mesh) -> Vec<Piece> {
     let mut welded = vec![0u32; keys.len()];
     let mut ids = 0u32;
     for (k, &i) in order.iter().enumerate() {
-        if k > 0 && keys[i as usize] != keys[order[k - 1] as usize] {
+        if k == 0 || keys[i as usize] != keys[order[k - 1] as usize] {
             ids += 1;
         }
-        welded[i as usize] = ids;
+        welded[i as usize] = ids - 1;
     }
-    let ids = if keys.is_empty() { 0 } else { ids + 1 };
     let mut parent: Vec<u32> = (0..ids).collect();
     for t in &mesh.triangles {
         let [a, b, c] = t.map(|v| welded[v as usize]);

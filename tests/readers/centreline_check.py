@@ -98,14 +98,14 @@ def obj_triangles(path):
         numbers = np.fromstring(blanks, dtype=np.int64, sep=" ")
         if ftext.count(b"/") == refs * (parts - 1) and len(numbers) == refs * parts:
             flat = numbers[::parts]
-    if flat is None:
-        flat = np.array(re.sub(rb"/\S*", b"", ftext).split()).astype(np.int64)
-    if len(flat) == 3 * nfaces:
+    if flat is None or len(flat) != 3 * nfaces:
+        # The slow way: each reference's `/...` cut off, and each face's count (polygons).
+        ftext = re.sub(rb"/\S*", b"", ftext)
+        flat = np.array(ftext.split()).astype(np.int64)
+        counts = np.array([len(l.split()) for l in ftext.split(b"\n") if l.strip()], dtype=np.int64)
+    else:
         # Every face has three vertices or more: this many means triangles only.
         counts = np.full(nfaces, 3)
-    else:
-        text = re.sub(rb"/\S*", b"", ftext)
-        counts = np.array([len(l.split()) for l in text.split(b"\n") if l.strip()], dtype=np.int64)
     flat = np.where(flat < 0, flat + len(v), flat - 1)
     tris = []
     starts = np.cumsum(counts) - counts
