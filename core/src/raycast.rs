@@ -185,7 +185,26 @@ impl RayCaster {
 
     /// [`cast`](Self::cast) with a stack the caller keeps (batches reuse one: zeroing a
     /// fresh one for every ray costs a tenth of a cast).
+    ///
+    /// On a processor with AVX2 the traversal runs as compiled for it (see [`wide`]): the same
+    /// arithmetic, so the same hits to the bit, in less time.
     fn cast_in(
+        &self,
+        origin: [f64; 3],
+        dir: [f64; 3],
+        max: f64,
+        stack: &mut [Entry; STACK],
+    ) -> Option<Hit> {
+        #[cfg(target_arch = "x86_64")]
+        if wide::available() {
+            return wide::cast(self, origin, dir, max, stack);
+        }
+        self.traverse(origin, dir, max, stack)
+    }
+
+    /// The traversal itself, inlined into each build of [`cast_in`](Self::cast_in).
+    #[inline(always)]
+    fn traverse(
         &self,
         origin: [f64; 3],
         dir: [f64; 3],
@@ -349,6 +368,57 @@ impl RayCaster {
             point,
             triangle: self.ids[k],
         })
+    }
+}
+
+/// The traversal compiled for AVX2 and chosen at run time, for builds made without the
+/// workspace's `.cargo/config.toml` (which builds everything for x86-64-v3, AVX2 included, so
+/// the check below is settled when compiling): a `RUSTFLAGS` of one's own replaces that
+/// file's flags, and the ray cast, the half of `sense`'s time, should not lose its speed then.
+///
+/// Why AVX2: the baseline x86-64 build (SSE2) spends instructions moving operands (two-operand
+/// encodings) and blending that AVX2's three-operand forms do without; on the development
+/// machine the cast took about a fifth less CPU built this way (`perf record` on `sense`, 1,200
+/// cave scans). Rust never fuses a multiply and an add on its own (LLVM is not given leave to
+/// contract), so no result changes: the sequences written are the same to the byte with
+/// either build.
+#[cfg(target_arch = "x86_64")]
+mod wide {
+    use super::{Entry, Hit, RayCaster, STACK};
+
+    /// Whether this processor has AVX2 (the standard library detects it once and caches it;
+    /// a constant where the build enables AVX2).
+    #[inline]
+    pub(super) fn available() -> bool {
+        std::is_x86_feature_detected!("avx2")
+    }
+
+    /// [`RayCaster::traverse`] compiled with AVX2; call only when [`available`] says so.
+    #[inline]
+    pub(super) fn cast(
+        caster: &RayCaster,
+        origin: [f64; 3],
+        dir: [f64; 3],
+        max: f64,
+        stack: &mut [Entry; STACK],
+    ) -> Option<Hit> {
+        #[target_feature(enable = "avx2")]
+        fn with_avx2(
+            caster: &RayCaster,
+            origin: [f64; 3],
+            dir: [f64; 3],
+            max: f64,
+            stack: &mut [Entry; STACK],
+        ) -> Option<Hit> {
+            caster.traverse(origin, dir, max, stack)
+        }
+        debug_assert!(available());
+        #[allow(unsafe_code)]
+        // SAFETY: `with_avx2` only needs the processor to have AVX2, which the only caller,
+        // `RayCaster::cast_in`, checks with `available` just before.
+        unsafe {
+            with_avx2(caster, origin, dir, max, stack)
+        }
     }
 }
 

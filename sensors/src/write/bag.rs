@@ -18,7 +18,7 @@ use std::io;
 use std::path::{Path, PathBuf};
 
 use super::cdr::{self, FLOAT32, FLOAT64, Field, UINT8, UINT16, UINT32};
-use super::direct::{Aligned, DirectFile};
+use super::direct::{DirectFile, Spool};
 use super::mcap::Mcap;
 use crate::frames::Pose;
 use crate::lidar::scan::Scan;
@@ -67,7 +67,7 @@ pub fn ns(t: f64) -> u64 {
 impl Bag {
     /// Starts a bag in `dir` (which must exist).
     pub fn create(dir: &Path, model: &LidarModel, wheel: bool) -> io::Result<Bag> {
-        let file = DirectFile::create(&dir.join("bag_0.mcap"), Aligned::default())?;
+        let file = DirectFile::create(&dir.join("bag_0.mcap"), Spool::new()?)?;
         let mut mcap = Mcap::new(file)?;
         let mut topics = Vec::new();
         let mut list: Vec<(&'static str, &'static str, String)> = vec![

@@ -11,10 +11,21 @@
 //!
 //! Where the file system refuses `O_DIRECT` (tmpfs, some network and overlay file systems),
 //! or on other systems, the file is written the ordinary way, through the same buffer.
+//!
+//! A write with `O_DIRECT` returns once the disk has the bytes: about a millisecond a scan on
+//! this machine's disk, in which the thread that wrote would stand idle while the other core
+//! casts alone. So the writes themselves are done by a thread of their own, a [`Spool`]: a
+//! full buffer is handed to it and filling goes on in a second one. A sequence has two spools
+//! (the bag's and the KITTI scans'), each with two 4 MiB buffers; the files are written in the
+//! order their buffers were handed over, and a write's error comes back with its buffer, so it
+//! stops the sequence at the next buffer handed over, or at [`Spool::close`].
 
 use std::fs::File;
 use std::io::{self, Write};
-use std::path::Path;
+use std::path::{Path, PathBuf};
+use std::sync::mpsc::{Receiver, SyncSender, sync_channel};
+use std::sync::{Arc, Mutex};
+use std::thread::JoinHandle;
 
 /// The alignment `O_DIRECT` asks of buffers, lengths and file offsets (a page, which covers
 /// every logical block size in use).
@@ -22,11 +33,12 @@ const ALIGN: usize = 4096;
 /// Bytes gathered before a write: big enough that a write's fixed cost is small, small enough
 /// to stay out of the way of the scans' buffers.
 const CAPACITY: usize = 4 << 20;
+/// Buffers a spool has: one being filled while the other is written.
+const BUFFERS: usize = 2;
 
 /// A buffer of 4 MiB starting at a multiple of 4 KiB: a vector a block longer, used from its
-/// first aligned byte (no allocator tricks, no unsafe code). Keep one to reuse it from file to
-/// file ([`DirectFile::finish`] gives it back).
-pub struct Aligned {
+/// first aligned byte (no allocator tricks, no unsafe code).
+struct Aligned {
     raw: Vec<u8>,
     start: usize,
 }
@@ -39,93 +51,254 @@ impl Default for Aligned {
     }
 }
 
-/// A file being written with `O_DIRECT` where the file system allows it (see the module).
-/// End it with [`finish`](DirectFile::finish) or `flush`: dropped, it loses what it has
-/// gathered (up to 4 MiB).
-pub struct DirectFile {
+impl Aligned {
+    fn bytes(&self) -> &[u8] {
+        &self.raw[self.start..self.start + CAPACITY]
+    }
+
+    fn bytes_mut(&mut self) -> &mut [u8] {
+        &mut self.raw[self.start..self.start + CAPACITY]
+    }
+}
+
+/// An open file as the spool's thread writes it.
+struct Open {
     file: File,
-    buf: Aligned,
-    /// Bytes in `buf`.
-    len: usize,
+    path: PathBuf,
     /// Whether the file is still open with `O_DIRECT`.
     direct: bool,
 }
 
-impl DirectFile {
-    /// Creates (or truncates) the file at `path`, gathering its bytes in `buf`.
-    pub fn create(path: &Path, buf: Aligned) -> io::Result<DirectFile> {
-        let (file, direct) = open(path)?;
-        Ok(DirectFile {
-            file,
-            buf,
-            len: 0,
-            direct,
+/// A buffer to write: its first `len` bytes go to the end of `open`; with `last`, the partial
+/// block at the end too (after which the file is written the ordinary way).
+struct Job {
+    open: Arc<Mutex<Open>>,
+    buf: Aligned,
+    len: usize,
+    last: bool,
+}
+
+/// A thread that writes [`DirectFile`]s' buffers, so the threads that fill them never wait
+/// for the disk (see the module). Keep one for many files in a row ([`DirectFile::finish`]
+/// gives it back), and end it with [`close`](Spool::close), which waits for every write and
+/// reports the first that failed.
+pub struct Spool {
+    jobs: Option<SyncSender<Job>>,
+    back: Receiver<(Aligned, io::Result<()>)>,
+    thread: Option<JoinHandle<()>>,
+    /// Buffers at hand.
+    free: Vec<Aligned>,
+    /// Buffers with the thread.
+    lent: usize,
+}
+
+impl Spool {
+    /// Starts the thread, with two buffers.
+    pub fn new() -> io::Result<Spool> {
+        let (jobs, todo) = sync_channel::<Job>(BUFFERS);
+        let (done, back) = sync_channel(BUFFERS);
+        let thread = std::thread::Builder::new()
+            .name("subtgraph-spool".into())
+            .spawn(move || {
+                for job in todo {
+                    let result = {
+                        let mut open = job.open.lock().unwrap_or_else(|e| e.into_inner());
+                        write_out(&mut open, &job.buf.bytes()[..job.len], job.last)
+                    };
+                    if done.send((job.buf, result)).is_err() {
+                        break;
+                    }
+                }
+            })?;
+        Ok(Spool {
+            jobs: Some(jobs),
+            back,
+            thread: Some(thread),
+            free: (0..BUFFERS).map(|_| Aligned::default()).collect(),
+            lent: 0,
         })
     }
 
-    /// Writes what is gathered: with `O_DIRECT`, the whole blocks (the rest stays gathered);
-    /// otherwise, or with `all`, everything.
-    fn drain(&mut self, all: bool) -> io::Result<()> {
-        let len = self.len;
-        let whole = if self.direct && !all {
-            len / ALIGN * ALIGN
-        } else {
-            len
-        };
-        let bytes = &mut self.buf.raw[self.buf.start..self.buf.start + CAPACITY];
-        let mut done = 0;
-        while done < whole {
-            if self.direct && whole - done < ALIGN {
-                // The last partial block: the ordinary way.
-                clear_direct(&self.file)?;
-                self.direct = false;
-            }
-            let end = if self.direct {
-                done + (whole - done) / ALIGN * ALIGN
-            } else {
-                whole
-            };
-            match self.file.write(&bytes[done..end]) {
-                Ok(0) => return Err(io::ErrorKind::WriteZero.into()),
-                Ok(n) => done += n,
-                Err(e) if e.kind() == io::ErrorKind::Interrupted => {}
-                // Refused after all (the file system takes the flag at open but not the
-                // writes): the ordinary way from here.
-                Err(e) if self.direct && e.kind() == io::ErrorKind::InvalidInput => {
-                    clear_direct(&self.file)?;
-                    self.direct = false;
-                }
-                Err(e) => return Err(e),
+    /// A buffer to fill: one at hand, or the next the thread gives back (an error of the
+    /// write it was used for comes out here).
+    fn take(&mut self) -> io::Result<Aligned> {
+        if let Some(buf) = self.free.pop() {
+            return Ok(buf);
+        }
+        if self.lent == 0 {
+            return Ok(Aligned::default());
+        }
+        let (buf, result) = self.back.recv().map_err(|_| stopped())?;
+        self.lent -= 1;
+        match result {
+            Ok(()) => Ok(buf),
+            Err(e) => {
+                self.free.push(buf);
+                Err(e)
             }
         }
-        bytes.copy_within(whole..len, 0);
-        self.len -= whole;
+    }
+
+    fn send(&mut self, job: Job) -> io::Result<()> {
+        let jobs = self.jobs.as_ref().ok_or_else(stopped)?;
+        jobs.send(job).map_err(|_| stopped())?;
+        self.lent += 1;
         Ok(())
     }
 
-    /// Writes the rest and closes the file; gives the buffer back for the next.
-    pub fn finish(mut self) -> io::Result<Aligned> {
-        self.drain(true)?;
-        Ok(self.buf)
+    /// Waits for every buffer handed over to be written; the first write that failed is the
+    /// error.
+    fn wait(&mut self) -> io::Result<()> {
+        let mut first = Ok(());
+        while self.lent > 0 {
+            let (buf, result) = self.back.recv().map_err(|_| stopped())?;
+            self.lent -= 1;
+            self.free.push(buf);
+            if first.is_ok() {
+                first = result;
+            }
+        }
+        first
+    }
+
+    /// Waits for every write, stops the thread, and reports the first write that failed.
+    pub fn close(mut self) -> io::Result<()> {
+        let result = self.wait();
+        self.stop();
+        result
+    }
+
+    fn stop(&mut self) {
+        self.jobs = None;
+        if let Some(thread) = self.thread.take() {
+            // The thread only writes; a panic there (none is expected) loses nothing more.
+            let _ = thread.join();
+        }
+    }
+}
+
+impl Drop for Spool {
+    /// Lets the writes handed over finish (the files are whole or the error was reported)
+    /// before the thread ends.
+    fn drop(&mut self) {
+        self.stop();
+    }
+}
+
+/// The spool's thread has stopped (it only does after a panic).
+fn stopped() -> io::Error {
+    io::Error::other("the spool's writing thread stopped")
+}
+
+/// Writes `bytes` at the end of `open`: with `O_DIRECT`, whole blocks (the caller gives whole
+/// blocks unless `last`), the last partial block the ordinary way.
+fn write_out(open: &mut Open, bytes: &[u8], last: bool) -> io::Result<()> {
+    let with_path =
+        |e: io::Error| io::Error::new(e.kind(), format!("{}: {e}", open.path.display()));
+    let mut done = 0;
+    while done < bytes.len() {
+        if open.direct && bytes.len() - done < ALIGN {
+            debug_assert!(
+                last,
+                "only the last buffer of a file ends in a partial block"
+            );
+            // The last partial block: the ordinary way.
+            clear_direct(&open.file).map_err(with_path)?;
+            open.direct = false;
+        }
+        let end = if open.direct {
+            done + (bytes.len() - done) / ALIGN * ALIGN
+        } else {
+            bytes.len()
+        };
+        match open.file.write(&bytes[done..end]) {
+            Ok(0) => return Err(with_path(io::ErrorKind::WriteZero.into())),
+            Ok(n) => done += n,
+            Err(e) if e.kind() == io::ErrorKind::Interrupted => {}
+            // Refused after all (the file system takes the flag at open but not the
+            // writes): the ordinary way from here.
+            Err(e) if open.direct && e.kind() == io::ErrorKind::InvalidInput => {
+                clear_direct(&open.file).map_err(with_path)?;
+                open.direct = false;
+            }
+            Err(e) => return Err(with_path(e)),
+        }
+    }
+    if last && open.direct {
+        clear_direct(&open.file).map_err(with_path)?;
+        open.direct = false;
+    }
+    Ok(())
+}
+
+/// A file being written with `O_DIRECT` where the file system allows it, by a [`Spool`]'s
+/// thread (see the module). End it with [`finish`](DirectFile::finish), or `flush` to have
+/// everything on disk: dropped, it loses what it has gathered (up to 4 MiB).
+pub struct DirectFile {
+    open: Arc<Mutex<Open>>,
+    spool: Spool,
+    buf: Aligned,
+    /// Bytes in `buf`.
+    len: usize,
+}
+
+impl DirectFile {
+    /// Creates (or truncates) the file at `path`, to be written by `spool`.
+    pub fn create(path: &Path, mut spool: Spool) -> io::Result<DirectFile> {
+        let (file, direct) = open(path)?;
+        let buf = spool.take()?;
+        Ok(DirectFile {
+            open: Arc::new(Mutex::new(Open {
+                file,
+                path: path.to_owned(),
+                direct,
+            })),
+            spool,
+            buf,
+            len: 0,
+        })
+    }
+
+    /// Hands the gathered bytes to the spool and takes a fresh buffer.
+    fn hand_over(&mut self, last: bool) -> io::Result<()> {
+        let fresh = self.spool.take()?;
+        let buf = std::mem::replace(&mut self.buf, fresh);
+        let len = std::mem::take(&mut self.len);
+        self.spool.send(Job {
+            open: Arc::clone(&self.open),
+            buf,
+            len,
+            last,
+        })
+    }
+
+    /// Hands the rest to the spool and gives the spool back for the next file (without
+    /// waiting for the writes: [`Spool::close`] does).
+    pub fn finish(mut self) -> io::Result<Spool> {
+        self.hand_over(true)?;
+        let DirectFile { mut spool, buf, .. } = self;
+        spool.free.push(buf);
+        Ok(spool)
     }
 }
 
 impl Write for DirectFile {
     fn write(&mut self, data: &[u8]) -> io::Result<usize> {
         let n = data.len().min(CAPACITY - self.len);
-        let at = self.buf.start + self.len;
-        self.buf.raw[at..at + n].copy_from_slice(&data[..n]);
+        let at = self.len;
+        self.buf.bytes_mut()[at..at + n].copy_from_slice(&data[..n]);
         self.len += n;
         if self.len == CAPACITY {
-            self.drain(false)?;
+            self.hand_over(false)?;
         }
         Ok(n)
     }
 
     /// Writes everything gathered, the partial last block included (after which the file is
-    /// written the ordinary way).
+    /// written the ordinary way), and waits until it is written.
     fn flush(&mut self) -> io::Result<()> {
-        self.drain(true)
+        self.hand_over(true)?;
+        self.spool.wait()
     }
 }
 
@@ -173,8 +346,9 @@ mod tests {
     }
 
     fn round_trip(dir: &Path) {
-        let mut buf = Aligned::default();
+        let mut spool = Spool::new().unwrap();
         // Empty, under a block, exactly blocks, over the buffer, many buffers and a tail.
+        let mut files = Vec::new();
         for (k, n) in [
             0,
             1,
@@ -191,7 +365,7 @@ mod tests {
         {
             let path = dir.join(format!("{k}.bin"));
             let want = data(n, k as u64);
-            let mut f = DirectFile::create(&path, buf).unwrap();
+            let mut f = DirectFile::create(&path, spool).unwrap();
             // Pieces of uneven sizes, as the MCAP writer's records come.
             let mut rest = &want[..];
             let mut size = 1;
@@ -201,18 +375,42 @@ mod tests {
                 rest = tail;
                 size = size * 7 % 1_000_003 + 13;
             }
-            buf = f.finish().unwrap();
-            assert_eq!(std::fs::read(&path).unwrap(), want, "{n} bytes");
+            spool = f.finish().unwrap();
+            files.push((path, want));
         }
-        // A flush midway: what follows is written the ordinary way, after the tail.
+        // A flush midway: it waits for the writes, and what follows is written the ordinary
+        // way, after the tail.
         let path = dir.join("flushed.bin");
         let (a, b) = (data(10_000, 1), data(20_000, 2));
-        let mut f = DirectFile::create(&path, buf).unwrap();
+        let mut f = DirectFile::create(&path, spool).unwrap();
         f.write_all(&a).unwrap();
         f.flush().unwrap();
+        assert_eq!(std::fs::read(&path).unwrap(), a);
         f.write_all(&b).unwrap();
-        f.finish().unwrap();
-        assert_eq!(std::fs::read(&path).unwrap(), [a, b].concat());
+        f.finish().unwrap().close().unwrap();
+        files.push((path, [a, b].concat()));
+        // Every file whole once the spool is closed.
+        for (path, want) in files {
+            assert_eq!(std::fs::read(&path).unwrap(), want, "{}", path.display());
+        }
+    }
+
+    #[test]
+    fn a_failed_write_is_reported() {
+        // A file opened read-only cannot be written: the error comes back from the spool's
+        // thread, at the next buffer handed over or when the spool closes.
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("ro.bin");
+        std::fs::write(&path, b"").unwrap();
+        let mut f = DirectFile::create(&path, Spool::new().unwrap()).unwrap();
+        f.open = Arc::new(Mutex::new(Open {
+            file: File::open(&path).unwrap(),
+            path: path.clone(),
+            direct: false,
+        }));
+        f.write_all(&data(100, 3)).unwrap();
+        let err = f.finish().unwrap().close().unwrap_err();
+        assert!(err.to_string().contains("ro.bin"), "{err}");
     }
 
     #[test]

@@ -18,7 +18,7 @@ use std::fs::File;
 use std::io::{self, BufWriter, Write};
 use std::path::Path;
 
-use super::direct::{Aligned, DirectFile};
+use super::direct::{DirectFile, Spool};
 use crate::frames::Pose;
 use crate::lidar::scan::Scan;
 
@@ -31,7 +31,7 @@ pub struct Kitti {
     imu: BufWriter<File>,
     buf: Vec<u8>,
     /// The scans' files' buffer, reused.
-    aligned: Option<Aligned>,
+    spool: Option<Spool>,
     /// Bytes written.
     pub bytes: u64,
 }
@@ -65,7 +65,7 @@ impl Kitti {
             stamps: create(&dir.join("velodyne/timestamps.txt"))?,
             imu,
             buf: Vec::new(),
-            aligned: None,
+            spool: Some(Spool::new()?),
             bytes: calib.len() as u64,
         })
     }
@@ -79,12 +79,13 @@ impl Kitti {
             }
         }
         let name = format!("velodyne/{:06}.bin", scan.index);
-        let mut file = DirectFile::create(
-            &self.dir.join(name),
-            self.aligned.take().unwrap_or_default(),
-        )?;
+        let spool = self
+            .spool
+            .take()
+            .ok_or_else(|| io::Error::other("an earlier KITTI scan failed to write"))?;
+        let mut file = DirectFile::create(&self.dir.join(name), spool)?;
         file.write_all(&self.buf)?;
-        self.aligned = Some(file.finish()?);
+        self.spool = Some(file.finish()?);
         let m = pose.matrix_3x4();
         let line: Vec<String> = m.iter().map(|x| format!("{x:.9e}")).collect();
         let pose_line = line.join(" ") + "\n";
@@ -121,6 +122,9 @@ impl Kitti {
         self.times.flush()?;
         self.stamps.flush()?;
         self.imu.flush()?;
+        if let Some(spool) = self.spool.take() {
+            spool.close()?;
+        }
         Ok(self.bytes)
     }
 }
