@@ -3,7 +3,7 @@
 For each world folder given: every corridor and ramp edge of ground_truth/graph.json, sampled
 every metre along its polyline (horizontal distance), turns at most LIMIT degrees from one
 metre to the next, away from NEAR metres of its two end nodes; and every point of every
-corridor's polyline stands on a floor of mesh/collision.obj (read with numpy), with room
+corridor's polyline stands on a floor of mesh/collision.obj (read with numpy, obj_reader.py), with room
 above it: the vertical line through the point crosses the surface at most TOL below and
 above it on a triangle facing up (a floor seen from the passage), and nothing else within a
 metre above that floor (but a vertical shaft's landing node, over the shaft's hole). Facing, not parity, so the open surfaces of mesh tiles (the DARPA
@@ -15,11 +15,11 @@ Prints one line per world; exits non-zero (AssertionError) on the first failure.
 
 import json
 import math
-import re
 import sys
 from pathlib import Path
 
 import numpy as np
+from obj_reader import read_obj
 from plane_squares import plane_squares
 
 NEAR = 12.5
@@ -56,65 +56,6 @@ def worst_turn(graph):
             if turn[k] > worst[0]:
                 worst = (float(turn[k]), e["id"], mid[k].tolist())
     return worst
-
-
-def obj_triangles(path):
-    """The triangles of an OBJ file, (n, 3, 3): its `v` lines and its `f` lines' vertex
-    indices (1-based, or negative from the end; `v/vt/vn` forms), read with numpy. Polygons
-    are fanned into triangles. The `v` and `f` lines are found by numpy over the file's bytes
-    and taken a run of lines at a time, not by a Python loop over lines: a lava tube's
-    collision surface is a million triangles (2.6 s line by line, 1.8 s so)."""
-    data = Path(path).read_bytes()
-    buf = np.frombuffer(data + b"\n", dtype=np.uint8)
-    ends = np.flatnonzero(buf == ord("\n"))
-    starts = np.r_[0, ends[:-1] + 1]
-    first = buf[starts]
-    blank = buf[np.minimum(starts + 1, len(buf) - 1)] == ord(" ")
-
-    def lines_of(letter):
-        """The lines starting `letter` and a blank, less that word, and how many. Lines of a
-        kind come in runs (all vertices, then faces by material): one slice a run."""
-        pick = (first == ord(letter)) & blank
-        edges = np.flatnonzero(np.diff(np.r_[0, pick.astype(np.int8), 0]))
-        runs = [data[starts[a] : ends[b - 1]] for a, b in zip(edges[::2], edges[1::2])]
-        prefix = b"\n" + letter.encode() + b" "
-        return (b"\n" + b"\n".join(runs)).replace(prefix, b"\n "), int(pick.sum())
-
-    vtext, _ = lines_of("v")
-    # numpy's own text parser: no Python object per number.
-    v = np.fromstring(vtext, sep=" ").reshape(-1, 3)
-    ftext, nfaces = lines_of("f")
-    flat = None
-    if b"/" not in ftext:
-        flat = np.fromstring(ftext, dtype=np.int64, sep=" ")
-    elif b"//" not in ftext:
-        # `v/vt/vn` (or `v/vt`): with every reference in the first one's form, the slashes
-        # made blanks give each reference's numbers in turn. Each line is a newline and a
-        # blank before each reference, so the blanks count the references; anything else
-        # (mixed forms, extra blanks) fails the counts and is read the slow way.
-        parts = ftext.split(None, 1)[0].count(b"/") + 1
-        refs = ftext.count(b" ")
-        blanks = ftext.translate(bytes.maketrans(b"/", b" "))
-        numbers = np.fromstring(blanks, dtype=np.int64, sep=" ")
-        if ftext.count(b"/") == refs * (parts - 1) and len(numbers) == refs * parts:
-            flat = numbers[::parts]
-    if flat is None or len(flat) != 3 * nfaces:
-        # The slow way: each reference's `/...` cut off, and each face's count (polygons).
-        ftext = re.sub(rb"/\S*", b"", ftext)
-        flat = np.array(ftext.split()).astype(np.int64)
-        counts = np.array([len(l.split()) for l in ftext.split(b"\n") if l.strip()], dtype=np.int64)
-    else:
-        # Every face has three vertices or more: this many means triangles only.
-        counts = np.full(nfaces, 3)
-    flat = np.where(flat < 0, flat + len(v), flat - 1)
-    tris = []
-    starts = np.cumsum(counts) - counts
-    for n in np.unique(counts):
-        first = starts[counts == n]
-        idx = flat[first[:, None] + np.arange(n)]
-        for k in range(1, n - 1):
-            tris.append(v[idx[:, [0, k, k + 1]]])
-    return np.concatenate(tris) if tris else np.zeros((0, 3, 3))
 
 
 class Soup:
@@ -159,7 +100,7 @@ for world in map(Path, sys.argv[2:]):
     graph = json.loads((world / "ground_truth/graph.json").read_text())
     turn, edge, at = worst_turn(graph)
     assert turn <= limit, f"{world.name}: edge {edge} turns {turn:.1f} degrees in a metre at {at}"
-    soup = Soup(obj_triangles(world / "mesh/collision.obj"))
+    soup = Soup(read_obj(world / "mesh/collision.obj").corners())
     checked = 0
     # A vertical shaft's landing node stands over the shaft's hole (its collar, issue 24): not
     # on a floor.

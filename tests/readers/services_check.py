@@ -22,6 +22,7 @@ from collections import Counter
 from pathlib import Path
 
 import numpy as np
+from obj_reader import read_obj
 import trimesh
 from pxr import Usd, UsdGeom
 
@@ -36,15 +37,8 @@ def fail(msg):
 
 
 def obj_faces_by_material(path):
-    """Faces per `usemtl` group of an OBJ, read line by line."""
-    faces, current = Counter(), None
-    with open(path) as f:
-        for line in f:
-            if line.startswith("usemtl "):
-                current = line.split()[1]
-            elif line.startswith("f "):
-                faces[current] += 1
-    return faces
+    """Faces per `usemtl` group of an OBJ."""
+    return Counter(read_obj(path).faces)
 
 
 def near(mesh, centroids, points, radius, xy=False):

@@ -21,6 +21,7 @@ from collections import defaultdict
 from pathlib import Path
 
 import numpy as np
+from obj_reader import read_obj
 
 TOLERANCE = 2e-3  # metres: the OBJ's 0.1 mm digits and float32 in the simulators
 
@@ -44,21 +45,12 @@ def read_mtl(path):
 
 def read_obj_by_material(path):
     """Per `usemtl` group of an OBJ: (faces, distinct vertices used, bounds min, bounds max)."""
-    verts, faces, current = [], defaultdict(list), None
-    with open(path) as f:
-        for line in f:
-            if line.startswith("v "):
-                verts.append(line.split()[1:4])
-            elif line.startswith("usemtl "):
-                current = line.split()[1]
-            elif line.startswith("f "):
-                faces[current].append([int(t.split("/")[0]) - 1 for t in line.split()[1:4]])
-    verts = np.array(verts, dtype=float)
+    obj = read_obj(path)
     out = {}
-    for m, fs in faces.items():
-        used = np.unique(np.array(fs))
-        v = verts[used]
-        out[m] = (len(fs), len(used), v.min(axis=0), v.max(axis=0))
+    for m, tris in obj.by_material().items():
+        used = np.unique(tris)
+        v = obj.vertices[used]
+        out[m] = (obj.faces[m], len(used), v.min(axis=0), v.max(axis=0))
     return out
 
 

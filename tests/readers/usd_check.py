@@ -15,18 +15,13 @@ import sys
 from pathlib import Path
 
 import numpy as np
+from obj_reader import read_obj
 from pxr import Usd, UsdGeom, UsdPhysics, UsdShade
 
 
 def obj_counts(path):
-    v = f = 0
-    with open(path) as fh:
-        for line in fh:
-            if line.startswith("v "):
-                v += 1
-            elif line.startswith("f "):
-                f += 1
-    return v, f
+    obj = read_obj(path)
+    return len(obj.vertices), sum(obj.faces.values())
 
 
 def fail(msg):

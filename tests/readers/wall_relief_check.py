@@ -19,30 +19,13 @@ import json
 import sys
 
 import numpy as np
+import obj_reader
 
 
 def read_obj(path):
     """Vertices (N x 3) and, per material name, its triangles (M x 3, zero-based)."""
-    verts = []
-    faces = {}
-    current = None
-    with open(path, "rb") as f:
-        for line in f:
-            if line.startswith(b"v "):
-                verts.append(line[2:])
-            elif line.startswith(b"f "):
-                parts = line[2:].split()
-                faces.setdefault(current, []).append(
-                    [int(p.split(b"/")[0]) for p in parts[:3]]
-                )
-            elif line.startswith(b"usemtl "):
-                current = line[7:].strip().decode()
-    v = np.array([np.array(x.split(), dtype=float) for x in verts]) if verts else np.zeros((0, 3))
-    out = {}
-    for name, tris in faces.items():
-        t = np.array(tris, dtype=np.int64)
-        out[name] = np.where(t > 0, t - 1, len(v) + t)
-    return v, out
+    obj = obj_reader.read_obj(path)
+    return obj.vertices, obj.by_material()
 
 
 def straight_cells(topology):
