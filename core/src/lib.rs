@@ -26,6 +26,7 @@ pub mod assembly;
 pub mod budget;
 pub mod components;
 pub mod config;
+pub mod direct_file;
 pub mod error;
 pub mod export;
 pub mod generate;

@@ -22,6 +22,7 @@ mod rename;
 use std::fs;
 use std::path::{Path, PathBuf};
 
+use subtgraph_core::direct_file::{DirectFile, Spool};
 use subtgraph_core::export::WorldWriter;
 
 pub use manifest::Kind;
@@ -32,15 +33,67 @@ use out::Before;
 use rename::{exchange, is_exists, keep_elsewhere, rename_noreplace, temporary_name};
 
 /// Writes files under a folder, creating subfolders as needed.
-#[derive(Debug)]
+///
+/// Streamed files and large ones (a world's meshes and scene files, most of its bytes) go
+/// around the page cache, written by a thread of their own ([`subtgraph_core::direct_file`]):
+/// on the development machine the kernel's copy into its cache cost about 2 s of CPU a GB.
+/// [`close`](FolderWriter::close) waits for those writes and reports the first that failed;
+/// the folder is sealed only after it.
 pub struct FolderWriter {
     root: PathBuf,
+    /// The thread writing streamed and large files, once there is one.
+    spool: Option<Spool>,
 }
 
+impl std::fmt::Debug for FolderWriter {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("FolderWriter")
+            .field("root", &self.root)
+            .finish_non_exhaustive()
+    }
+}
+
+/// Files at least this large are written around the page cache (smaller ones the ordinary way:
+/// a thread's round trip would cost more than the copy).
+const DIRECT_FROM: usize = 1 << 20;
+
 impl FolderWriter {
+    /// A writer of files under `root`.
+    fn new(root: &Path) -> FolderWriter {
+        FolderWriter {
+            root: root.to_owned(),
+            spool: None,
+        }
+    }
+
     /// The folder files go to.
     pub fn root(&self) -> &Path {
         &self.root
+    }
+
+    /// Writes `path` around the page cache through the spool, `fill` giving its bytes.
+    fn direct(
+        &mut self,
+        path: &Path,
+        fill: &mut dyn FnMut(&mut dyn std::io::Write) -> std::io::Result<()>,
+    ) -> std::io::Result<()> {
+        let spool = match self.spool.take() {
+            Some(s) => s,
+            None => Spool::new()?,
+        };
+        let mut file = DirectFile::create(path, spool)?;
+        fill(&mut file)?;
+        self.spool = Some(file.finish()?);
+        Ok(())
+    }
+
+    /// Waits for every file handed to the writing thread to be written; the first write that
+    /// failed is the error.
+    pub fn close(&mut self) -> std::io::Result<()> {
+        match self.spool.take() {
+            Some(spool) => spool.close(),
+            None => Ok(()),
+        }
     }
 }
 
@@ -67,7 +120,11 @@ impl FolderWriter {
 
 impl WorldWriter for FolderWriter {
     fn write(&mut self, path: &str, bytes: &[u8]) -> std::io::Result<()> {
-        fs::write(self.path_of(path)?, bytes)
+        let path = self.path_of(path)?;
+        if bytes.len() < DIRECT_FROM {
+            return fs::write(path, bytes);
+        }
+        self.direct(&path, &mut |w| w.write_all(bytes))
     }
 
     fn contains(&self, path: &str) -> bool {
@@ -79,10 +136,8 @@ impl WorldWriter for FolderWriter {
         path: &str,
         fill: &mut dyn FnMut(&mut dyn std::io::Write) -> std::io::Result<()>,
     ) -> std::io::Result<()> {
-        let file = fs::File::create(self.path_of(path)?)?;
-        let mut w = std::io::BufWriter::with_capacity(1 << 20, file);
-        fill(&mut w)?;
-        std::io::Write::flush(&mut w)
+        let path = self.path_of(path)?;
+        self.direct(&path, fill)
     }
 }
 
@@ -282,10 +337,9 @@ fn fill_and_seal<E: std::error::Error + Send + Sync + 'static>(
         manifest::partial_text(&manifest::Owner::this_process()),
     )
     .map_err(io("writing", &marker))?;
-    let mut writer = FolderWriter {
-        root: tmp.to_owned(),
-    };
+    let mut writer = FolderWriter::new(tmp);
     fill(&mut writer).map_err(|e| FolderError::Content(Box::new(e)))?;
+    writer.close().map_err(io("writing", tmp))?;
     let files = manifest::list_files(tmp).map_err(io("listing", tmp))?;
     fs::write(&marker, manifest::complete_text(kind, &files)).map_err(io("writing", &marker))?;
     Ok(())
@@ -589,9 +643,7 @@ mod tests {
     #[test]
     fn paths_may_not_leave_the_folder() {
         let dir = tempfile::tempdir().unwrap();
-        let mut w = FolderWriter {
-            root: dir.path().to_owned(),
-        };
+        let mut w = FolderWriter::new(dir.path());
         assert!(w.write("../escape", b"").is_err());
         assert!(w.write("/etc/passwd", b"").is_err());
         w.write("maps/level-0.png", b"").unwrap();

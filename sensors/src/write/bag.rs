@@ -18,11 +18,11 @@ use std::io;
 use std::path::{Path, PathBuf};
 
 use super::cdr::{self, FLOAT32, FLOAT64, Field, UINT8, UINT16, UINT32};
-use super::direct::{DirectFile, Spool};
 use super::mcap::Mcap;
 use crate::frames::Pose;
 use crate::lidar::scan::Scan;
 use crate::lidar::{Driver, LidarModel};
+use subtgraph_core::direct_file::{DirectFile, Spool};
 
 /// Frame names.
 pub const MAP: &str = "map";

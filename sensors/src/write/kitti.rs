@@ -18,9 +18,9 @@ use std::fs::File;
 use std::io::{self, BufWriter, Write};
 use std::path::Path;
 
-use super::direct::{DirectFile, Spool};
 use crate::frames::Pose;
 use crate::lidar::scan::Scan;
+use subtgraph_core::direct_file::{DirectFile, Spool};
 
 /// The KITTI and TUM files being written.
 pub struct Kitti {

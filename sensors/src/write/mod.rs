@@ -1,11 +1,10 @@
 //! The sequence folder's files: the ROS 2 bag ([`bag`], over [`mcap`] and [`cdr`]), the KITTI
 //! folder and the TUM ground truth ([`kitti`]); `sequence.json` is written by
 //! [`crate::sequence`]. The bag and the KITTI scans, most of the bytes, go around the page
-//! cache ([`direct`]).
+//! cache ([`subtgraph_core::direct_file`]).
 
 pub mod bag;
 pub mod cdr;
-pub mod direct;
 pub mod kitti;
 pub mod mcap;
 
