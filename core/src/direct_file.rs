@@ -69,8 +69,17 @@ struct Open {
     direct: bool,
 }
 
+impl Open {
+    /// From here on, the ordinary way (`O_DIRECT` cleared).
+    fn plain(&mut self) -> io::Result<()> {
+        clear_direct(&self.file)?;
+        self.direct = false;
+        Ok(())
+    }
+}
+
 /// A buffer to write: its first `len` bytes go to the end of `open`; with `last`, the partial
-/// block at the end too (after which the file is written the ordinary way).
+/// block at the end too (written the ordinary way, as is all that follows it).
 struct Job {
     open: Arc<Mutex<Open>>,
     buf: Aligned,
@@ -194,7 +203,7 @@ fn stopped() -> io::Error {
 /// blocks unless `last`), the last partial block the ordinary way.
 fn write_out(open: &mut Open, bytes: &[u8], last: bool) -> io::Result<()> {
     let with_path =
-        |e: io::Error| io::Error::new(e.kind(), format!("{}: {e}", open.path.display()));
+        |path: &Path, e: io::Error| io::Error::new(e.kind(), format!("{}: {e}", path.display()));
     let mut done = 0;
     while done < bytes.len() {
         if open.direct && bytes.len() - done < ALIGN {
@@ -203,8 +212,7 @@ fn write_out(open: &mut Open, bytes: &[u8], last: bool) -> io::Result<()> {
                 "only the last buffer of a file ends in a partial block"
             );
             // The last partial block: the ordinary way.
-            clear_direct(&open.file).map_err(with_path)?;
-            open.direct = false;
+            open.plain().map_err(|e| with_path(&open.path, e))?;
         }
         let end = if open.direct {
             done + (bytes.len() - done) / ALIGN * ALIGN
@@ -212,21 +220,16 @@ fn write_out(open: &mut Open, bytes: &[u8], last: bool) -> io::Result<()> {
             bytes.len()
         };
         match open.file.write(&bytes[done..end]) {
-            Ok(0) => return Err(with_path(io::ErrorKind::WriteZero.into())),
+            Ok(0) => return Err(with_path(&open.path, io::ErrorKind::WriteZero.into())),
             Ok(n) => done += n,
             Err(e) if e.kind() == io::ErrorKind::Interrupted => {}
             // Refused after all (the file system takes the flag at open but not the
             // writes): the ordinary way from here.
             Err(e) if open.direct && e.kind() == io::ErrorKind::InvalidInput => {
-                clear_direct(&open.file).map_err(with_path)?;
-                open.direct = false;
+                open.plain().map_err(|e| with_path(&open.path, e))?;
             }
-            Err(e) => return Err(with_path(e)),
+            Err(e) => return Err(with_path(&open.path, e)),
         }
-    }
-    if last && open.direct {
-        clear_direct(&open.file).map_err(with_path)?;
-        open.direct = false;
     }
     Ok(())
 }
@@ -294,8 +297,8 @@ impl Write for DirectFile {
         Ok(n)
     }
 
-    /// Writes everything gathered, the partial last block included (after which the file is
-    /// written the ordinary way), and waits until it is written.
+    /// Writes everything gathered, a partial last block included (that block, and all that
+    /// follows it, the ordinary way), and waits until it is written.
     fn flush(&mut self) -> io::Result<()> {
         self.hand_over(true)?;
         self.spool.wait()

@@ -197,7 +197,10 @@ impl RayCaster {
     ) -> Option<Hit> {
         #[cfg(target_arch = "x86_64")]
         if wide::available() {
-            return wide::cast(self, origin, dir, max, stack);
+            #[allow(unsafe_code)]
+            // SAFETY: `wide::cast` only needs the processor to have AVX2, which `available`
+            // has just said it does.
+            return unsafe { wide::cast(self, origin, dir, max, stack) };
         }
         self.traverse(origin, dir, max, stack)
     }
@@ -393,32 +396,21 @@ mod wide {
         std::is_x86_feature_detected!("avx2")
     }
 
-    /// [`RayCaster::traverse`] compiled with AVX2; call only when [`available`] says so.
-    #[inline]
-    pub(super) fn cast(
+    /// [`RayCaster::traverse`] compiled with AVX2.
+    ///
+    /// # Safety
+    ///
+    /// The processor must have AVX2 ([`available`]).
+    #[target_feature(enable = "avx2")]
+    #[allow(unsafe_code)]
+    pub(super) unsafe fn cast(
         caster: &RayCaster,
         origin: [f64; 3],
         dir: [f64; 3],
         max: f64,
         stack: &mut [Entry; STACK],
     ) -> Option<Hit> {
-        #[target_feature(enable = "avx2")]
-        fn with_avx2(
-            caster: &RayCaster,
-            origin: [f64; 3],
-            dir: [f64; 3],
-            max: f64,
-            stack: &mut [Entry; STACK],
-        ) -> Option<Hit> {
-            caster.traverse(origin, dir, max, stack)
-        }
-        debug_assert!(available());
-        #[allow(unsafe_code)]
-        // SAFETY: `with_avx2` only needs the processor to have AVX2, which the only caller,
-        // `RayCaster::cast_in`, checks with `available` just before.
-        unsafe {
-            with_avx2(caster, origin, dir, max, stack)
-        }
+        caster.traverse(origin, dir, max, stack)
     }
 }
 

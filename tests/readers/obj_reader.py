@@ -104,20 +104,21 @@ def read_obj(path):
     at = np.searchsorted(np.asarray(use_lines, dtype=np.int64), face_lines, side="right") - 1
     face_material = np.where(at >= 0, np.asarray(use_index + [-1], dtype=np.int64)[at], -1)
 
-    tris, mats = [], []
+    # Fans, faces of each size at a time; `face_of` says whose each triangle is.
+    tris, face_of = [], []
     fstarts = np.cumsum(counts) - counts
     for n in np.unique(counts):
         which = np.flatnonzero(counts == n)
         idx = flat[fstarts[which][:, None] + np.arange(n)]
         for k in range(1, n - 1):
             tris.append(np.stack([idx[:, 0], idx[:, k], idx[:, k + 1]], axis=1))
-            mats.append(face_material[which])
+            face_of.append(which)
     if tris:
-        # Back in the file's order (faces of three first otherwise).
-        keys = [fstarts[counts == n] for n in np.unique(counts) for _ in range(1, n - 1)]
-        order = np.argsort(np.concatenate(keys), kind="stable")
+        # Back in the file's order: by face, a face's fan in order (the sort is stable).
+        face = np.concatenate(face_of)
+        order = np.argsort(face, kind="stable")
         triangles = np.concatenate(tris)[order]
-        material = np.concatenate(mats)[order]
+        material = face_material[face[order]]
     else:
         triangles = np.zeros((0, 3), dtype=np.int64)
         material = np.zeros(0, dtype=np.int64)
