@@ -4,8 +4,10 @@
 //! and the floor between the walls stays smooth (tests/readers/floor_flatness_check.py); the
 //! relief holds a LiDAR's scan
 //! registration along the drift (the sensor's degeneracy labels); the same bytes on 1 and 3
-//! threads; refuge bays are recesses in the mesh exactly where the semantic labels say; bad
-//! keys refused with what to change.
+//! threads; refuge bays are recesses in the mesh exactly where the semantic labels say; mesh
+//! panels cover the back and the walls from `mesh_from` up, with the wire grid and the
+//! half-barrel marks in their textures (tests/readers/mesh_panels_check.py), and off change
+//! no geometry; bad keys refused with what to change.
 
 use std::path::Path;
 
@@ -176,6 +178,61 @@ fn refuge_bays_are_recesses_where_the_labels_say() {
 }
 
 #[test]
+fn mesh_panels_cover_the_back_from_mesh_from_up_and_off_change_no_geometry() {
+    let dir = tempfile::tempdir().unwrap();
+    let (on, off) = (dir.path().join("on"), dir.path().join("off"));
+    generate(
+        &small_mine(dir.path(), "on", "mesh_from = 2.5"),
+        &on,
+        "obj,ground-truth",
+    );
+    generate(
+        &small_mine(dir.path(), "off", "mesh_from = 0"),
+        &off,
+        "obj,ground-truth",
+    );
+    // Off, the ground truth is the same: the panels are paint on the same rock.
+    for f in [
+        "mesh/collision.obj",
+        "ground_truth/graph.json",
+        "ground_truth/free_space.npy",
+    ] {
+        assert!(
+            std::fs::read(on.join(f)).unwrap() == std::fs::read(off.join(f)).unwrap(),
+            "{f} changed with the mesh panels"
+        );
+    }
+    let labels = |w: &Path| std::fs::read_to_string(w.join("ground_truth/semantic_labels.json"));
+    assert!(labels(&on).unwrap().contains("\"mesh-panels\""));
+    assert!(!labels(&off).unwrap().contains("mesh-panels"));
+    assert!(!off.join("mesh/textures/meshed-wall-albedo.png").exists());
+    let Some(out) = common::read_with_python(
+        &["numpy", "PIL"],
+        "mesh_panels_check.py",
+        &[arg(&on), "--mesh-from", "2.5", "--plain", arg(&off)],
+    ) else {
+        return;
+    };
+    let v: serde_json::Value = serde_json::from_str(out.trim()).unwrap();
+    let f = |k: &str| v[k].as_f64().unwrap();
+    // The mesh ends 2.5 m up, within a lattice cell (0.83 m) and the relief.
+    assert!(f("meshed_low_m") > 2.5 - 1.0, "{v}");
+    assert!(f("wall_high_m") < 2.5 + 1.0, "{v}");
+    assert!(f("meshed_low_m") < f("wall_high_m"), "the two meet: {v}");
+    // The whole back is under mesh.
+    assert!(f("back_meshed_share") > 0.95, "{v}");
+    // Its texture is a grid of 100 mm cells (30 per 3 m repeat) both ways; the rock below
+    // carries half-barrel marks along the drift, which the rock of a world without mesh
+    // (whose back would show them across a drift running north) does not.
+    assert_eq!(v["grid_cycles"], serde_json::json!([30, 30]), "{v}");
+    assert!(f("mark_correlation") > 0.15, "{v}");
+    assert!(f("plain_mark_correlation").abs() < 0.08, "{v}");
+    // The same triangles, only their materials changed.
+    assert_eq!(v["same_geometry"], true, "{v}");
+    assert_eq!(v["plain_meshed"], 0, "{v}");
+}
+
+#[test]
 fn blasted_mine_is_the_same_on_one_and_three_threads() {
     let dir = tempfile::tempdir().unwrap();
     // The default (blasted) finish with its own round length.
@@ -196,6 +253,14 @@ fn finish_keys_are_checked_with_what_to_change() {
         ("round_length = 0.1", "advance of one blast round"),
         ("roughness = 0.1\nfinish = \"blasted\"", "set relief"),
         ("refuge_spacing = 5", "metres of straight drift per bay"),
+        (
+            "mesh_from = 0.1",
+            "where the mesh on the walls and back ends",
+        ),
+        (
+            "mesh_from = -2",
+            "where the mesh on the walls and back ends",
+        ),
     ] {
         let p = small_mine(dir.path(), "bad", extra);
         let err = common::fails(&["generate", arg(&p), "--out", arg(&out)]);
@@ -210,4 +275,10 @@ fn finish_keys_are_checked_with_what_to_change() {
     .unwrap();
     let err = common::fails(&["generate", arg(&cave), "--out", arg(&out)]);
     assert!(err.contains("only mine has"), "{err}");
+    std::fs::write(&cave, "[tileset]\ntype = \"cave\"\nmesh_from = 2\n").unwrap();
+    let err = common::fails(&["generate", arg(&cave), "--out", arg(&out)]);
+    assert!(
+        err.contains("mesh panels") && err.contains("mesh_from"),
+        "{err}"
+    );
 }

@@ -16,15 +16,21 @@ import sys
 
 import numpy as np
 
-from wall_relief_check import buckets, floor_fit, labelled, read_obj, straight_cells
+from wall_relief_check import (
+    buckets,
+    floor_fit,
+    labelled,
+    read_obj,
+    straight_cells,
+    wall_vertices,
+)
 
 
 def main():
     world = sys.argv[1]
     topology = json.load(open(f"{world}/topology.json"))
     verts, groups = read_obj(f"{world}/mesh/world.obj")
-    wall = next(n for n in groups if n.endswith("-wall"))
-    walls_by = buckets(verts[np.unique(groups[wall])], topology)
+    walls_by = buckets(verts[wall_vertices(groups)], topology)
     all_by = buckets(verts, topology)
     pitch = topology["tile_pitch_m"]
     rows = topology["rows"]

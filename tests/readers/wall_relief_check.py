@@ -5,7 +5,7 @@ fitted here, apart from the tile sets' code.
 
 For every straight cell of the world's topology (topology.json: a corridor cell whose two
 neighbours on its edge lie in line with it), the vertices of the wall-material triangles
-(the first `usemtl` group of world.obj whose name ends in `-wall`) inside the cell's slab along
+(every `usemtl` group of world.obj whose name ends in `-wall`) inside the cell's slab along
 the passage are split into the two sides. Each side's vertices between 1.2 m and 3.0 m above
 the floor (a quadratic along the passage fitted to the lowest vertices near its axis) are fitted with a
 plane `across = a + b * along + c * z` by least squares: the passage as designed, straight and
@@ -26,6 +26,15 @@ def read_obj(path):
     """Vertices (N x 3) and, per material name, its triangles (M x 3, zero-based)."""
     obj = obj_reader.read_obj(path)
     return obj.vertices, obj.by_material()
+
+
+def wall_vertices(groups):
+    """Indices of the vertices of the rock walls and back: every material group whose name
+    ends in `-wall` (the mine's `meshed-wall`, the rock under its mesh panels, too)."""
+    walls = [groups[n] for n in groups if n.endswith("-wall")]
+    if not walls:
+        raise SystemExit("no material group ending in -wall in world.obj")
+    return np.unique(np.concatenate([np.asarray(t).reshape(-1) for t in walls]))
 
 
 def straight_cells(topology):
@@ -95,11 +104,9 @@ def measure(world):
     # the recesses themselves).
     bays = labelled(world, "refuge-bay")
     verts, groups = read_obj(f"{world}/mesh/world.obj")
-    wall = next(n for n in groups if n.endswith("-wall"))
-    wall_v = verts[np.unique(groups[wall])]
+    wall_v = verts[wall_vertices(groups)]
     pitch = topology["tile_pitch_m"]
     rows = topology["rows"]
-    lh = topology["level_height_m"]
     residuals = []
     sides = 0
     walls_by = buckets(wall_v, topology)

@@ -238,6 +238,8 @@ impl<'a> LocalField<'a> {
         }
         let mut material = if best_v < 0.35 {
             material::FLOOR
+        } else if ps.mesh_from > 0.0 && best_v >= ps.mesh_from {
+            material::MESHED
         } else if ps.striations
             && best.abs() < cutoff
             && self.bands.at(p[0] / 9.0, p[1] / 9.0, p[2] / 1.2) > 0.25

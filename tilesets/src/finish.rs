@@ -18,9 +18,13 @@
 //! the lattice's interpolation between a floor point and one above it cannot carry the relief
 //! into the floor, and a robot drives on what it always did.
 //!
-//! Half-barrel marks (the 45 mm drill-hole remnants) are narrower than the lattice of any
-//! practical `[tileset] resolution` (at the default 24 cells per 20 m pitch a cell is 0.83 m),
-//! so marching tetrahedra cannot hold them; they are not modelled as geometry.
+//! Half-barrel marks (the 45 mm drill-hole remnants) and welded mesh panels (5.6 mm wire on a
+//! 100 mm grid) are narrower than the lattice of any practical `[tileset] resolution` (at the
+//! default 24 cells per 20 m pitch a cell is 0.83 m), so marching tetrahedra cannot hold them,
+//! and a LiDAR sees the rock through the mesh. They are painted: rock from
+//! [`Passage::mesh_from`](crate::passage::Passage::mesh_from) above the floor up takes the
+//! `meshed-wall` material, whose texture shows the wire grid, and the blasted wall below it
+//! shows the marks (`crate::textures::rock`, `Look::Mesh` and `Look::Blasted`).
 
 use crate::noise::Noise;
 

@@ -46,6 +46,7 @@ pub fn from_params(p: &Params) -> Result<Procedural, ConfigError> {
                 finish: crate::finish::Finish::Plain,
                 refuge_spacing: 0.0,
                 services: crate::services::Services::NONE,
+                mesh_from: 0.0,
                 roughness_scale: 0.6,
                 floor_roughness: 0.0,
                 rocks: 0.0,

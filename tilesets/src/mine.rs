@@ -17,6 +17,11 @@ use crate::slope::Slope;
 /// Default metres of straight drift per refuge bay (`[tileset] refuge_spacing`).
 pub const REFUGE_SPACING: f64 = 150.0;
 
+/// Default metres above the floor from which mesh panels cover the walls and back
+/// (`[tileset] mesh_from`): a common rule meshes a development drift down to within 2 m of
+/// the floor.
+pub const MESH_FROM: f64 = 2.0;
+
 /// A drift profile: walls up to 60 % of the height, then an elliptical arch.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct Drift;
@@ -70,6 +75,8 @@ pub fn from_params(p: &Params) -> Result<Procedural, ConfigError> {
                 // Rock bolts, a ventilation duct, pipes, a cable run and lights
                 // (`crate::services`).
                 services: Services::MINE,
+                // Welded mesh over the back and the walls from 2 m up (painted: `crate::finish`).
+                mesh_from: MESH_FROM,
                 roughness_scale: 0.25,
                 floor_roughness: 0.0,
                 rocks: 0.0,

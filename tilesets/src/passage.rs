@@ -21,6 +21,9 @@ pub mod material {
     pub const ROCK: u8 = 2;
     /// Striated bands on the walls.
     pub const STRIATED: u8 = 3;
+    /// Walls and back under welded mesh panels (from [`Passage::mesh_from`](super::Passage)
+    /// up): the tile set's materials are the four above, so this one follows them.
+    pub const MESHED: u8 = 4;
 }
 
 /// The shape of a passage across its axis.
@@ -60,6 +63,9 @@ pub struct Passage {
     pub refuge_spacing: f64,
     /// Bolts, duct, pipes, cable and lights (see [`crate::services`]).
     pub services: Services,
+    /// Metres above the floor from which welded mesh panels cover the walls and back
+    /// (0: none). They are painted, not modelled: see [`crate::finish`] for why.
+    pub mesh_from: f64,
     /// Size of wall relief features.
     pub roughness_scale: f64,
     /// Amplitude of floor rubble.
@@ -102,6 +108,7 @@ impl Default for Passage {
             finish: Finish::Plain,
             refuge_spacing: 0.0,
             services: Services::NONE,
+            mesh_from: 0.0,
             roughness_scale: 0.45,
             floor_roughness: 0.03,
             rocks: 0.0,

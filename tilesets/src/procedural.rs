@@ -25,6 +25,7 @@ use crate::ramp::{self, Helix, Sizing, Unfit};
 use crate::services::{ServiceSettings, Services};
 use crate::slope::Slope;
 use crate::textures::Textures;
+use crate::textures::rock::Look;
 
 /// Triangles per lattice cell of surface that marching tetrahedra make on these fields
 /// (measured on the presets; see the test `estimates_follow_the_meshes`).
@@ -60,6 +61,9 @@ pub struct Settings {
     /// Metres of straight drift per refuge bay on average, in tile sets with bays (mine:
     /// 150; 0 for none).
     pub refuge_spacing: Option<f64>,
+    /// Metres above the floor from which welded mesh panels cover the walls and back, in tile
+    /// sets with finishes (mine: 2; 0 for none). Painted in the textures, not modelled.
+    pub mesh_from: Option<f64>,
     /// Rocks per tile (0 for none).
     pub rocks: Option<f64>,
     /// `false`: no services (bolts, duct, pipes, cable, lights), in tile sets with them (mine;
@@ -120,12 +124,24 @@ pub struct Style {
 pub struct Procedural {
     style: Style,
     settings: Settings,
-    enabled: [bool; 4],
+    enabled: [bool; 5],
     textures: Textures,
     services: Services,
 }
 
 impl Procedural {
+    /// The rock surfaces' materials ([`surface_materials`]), before the services'.
+    fn surfaces(&self) -> Vec<Material> {
+        surface_materials(&self.style.materials, self.mesh_from())
+    }
+
+    /// Metres above the floor where mesh panels start (0: none), as asked or the style's.
+    fn mesh_from(&self) -> f64 {
+        self.settings
+            .mesh_from
+            .unwrap_or(self.style.shape.mesh_from)
+    }
+
     /// Builds a tile set from a style and the `[tileset]` table.
     pub fn from_params(style: Style, params: &Params) -> Result<Self, ConfigError> {
         let settings: Settings = params.deserialize()?;
@@ -171,10 +187,14 @@ impl Procedural {
         }
         check_rooms(&settings, params)?;
         check_finish(&style, &settings, params)?;
-        let mut enabled = [true; 4];
+        let surfaces = surface_materials(
+            &style.materials,
+            settings.mesh_from.unwrap_or(style.shape.mesh_from),
+        );
+        let mut enabled = [true; 5];
         if let Some(list) = &settings.materials {
-            let names: Vec<&str> = style.materials.iter().map(|m| m.name.as_str()).collect();
-            enabled = [false; 4];
+            let names: Vec<&str> = surfaces.iter().map(|m| m.name.as_str()).collect();
+            enabled = [false; 5];
             enabled[usize::from(material::WALL)] = true;
             for m in list {
                 match names.iter().position(|n| n == m) {
@@ -204,14 +224,25 @@ impl Procedural {
             params,
             style.name,
         )?;
-        let textures = Textures::from_params(params, &services.materials(&style.materials))?;
-        Ok(Self {
+        let textures = Textures::from_params(params, &services.materials(&surfaces))?;
+        let mut tileset = Self {
             style,
             settings,
             enabled,
             textures,
             services,
-        })
+        };
+        // Half-barrel marks run along the drift, and the box projection lays them along it
+        // on walls alone, so they are drawn where the back is under mesh (`crate::finish`;
+        // not when `materials` leaves the mesh out and the wall material takes the back).
+        if matches!(tileset.finish(), Finish::Blasted { .. })
+            && tileset.mesh_from() > 0.0
+            && tileset.enabled[usize::from(material::MESHED)]
+        {
+            let wall = &tileset.style.materials[usize::from(material::WALL)].name;
+            tileset.textures = tileset.textures.clone().with_look(wall, Look::Blasted);
+        }
+        Ok(tileset)
     }
 
     /// The passage knobs in metres for a world.
@@ -244,6 +275,7 @@ impl Procedural {
             meander: (base.meander * pitch).min(room).max(0.0),
             hazard_lattice: pitch / f64::from(self.resolution().1),
             services: self.services,
+            mesh_from: self.mesh_from(),
             ..base.clone()
         };
         passage.slope = self.slope(world, &passage);
@@ -607,6 +639,19 @@ impl Procedural {
     }
 }
 
+/// The materials of a tile set's rock surfaces: its style's, then the meshed walls' when
+/// mesh panels are on (at [`material::MESHED`]).
+fn surface_materials(style: &[Material], mesh_from: f64) -> Vec<Material> {
+    debug_assert_eq!(style.len(), usize::from(material::MESHED));
+    let mut out = style.to_vec();
+    if mesh_from > 0.0 {
+        // A little lighter than the rock: the galvanised wire, where no texture shows it.
+        let c = style[usize::from(material::WALL)].colour;
+        out.push(Material::coloured("meshed-wall", c.map(|c| c * 0.85 + 0.1)));
+    }
+    out
+}
+
 /// Checks the `finish`, `relief` and `round_length` keys: known values, in a tile set that has
 /// finishes, not mixed with the plain relief's `roughness`.
 fn check_finish(style: &Style, s: &Settings, params: &Params) -> Result<(), ConfigError> {
@@ -614,7 +659,8 @@ fn check_finish(style: &Style, s: &Settings, params: &Params) -> Result<(), Conf
     let asked = s.finish.is_some()
         || s.relief.is_some()
         || s.round_length.is_some()
-        || s.refuge_spacing.is_some();
+        || s.refuge_spacing.is_some()
+        || s.mesh_from.is_some();
     // A tile set with finishes is one whose style has a finish or refuge bays of its own (the
     // mine: blasted walls and refuge bays by default).
     let has_finishes = !style.shape.finish.is_plain() || style.shape.refuge_spacing > 0.0;
@@ -625,14 +671,16 @@ fn check_finish(style: &Style, s: &Settings, params: &Params) -> Result<(), Conf
             "relief"
         } else if s.round_length.is_some() {
             "round_length"
-        } else {
+        } else if s.refuge_spacing.is_some() {
             "refuge_spacing"
+        } else {
+            "mesh_from"
         };
         return Err(params.error(
             key,
             format!(
-                "the {name} tile set has no wall finishes or refuge bays (only mine has: \
-                 blasted, shotcrete); set its wall relief with roughness"
+                "the {name} tile set has no wall finishes, refuge bays or mesh panels (only \
+                 mine has them); remove {key} (its wall relief is set with roughness)"
             ),
         ));
     }
@@ -677,6 +725,15 @@ fn check_finish(style: &Style, s: &Settings, params: &Params) -> Result<(), Conf
             "refuge_spacing",
             "must be 0 (no refuge bays) or at least 20 metres of straight drift per bay on \
              average, e.g. refuge_spacing = 150",
+        ));
+    }
+    if s.mesh_from
+        .is_some_and(|m| !(m.is_finite() && (m == 0.0 || (0.5..=20.0).contains(&m))))
+    {
+        return Err(params.error(
+            "mesh_from",
+            "must be 0 (no mesh panels) or from 0.5 to 20 metres above the floor, where the \
+             mesh on the walls and back ends, e.g. mesh_from = 2",
         ));
     }
     Ok(())
@@ -805,6 +862,9 @@ impl TileSet for Procedural {
                 .map(|h| vec![h.region])
                 .unwrap_or_default();
         let mut labels = crate::chambers::labels(&chamber, &squeeze);
+        if visual.materials.contains(&material::MESHED) {
+            labels.push("mesh-panels");
+        }
         if crate::refuge::of_cell(
             world,
             ctx.cell,
@@ -840,29 +900,26 @@ impl TileSet for Procedural {
         )],
     ) -> Result<subtgraph_core::mesh::Fixtures, TileSetError> {
         let seed = subtgraph_core::rng::derive_seed(world.resolved.seed, "services", 0);
-        let first = self.style.materials.len() as u8;
+        let first = self.surfaces().len() as u8;
         let p = self.passage(world);
         // The nominal section less its variation and relief: the rock is never nearer.
         let drift = crate::services::Drift {
             size: [p.width, p.height],
             back: p.height * (1.0 - p.height_variation) - p.roughness,
             wall: 0.5 * p.width * (1.0 - p.width_variation) - p.roughness,
-            rock: [
-                crate::passage::material::WALL,
-                crate::passage::material::STRIATED,
-            ],
+            rock: [material::WALL, material::STRIATED, material::MESHED],
         };
         Ok(self.services.place(drift, visual, axes, seed, first))
     }
 
     fn materials(&self) -> Vec<Material> {
         self.textures
-            .apply(&self.services.materials(&self.style.materials))
+            .apply(&self.services.materials(&self.surfaces()))
     }
 
     fn textures(&self, seed: u64) -> Result<Vec<ImageFile>, TileSetError> {
         Ok(self.textures.files(
-            &self.services.materials(&self.style.materials),
+            &self.services.materials(&self.surfaces()),
             seed,
             f64::from(TEXTURE_REPEAT),
         ))
@@ -895,6 +952,23 @@ impl TileSet for Procedural {
                 ),
                 fix: "use a smaller [tileset] width or roughness, or a larger world.tile_pitch"
                     .into(),
+            });
+        }
+        // Mesh that starts above the lowest back would leave bare back rock, on which the
+        // half-barrel marks' texture cannot follow a drift's direction (`crate::finish`).
+        let back = p.height * (1.0 - p.height_variation) - p.roughness;
+        if p.mesh_from > 0.0 && p.mesh_from >= back {
+            return Err(TileSetError::Unsuited {
+                what: format!(
+                    "{name}: mesh panels from {} m up would leave the back bare where it is \
+                     lowest ({back:.1} m above the floor)",
+                    number(p.mesh_from)
+                ),
+                fix: format!(
+                    "set [tileset] mesh_from below {back:.1} m (the default is {}), or 0 for \
+                     no mesh",
+                    number(crate::mine::MESH_FROM)
+                ),
             });
         }
         if p.shaft_radius * p.width * (1.0 + crate::field::SHAFT_SWELL) + p.roughness > room {

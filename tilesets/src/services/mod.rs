@@ -220,8 +220,8 @@ pub struct Drift {
     /// The nearest the back comes to the floor: the nominal height less its variation and
     /// relief, metres.
     pub back: f64,
-    /// The materials of rock walls and back (plain and striated).
-    pub rock: [u8; 2],
+    /// The materials of rock walls and back (plain, striated and meshed).
+    pub rock: [u8; 3],
 }
 
 /// The prototypes, in a fixed order ([`Kit::BOLT`] ...).

@@ -44,6 +44,8 @@ pub struct Textures {
     size: u32,
     /// Material name to its user images (albedo, normal, roughness; PNG bytes).
     user: BTreeMap<String, [Option<Vec<u8>>; 3]>,
+    /// Material name to the look its tile set asks for, where not the one its name gives.
+    looks: BTreeMap<String, rock::Look>,
 }
 
 /// The file name stem of a material's maps: its name with anything but letters, digits, `-`
@@ -115,6 +117,7 @@ impl Textures {
             procedural: true,
             size,
             user: BTreeMap::new(),
+            looks: BTreeMap::new(),
         };
         match params.raw("textures") {
             None => {}
@@ -146,6 +149,13 @@ impl Textures {
             }
         }
         Ok(t)
+    }
+
+    /// These textures with material `name` drawn with `look` rather than the look its name
+    /// gives ([`rock::Look::of`]).
+    pub fn with_look(mut self, name: &str, look: rock::Look) -> Self {
+        self.looks.insert(name.to_string(), look);
+        self
     }
 
     /// Whether the world gets image files.
@@ -185,7 +195,12 @@ impl Textures {
                     return None;
                 }
                 let s = derive_seed(seed, &format!("texture:{}", m.name), 0);
-                let maps = rock::maps(&m.name, m.colour, s, self.size, repeat);
+                let look = self
+                    .looks
+                    .get(&m.name)
+                    .copied()
+                    .unwrap_or_else(|| rock::Look::of(&m.name));
+                let maps = rock::maps(look, m.colour, s, self.size, repeat);
                 Some([maps.albedo, maps.normal, maps.roughness].map(|p| rock::png(maps.size, &p)))
             })
             .collect();
