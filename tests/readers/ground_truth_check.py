@@ -219,10 +219,10 @@ for row, t in zip(table, labels["tiles"]):
     l, r, c = int(row["level"]), int(row["row"]), int(row["col"])
     assert int(row["code"]) == codes[l, r, c] != 0 and row["kind"] == label_kind(codes[l, r, c]) == t["kind"]
     opens = set(row["openings"].split())
-    # Chambers and squeezes (issue 15), refuge bays (issue 24): the CSV's column, when present,
-    # says what the JSON does.
+    # Chambers and squeezes (issue 15), refuge bays, services and mesh panels (issue 24): the
+    # CSV's column, when present, says what the JSON does.
     assert set(t.get("features", [])) <= {"chamber", "squeeze", "refuge-bay", "rock-bolt", "duct",
-                                          "pipe", "cable", "light"}
+                                          "pipe", "cable", "light", "mesh-panels"}
     if "features" in row:
         assert set(row["features"].split()) == set(t.get("features", []))
     else:
