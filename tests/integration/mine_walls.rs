@@ -255,11 +255,11 @@ fn finish_keys_are_checked_with_what_to_change() {
         ("refuge_spacing = 5", "metres of straight drift per bay"),
         (
             "mesh_from = 0.1",
-            "where the mesh on the walls and back ends",
+            "where the mesh over the walls and back begins",
         ),
         (
             "mesh_from = -2",
-            "where the mesh on the walls and back ends",
+            "where the mesh over the walls and back begins",
         ),
     ] {
         let p = small_mine(dir.path(), "bad", extra);

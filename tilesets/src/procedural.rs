@@ -732,8 +732,8 @@ fn check_finish(style: &Style, s: &Settings, params: &Params) -> Result<(), Conf
     {
         return Err(params.error(
             "mesh_from",
-            "must be 0 (no mesh panels) or from 0.5 to 20 metres above the floor, where the \
-             mesh on the walls and back ends, e.g. mesh_from = 2",
+            "must be 0 (no mesh panels) or from 0.5 to 20 metres above the floor, the height \
+             where the mesh over the walls and back begins, e.g. mesh_from = 2",
         ));
     }
     Ok(())
