@@ -63,6 +63,31 @@ pub fn read_within(path: &Path, limit: u64) -> Result<Vec<u8>, Error> {
     Ok(bytes)
 }
 
+/// Opens `path` to be read as a stream (by a reader that checks what it reads as it goes, and
+/// so needs no size limit): a file or a pipe; a folder, a device or a socket is refused as
+/// [`read_within`] refuses it.
+pub fn open(path: &Path) -> Result<std::fs::File, Error> {
+    let reading = || Error::io(format!("reading {}", path.display()));
+    let meta = std::fs::metadata(path).map_err(reading())?;
+    if meta.is_dir() {
+        return Err(Error::Input(format!(
+            "{} is a folder; give a file",
+            path.display()
+        )));
+    }
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::FileTypeExt;
+        if !meta.is_file() && !meta.file_type().is_fifo() {
+            return Err(Error::Input(format!(
+                "{} is a device or socket, not a file: it may never end; give a file (or a pipe)",
+                path.display()
+            )));
+        }
+    }
+    std::fs::File::open(path).map_err(reading())
+}
+
 /// Reads `path` as UTF-8 text (see [`read`]).
 pub fn read_text(path: &Path) -> Result<String, Error> {
     String::from_utf8(read(path)?)

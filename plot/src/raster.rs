@@ -28,8 +28,16 @@ impl Canvas {
         }
     }
 
-    fn line(&mut self, (x0, y0): (f64, f64), (x1, y1): (f64, f64), width: f64, c: Rgb) {
+    fn line(&mut self, from: (f64, f64), to: (f64, f64), width: f64, c: Rgb) {
         let half = (width / 2.0).max(0.5);
+        if !half.is_finite() {
+            return;
+        }
+        // Only the part on the canvas is stepped along: a line from far outside (a coordinate
+        // of 1e308) would otherwise take forever.
+        let Some(((x0, y0), (x1, y1))) = clip(from, to, self.width, self.height, half) else {
+            return;
+        };
         let steps = (x1 - x0).abs().max((y1 - y0).abs()).ceil().max(1.0) as usize;
         for k in 0..=steps {
             let t = k as f64 / steps as f64;
@@ -83,10 +91,60 @@ impl Canvas {
     }
 }
 
-/// Renders a figure at `scale` pixels per figure unit and encodes it as an RGB PNG.
+/// The part of the segment `a`-`b` within `pad` of a `width` x `height` canvas (Liang and
+/// Barsky's clipping), or `None` when no part of it is (or a coordinate is not a number).
+fn clip(
+    a: (f64, f64),
+    b: (f64, f64),
+    width: usize,
+    height: usize,
+    pad: f64,
+) -> Option<((f64, f64), (f64, f64))> {
+    let (dx, dy) = (b.0 - a.0, b.1 - a.1);
+    if ![a.0, a.1, dx, dy].iter().all(|v| v.is_finite()) {
+        return None;
+    }
+    let (mut t0, mut t1) = (0.0f64, 1.0f64);
+    for (p, q) in [
+        (-dx, a.0 + pad),
+        (dx, width as f64 + pad - a.0),
+        (-dy, a.1 + pad),
+        (dy, height as f64 + pad - a.1),
+    ] {
+        if p == 0.0 {
+            if q < 0.0 {
+                return None;
+            }
+        } else if p < 0.0 {
+            t0 = t0.max(q / p);
+        } else {
+            t1 = t1.min(q / p);
+        }
+    }
+    let (p0, p1) = (
+        (a.0 + t0 * dx, a.1 + t0 * dy),
+        (a.0 + t1 * dx, a.1 + t1 * dy),
+    );
+    (t0 <= t1).then_some((p0, p1))
+}
+
+/// The largest side of a picture, pixels: a figure's size out of range (not a number, or
+/// beyond this) is brought within 1 to this many pixels, so no figure makes an empty or a huge
+/// picture.
+pub const MAX_SIDE: usize = 16384;
+
+/// Renders a figure at `scale` pixels per figure unit and encodes it as an RGB PNG (each side
+/// of 1 to [`MAX_SIDE`] pixels, whatever the figure's size says).
 pub fn to_png(figure: &Figure, scale: f64) -> Vec<u8> {
-    let width = (figure.width * scale).round() as usize;
-    let height = (figure.height * scale).round() as usize;
+    let side = |v: f64| {
+        let v = (v * scale).round();
+        if v.is_finite() {
+            v.clamp(1.0, MAX_SIDE as f64) as usize
+        } else {
+            1
+        }
+    };
+    let (width, height) = (side(figure.width), side(figure.height));
     let mut canvas = Canvas {
         width,
         height,

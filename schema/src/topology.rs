@@ -14,6 +14,10 @@ use subtgraph_core::layout::{LevelReport, Shaft};
 
 use crate::{Document, SchemaError, ends_exist, finite, id_in_order};
 
+/// The longest tile pitch and level height a world has, metres (`world.tile_pitch` and
+/// `world.level_height` are at most this).
+pub const MAX_LENGTH_M: f64 = 1000.0;
+
 /// `topology.json`.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Topology<'a, S = String> {
@@ -112,9 +116,11 @@ impl Document for Topology<'_> {
             ("tile_pitch_m", self.tile_pitch_m),
             ("level_height_m", self.level_height_m),
         ] {
-            if !(v.is_finite() && v > 0.0) {
+            // At most what `generate` makes (world.tile_pitch and world.level_height are at
+            // most 1000 m): 1e308 made every picture of the world zero pixels wide.
+            if !(v.is_finite() && v > 0.0 && v <= MAX_LENGTH_M) {
                 return bad(format!(
-                    "{what} is {v}: it must be a positive number of metres"
+                    "{what} is {v}: it must be a positive number of metres, at most {MAX_LENGTH_M}"
                 ));
             }
         }

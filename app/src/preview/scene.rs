@@ -49,6 +49,12 @@ impl Albedo {
         let mut dec = png::Decoder::new(std::io::BufReader::new(f));
         dec.set_transformations(png::Transformations::EXPAND | png::Transformations::STRIP_16);
         let mut reader = dec.read_info().map_err(|e| bad(e.to_string()))?;
+        // The header's size first: the pixels are given memory before they are read.
+        if let Some(why) =
+            subtgraph_tilesets::textures::image_too_large(reader.info().width, reader.info().height)
+        {
+            return Err(bad(format!("it is {why}")));
+        }
         let mut buf = vec![0; reader.output_buffer_size().unwrap_or(0)];
         let info = reader
             .next_frame(&mut buf)

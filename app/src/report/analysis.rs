@@ -300,16 +300,22 @@ pub fn analyse(list: &[Run], seed: u64, resamples: usize) -> Result<Report, Erro
         .filter(|(_, (_, same))| !*same)
         .map(|(m, _)| (*m).to_owned())
         .collect();
+    super::bounds::comparisons(methods.len(), metrics.len())?;
     let presets: BTreeSet<&str> = worlds.iter().map(|w| w.preset.as_str()).collect();
     let mut scopes: Vec<(String, Option<&str>)> = vec![("all".into(), None)];
     if presets.len() > 1 {
         scopes.extend(presets.iter().map(|p| (format!("preset {p}"), Some(*p))));
     }
-    let of = |m: &str| -> Vec<&Run> {
-        let mut v: Vec<&Run> = list.iter().filter(|r| r.method == m).collect();
+    // Each method's runs in world order, gathered once (looked for in every pair before: a
+    // thousand methods made that quadratic in the runs).
+    let mut by_method: BTreeMap<&str, Vec<&Run>> = BTreeMap::new();
+    for r in list {
+        by_method.entry(r.method.as_str()).or_default().push(r);
+    }
+    for v in by_method.values_mut() {
         v.sort_by_key(|r| index[&r.key]);
-        v
-    };
+    }
+    let of = |m: &str| -> Vec<&Run> { by_method.get(m).cloned().unwrap_or_default() };
     let (mut summaries, mut successes, mut trends, mut failure_bins) =
         (Vec::new(), Vec::new(), Vec::new(), Vec::new());
     for m in &methods {
@@ -366,13 +372,18 @@ pub fn analyse(list: &[Run], seed: u64, resamples: usize) -> Result<Report, Erro
         }
     }
     let (mut paired, mut unpaired) = (Vec::new(), Vec::new());
+    let keyed: BTreeMap<&str, BTreeMap<&PathBuf, &Run>> = by_method
+        .iter()
+        .map(|(m, v)| (*m, v.iter().map(|r| (&r.key, *r)).collect()))
+        .collect();
+    let no_runs = Vec::new();
     for (i, a) in methods.iter().enumerate() {
         for b in &methods[i + 1..] {
-            let (ra, rb) = (of(a), of(b));
-            let by_b: BTreeMap<&PathBuf, &Run> = rb.iter().map(|r| (&r.key, *r)).collect();
-            let by_a: BTreeMap<&PathBuf, &Run> = ra.iter().map(|r| (&r.key, *r)).collect();
-            for (x, y, have) in [(a, b, &ra), (b, a, &rb)] {
-                let other = if x == a { &by_b } else { &by_a };
+            let ra = by_method.get(a.as_str()).unwrap_or(&no_runs);
+            let rb = by_method.get(b.as_str()).unwrap_or(&no_runs);
+            let (by_a, by_b) = (&keyed[a.as_str()], &keyed[b.as_str()]);
+            for (x, y, have) in [(a, b, ra), (b, a, rb)] {
+                let other = if x == a { by_b } else { by_a };
                 for r in have.iter().filter(|r| !other.contains_key(&r.key)) {
                     unpaired.push(Unpaired {
                         scored_by: x.clone(),

@@ -7,8 +7,11 @@
 use std::fmt::Write as _;
 use std::path::{Component, Path, PathBuf};
 
-use super::analysis::Report;
+use std::collections::BTreeMap;
+
+use super::analysis::{Report, RunRow};
 use super::plots::{self, Series};
+use super::sample::Line;
 use super::world::PARAMETERS;
 
 fn opt(v: Option<f64>) -> String {
@@ -19,19 +22,38 @@ fn pair(v: Option<[f64; 2]>) -> (String, String) {
     (opt(v.map(|v| v[0])), opt(v.map(|v| v[1])))
 }
 
-/// A metric's plot's file name.
-pub fn plot_name(metric: &str) -> String {
-    let s: String = metric
-        .chars()
-        .map(|c| {
-            if c.is_ascii_alphanumeric() || c == '_' {
-                c
-            } else {
-                '-'
-            }
+/// The failure rates' plot.
+const FAILURE_PLOT: &str = "plots/failure-rate.png";
+
+/// Each metric's plot's file name, in the metrics' order: the name's letters, digits and `_`,
+/// anything else `-`; a name another metric (or the failure plot) already has, ignoring
+/// case, gets `-2`, `-3`, ... (issue 37, item 16: `zz.y` and `zz-y` shared one picture).
+pub fn plot_names(metrics: &[String]) -> Vec<String> {
+    let mut taken = std::collections::BTreeSet::from([FAILURE_PLOT.to_ascii_lowercase()]);
+    metrics
+        .iter()
+        .map(|metric| {
+            let s: String = metric
+                .chars()
+                .map(|c| {
+                    if c.is_ascii_alphanumeric() || c == '_' {
+                        c
+                    } else {
+                        '-'
+                    }
+                })
+                .collect();
+            let name = (1..)
+                .map(|k| match k {
+                    1 => format!("plots/{s}.png"),
+                    k => format!("plots/{s}-{k}.png"),
+                })
+                .find(|n| !taken.contains(&n.to_ascii_lowercase()))
+                .expect("a free name");
+            taken.insert(name.to_ascii_lowercase());
+            name
         })
-        .collect();
-    format!("plots/{s}.png")
+        .collect()
 }
 
 /// `to` relative to the folder `from` (both absolute).
@@ -64,6 +86,11 @@ fn num(v: f64) -> String {
     }
 }
 
+/// A text field of a CSV row, quoted when it must be (RFC 4180).
+fn q(s: &str) -> std::borrow::Cow<'_, str> {
+    super::csv::field(s)
+}
+
 fn csvs(r: &Report, files: &mut Vec<(String, Vec<u8>)>) {
     let mut s = String::from("method,scope,metric,n,mean,median,ci95_low,ci95_high\n");
     for x in &r.summary {
@@ -71,7 +98,12 @@ fn csvs(r: &Report, files: &mut Vec<(String, Vec<u8>)>) {
         let _ = writeln!(
             s,
             "{},{},{},{},{},{},{lo},{hi}",
-            x.method, x.scope, x.metric, x.n, x.mean, x.median
+            q(&x.method),
+            q(&x.scope),
+            q(&x.metric),
+            x.n,
+            x.mean,
+            x.median
         );
     }
     files.push(("summary.csv".into(), s.into_bytes()));
@@ -81,7 +113,11 @@ fn csvs(r: &Report, files: &mut Vec<(String, Vec<u8>)>) {
         let _ = writeln!(
             s,
             "{},{},{},{},{},{lo},{hi}",
-            x.method, x.scope, x.runs, x.failures, x.rate
+            q(&x.method),
+            q(&x.scope),
+            x.runs,
+            x.failures,
+            x.rate
         );
     }
     files.push(("success.csv".into(), s.into_bytes()));
@@ -93,9 +129,9 @@ fn csvs(r: &Report, files: &mut Vec<(String, Vec<u8>)>) {
         let _ = writeln!(
             s,
             "{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
-            x.a,
-            x.b,
-            x.metric,
+            q(&x.a),
+            q(&x.b),
+            q(&x.metric),
             x.n,
             x.mean_difference,
             x.median_difference,
@@ -116,8 +152,8 @@ fn csvs(r: &Report, files: &mut Vec<(String, Vec<u8>)>) {
         let _ = writeln!(
             s,
             "{},{},{},{},{},{},{}",
-            x.method,
-            x.metric,
+            q(&x.method),
+            q(&x.metric),
             x.parameter,
             x.n,
             opt(l.map(|l| l.slope)),
@@ -132,7 +168,7 @@ fn csvs(r: &Report, files: &mut Vec<(String, Vec<u8>)>) {
             let _ = writeln!(
                 s,
                 "{},{},{},{},{},{},{}",
-                x.method,
+                q(&x.method),
                 x.parameter,
                 b.from,
                 b.to,
@@ -143,19 +179,20 @@ fn csvs(r: &Report, files: &mut Vec<(String, Vec<u8>)>) {
         }
     }
     files.push(("failure_bins.csv".into(), s.into_bytes()));
+    let metrics: Vec<String> = r.metrics.iter().map(|m| q(m).into_owned()).collect();
     let mut s = format!(
         "method,world,preset,failed,{},{}\n",
         PARAMETERS.join(","),
-        r.metrics.join(",")
+        metrics.join(",")
     );
     for x in &r.runs {
         let w = &r.worlds[x.world];
         let _ = write!(
             s,
             "{},{},{},{}",
-            x.method,
-            w.name,
-            w.preset,
+            q(&x.method),
+            q(&w.name),
+            q(&w.preset),
             x.failed.map_or(String::new(), |f| f.to_string())
         );
         for p in PARAMETERS {
@@ -171,7 +208,17 @@ fn csvs(r: &Report, files: &mut Vec<(String, Vec<u8>)>) {
 
 fn pictures(r: &Report, files: &mut Vec<(String, Vec<u8>)>) {
     let methods: Vec<&str> = r.methods.iter().map(String::as_str).collect();
-    for metric in &r.metrics {
+    // Looked up once, not per plot, parameter and method (issue 37, item 11).
+    let mut runs_of: BTreeMap<&str, Vec<&RunRow>> = BTreeMap::new();
+    for x in &r.runs {
+        runs_of.entry(x.method.as_str()).or_default().push(x);
+    }
+    let lines: BTreeMap<(&str, &str, &str), Option<Line>> = r
+        .trends
+        .iter()
+        .map(|t| ((t.method.as_str(), t.metric.as_str(), t.parameter), t.line))
+        .collect();
+    for (metric, name) in r.metrics.iter().zip(plot_names(&r.metrics)) {
         let panels: Vec<Vec<Series>> = PARAMETERS
             .iter()
             .map(|p| {
@@ -179,24 +226,20 @@ fn pictures(r: &Report, files: &mut Vec<(String, Vec<u8>)>) {
                     .iter()
                     .map(|m| Series {
                         method: m,
-                        points: r
-                            .runs
-                            .iter()
-                            .filter(|x| x.method == *m)
+                        points: runs_of
+                            .get(m)
+                            .into_iter()
+                            .flatten()
                             .filter_map(|x| {
                                 Some((r.worlds[x.world].parameters[p], *x.metrics.get(metric)?))
                             })
                             .collect(),
-                        line: r
-                            .trends
-                            .iter()
-                            .find(|t| t.method == *m && t.metric == *metric && t.parameter == *p)
-                            .and_then(|t| t.line),
+                        line: lines.get(&(*m, metric.as_str(), *p)).copied().flatten(),
                     })
                     .collect()
             })
             .collect();
-        files.push((plot_name(metric), plots::scatter(metric, &methods, &panels)));
+        files.push((name, plots::scatter(metric, &methods, &panels)));
     }
     if !r.failure_bins.is_empty() {
         let panels: Vec<Vec<Vec<_>>> = PARAMETERS
@@ -214,10 +257,7 @@ fn pictures(r: &Report, files: &mut Vec<(String, Vec<u8>)>) {
             .copied()
             .filter(|m| r.failure_bins.iter().any(|b| b.method == *m))
             .collect();
-        files.push((
-            "plots/failure-rate.png".into(),
-            plots::failures(&flagged, &panels),
-        ));
+        files.push((FAILURE_PLOT.into(), plots::failures(&flagged, &panels)));
     }
 }
 
@@ -259,11 +299,11 @@ fn html(r: &Report, out: &Path) -> String {
     if !r.failure_bins.is_empty() {
         h.push_str("<p><img class=\"plot\" src=\"plots/failure-rate.png\" alt=\"failure rate per bin\"></p>\n");
     }
-    for m in &r.metrics {
+    for (m, name) in r.metrics.iter().zip(plot_names(&r.metrics)) {
         let _ = writeln!(
             h,
             "<p><img class=\"plot\" src=\"{}\" alt=\"{}\"></p>",
-            plot_name(m),
+            esc(&name),
             esc(m)
         );
     }
@@ -331,6 +371,10 @@ fn html(r: &Report, out: &Path) -> String {
         let _ = write!(h, "<th>{p}</th>");
     }
     h.push_str("<th class=\"l\">maps</th><th class=\"l\">runs</th></tr>\n");
+    let mut by_world: BTreeMap<usize, Vec<&RunRow>> = BTreeMap::new();
+    for x in &r.runs {
+        by_world.entry(x.world).or_default().push(x);
+    }
     for (k, w) in r.worlds.iter().enumerate() {
         let abs = w.path.canonicalize().unwrap_or_else(|_| w.path.clone());
         let link = relative(out, &abs);
@@ -354,7 +398,7 @@ fn html(r: &Report, out: &Path) -> String {
             );
         }
         h.push_str("</td><td class=\"l\">");
-        for run in r.runs.iter().filter(|x| x.world == k) {
+        for run in by_world.get(&k).into_iter().flatten() {
             let state = match run.failed {
                 Some(true) => " (failed)",
                 _ => "",

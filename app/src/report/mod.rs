@@ -16,6 +16,8 @@
 //! Single-threaded and ordered by name throughout: the same runs give the same bytes.
 
 pub mod analysis;
+pub mod bounds;
+pub mod csv;
 mod files;
 mod plots;
 pub mod runs;
@@ -91,12 +93,7 @@ impl ReportRequest {
                 "name the runs: METHOD=FOLDER arguments (a score folder, or a folder of them) or --runs runs.csv (world,method,score_folder)".into(),
             ));
         }
-        if self.resamples < 100 {
-            return Err(Error::Usage(format!(
-                "--resamples {} is too few for a 95 % interval: give 100 or more (1000 to 10000 is usual)",
-                self.resamples
-            )));
-        }
+        bounds::resamples(self.resamples)?;
         let reading = self.reading();
         let out = Out {
             path: &self.out,

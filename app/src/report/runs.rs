@@ -4,8 +4,9 @@
 //! Runs are named in either of two ways (both may be mixed):
 //! - `METHOD=FOLDER`: `FOLDER` is a score folder, or a folder whose subfolders are all score
 //!   folders (hidden ones skipped), each one run of `METHOD`;
-//! - `--runs runs.csv` with the header `world,method,score_folder` (plain comma-separated, no
-//!   quoting; paths relative to the CSV's folder; `world` may be empty, then the score
+//! - `--runs runs.csv` with the header `world,method,score_folder` (comma-separated, a field
+//!   with a comma or a quote between double quotes as RFC 4180 has it, a byte-order mark
+//!   allowed; paths relative to the CSV's folder; `world` may be empty, then the score
 //!   folder's own record is used; a world given here wins over the record, so a trajectory
 //!   scored against a bare reference file can still be placed in its world).
 //!
@@ -238,8 +239,9 @@ pub fn from_argument(k: usize, arg: &str) -> Result<Vec<Run>, Error> {
 
 /// The runs of a `world,method,score_folder` CSV.
 pub fn from_csv(csv: &Path) -> Result<Vec<Run>, Error> {
-    let text =
-        std::fs::read_to_string(csv).map_err(Error::io(format!("reading {}", csv.display())))?;
+    let text = crate::input::read_text(csv)?;
+    // A spreadsheet saves a byte-order mark first.
+    let text = text.strip_prefix('\u{feff}').unwrap_or(&text);
     let base = csv.parent().unwrap_or(Path::new(""));
     let mut lines = text
         .lines()
@@ -255,7 +257,9 @@ pub fn from_csv(csv: &Path) -> Result<Vec<Run>, Error> {
     let mut runs = Vec::new();
     for (i, line) in lines {
         let source = format!("{} line {}", csv.display(), i + 1);
-        let cols: Vec<&str> = line.split(',').map(str::trim).collect();
+        let cols =
+            super::csv::split(line).map_err(|why| input(format!("{source}: `{line}`: {why}")))?;
+        let cols: Vec<&str> = cols.iter().map(|c| c.trim()).collect();
         let [world, method, folder] = cols[..] else {
             return Err(input(format!(
                 "{source}: `{line}` has {} columns; rows are world,method,score_folder",

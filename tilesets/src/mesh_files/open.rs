@@ -467,9 +467,13 @@ fn material_images(
                 full.display()
             ))
         })?;
-        png::Decoder::new(std::io::Cursor::new(&bytes))
+        let reader = png::Decoder::new(std::io::Cursor::new(&bytes))
             .read_info()
             .map_err(|e| problem(format!("not a PNG image ({e}); convert it to PNG")))?;
+        let (w, h) = (reader.info().width, reader.info().height);
+        if let Some(why) = crate::textures::image_too_large(w, h) {
+            return Err(problem(why));
+        }
         let name: String = m
             .name
             .chars()

@@ -66,7 +66,22 @@ fn path_of(name: &str, map: usize) -> String {
     format!("textures/{}-{}.png", stem(name), MAPS[map])
 }
 
-/// Reads one of the user's images for `key`, refusing anything but a PNG.
+/// The largest side of an image a world may carry: 8192 pixels (an "8K" texture). Checked from
+/// the header when the world is made (issue 37, item 6: a 900-byte PNG claiming 200,000 x
+/// 200,000 pixels was copied into the world, and `preview` then asked for 120 GB to draw it).
+pub const MAX_IMAGE_SIDE: u32 = 8192;
+
+/// Why a PNG of `width` x `height` pixels is too large for a texture, if it is.
+pub fn image_too_large(width: u32, height: u32) -> Option<String> {
+    (width > MAX_IMAGE_SIDE || height > MAX_IMAGE_SIDE).then(|| {
+        format!(
+            "{width} x {height} pixels, more than the {MAX_IMAGE_SIDE} a side a texture may have; scale it down"
+        )
+    })
+}
+
+/// Reads one of the user's images for `key`, refusing anything but a PNG of at most
+/// [`MAX_IMAGE_SIDE`] pixels a side.
 pub fn read_png(params: &Params, key: &str, written: &str) -> Result<Vec<u8>, ConfigError> {
     let path = params.resolve_path(written);
     let bytes = std::fs::read(&path).map_err(|e| {
@@ -79,7 +94,7 @@ pub fn read_png(params: &Params, key: &str, written: &str) -> Result<Vec<u8>, Co
             ),
         )
     })?;
-    png::Decoder::new(std::io::Cursor::new(&bytes))
+    let reader = png::Decoder::new(std::io::Cursor::new(&bytes))
         .read_info()
         .map_err(|e| {
             params.error(
@@ -90,6 +105,10 @@ pub fn read_png(params: &Params, key: &str, written: &str) -> Result<Vec<u8>, Co
                 ),
             )
         })?;
+    let info = reader.info();
+    if let Some(why) = image_too_large(info.width, info.height) {
+        return Err(params.error(key, format!("`{}` is {why}", path.display())));
+    }
     Ok(bytes)
 }
 

@@ -14,6 +14,7 @@
 //! - Output: `segmentation.json` (flat metrics at the top level) and `confusion.csv`, in a score
 //!   folder written like every folder the tool writes.
 
+pub mod matching;
 pub mod read;
 
 use std::fmt;
@@ -159,33 +160,6 @@ fn detected(pred: &[u8], grid: &read::MapGrid) -> Vec<[f64; 2]> {
     out
 }
 
-/// Matches detections to graph nodes within `radius`, closest pairs first, each once: the
-/// matched `(detection, node, distance)`.
-fn matches(found: &[[f64; 2]], truth: &[[f64; 2]], radius: f64) -> Vec<(usize, usize, f64)> {
-    let mut pairs = Vec::new();
-    for (i, a) in found.iter().enumerate() {
-        for (j, b) in truth.iter().enumerate() {
-            let d = (a[0] - b[0]).hypot(a[1] - b[1]);
-            if d <= radius {
-                pairs.push((i, j, d));
-            }
-        }
-    }
-    pairs.sort_by(|a, b| a.2.total_cmp(&b.2).then((a.0, a.1).cmp(&(b.0, b.1))));
-    let (mut used_a, mut used_b) = (vec![false; found.len()], vec![false; truth.len()]);
-    pairs
-        .into_iter()
-        .filter(|&(i, j, _)| {
-            let free = !used_a[i] && !used_b[j];
-            if free {
-                used_a[i] = true;
-                used_b[j] = true;
-            }
-            free
-        })
-        .collect()
-}
-
 impl SegmentationRequest {
     /// Scores the segmentation and writes the score folder (`--out` checked before anything
     /// is read; nothing written on bad input).
@@ -266,7 +240,8 @@ impl SegmentationRequest {
             .collect();
         let found = detected(&pred, &grid);
         let positions: Vec<[f64; 2]> = graph.iter().map(|g| g.1).collect();
-        let matched = matches(&found, &positions, radius);
+        let budget = crate::memory::budget(None)?;
+        let matched = matching::matches(&found, &positions, radius, budget.bytes)?;
         let node_error_mean_m = (!matched.is_empty())
             .then(|| matched.iter().map(|m| m.2).sum::<f64>() / matched.len() as f64);
         let command = format!(
@@ -379,11 +354,16 @@ mod tests {
         let found = [[0.0, 0.0], [1.0, 0.0], [50.0, 0.0]];
         let truth = [[0.9, 0.0], [3.0, 0.0]];
         // (1, 0) is closest (0.1 m); detection 0 then takes node 1 at 3 m; 50 m is too far.
-        let m = matches(&found, &truth, 8.0);
+        let m = matching::matches(&found, &truth, 8.0, u64::MAX).unwrap();
         let pairs: Vec<(usize, usize)> = m.iter().map(|x| (x.0, x.1)).collect();
         assert_eq!(pairs, vec![(1, 0), (0, 1)]);
         assert!((m[0].2 - 0.1).abs() < 1e-12 && (m[1].2 - 3.0).abs() < 1e-12);
-        assert_eq!(matches(&found, &truth, 1.0).len(), 1);
+        assert_eq!(
+            matching::matches(&found, &truth, 1.0, u64::MAX)
+                .unwrap()
+                .len(),
+            1
+        );
     }
 
     #[test]

@@ -167,6 +167,11 @@ pub fn truth(world: &Path, level: usize, cells: &Cells, grid: &MapGrid) -> Resul
 pub fn prediction(path: &Path, width: usize, height: usize) -> Result<Vec<u8>, Error> {
     let bytes = crate::input::read(path)?;
     let name = path.display();
+    let mismatch = |w: usize, h: usize| {
+        Error::Input(format!(
+            "{name}: {w} x {h} pixels, but the level's ROS map is {width} x {height} (width x height at its resolution): draw the segmentation on that map's grid, row 0 north"
+        ))
+    };
     let npy = path
         .extension()
         .is_some_and(|e| e.eq_ignore_ascii_case("npy"));
@@ -175,6 +180,11 @@ pub fn prediction(path: &Path, width: usize, height: usize) -> Result<Vec<u8>, E
             file: name.to_string(),
             source,
         })?;
+        let size_error = |shape: &[usize]| {
+            Error::Input(format!(
+                "{name}: an array of shape {shape:?}, but the level's ROS map is {width} x {height} (width x height at its resolution): save the segmentation with numpy as uint8 of shape ({height}, {width}), row 0 north"
+            ))
+        };
         if info.shape.len() != 2 || !matches!(info.kind, b'u' | b'i') {
             return Err(Error::Input(format!(
                 "{name}: an array of shape {:?} of {}, but a segmentation is a 2-D integer array (rows north to south, as the ROS map's image): save it with numpy as uint8 of shape ({height}, {width})",
@@ -185,6 +195,10 @@ pub fn prediction(path: &Path, width: usize, height: usize) -> Result<Vec<u8>, E
                     _ => "integers",
                 }
             )));
+        }
+        // Checked before the values are decoded (eight bytes each).
+        if info.shape != [height, width] {
+            return Err(size_error(&info.shape));
         }
         let a = subtgraph_core::npy::decode(&bytes).map_err(|source| Error::Npy {
             file: name.to_string(),
@@ -210,6 +224,11 @@ pub fn prediction(path: &Path, width: usize, height: usize) -> Result<Vec<u8>, E
             )));
         }
         let (w, h) = (info.width as usize, info.height as usize);
+        // The header's size against the map's, before the pixels are given memory (a header
+        // may claim 200,000 x 200,000 pixels in 900 bytes).
+        if (w, h) != (width, height) {
+            return Err(mismatch(w, h));
+        }
         let mut buf = vec![0; reader.output_buffer_size().unwrap_or(0)];
         let frame = reader
             .next_frame(&mut buf)
@@ -222,9 +241,7 @@ pub fn prediction(path: &Path, width: usize, height: usize) -> Result<Vec<u8>, E
         (w, h, values)
     };
     if (w, h) != (width, height) {
-        return Err(Error::Input(format!(
-            "{name}: {w} x {h} pixels, but the level's ROS map is {width} x {height} (width x height at its resolution): draw the segmentation on that map's grid, row 0 north"
-        )));
+        return Err(mismatch(w, h));
     }
     values
         .iter()

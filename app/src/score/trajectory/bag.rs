@@ -34,6 +34,23 @@ pub const POSE_TYPES: [&str; 4] = [
 /// chunks are a few megabytes): 256 MiB.
 const MAX_CHUNK: u64 = 1 << 28;
 
+/// The chunks of a file may declare at most this many times the file's size uncompressed (and
+/// [`INFLATION_FLOOR`] whatever the file's size): compression gives a bag's messages a few
+/// times, a crafted file of zeros thousands of times (40 chunks of 256 MiB in 330 kB).
+const MAX_INFLATION: u64 = 1000;
+
+/// What the chunks of any file may declare uncompressed, however small the file: 16 MiB.
+const INFLATION_FLOOR: u64 = 16 << 20;
+
+/// The largest Zstandard window a chunk may ask for: 8 MiB, what `zstd` levels 1 to 19 use
+/// (the decoder sets it aside before it reads a byte).
+const MAX_WINDOW: u64 = 8 << 20;
+
+/// Schema and channel records, and the pose messages kept, are read up to this size (a pose
+/// message is a few hundred bytes); a longer message is skipped, a longer schema or channel
+/// refused.
+const MAX_RECORD: u64 = 1 << 20;
+
 /// Whether `path` is a bag: a folder with `metadata.yaml` or `.mcap`/`.db3` files, or an
 /// `.mcap` file.
 pub fn is_bag(path: &Path) -> bool {
@@ -164,13 +181,60 @@ impl<'a> Cursor<'a> {
     }
 }
 
+/// A pose message as decoded: `(stamp seconds, position, orientation [x y z w])`, `None`
+/// when its bytes are not a readable message of its type.
+type Decoded = Option<(f64, [f64; 3], [f64; 4])>;
+
 /// What the records of one file say: schema names by id, channels `(topic, schema id,
-/// encoding)` by id, and messages `(log time, channel, data)`.
+/// encoding)` by id, and the pose messages `(log time, channel, decoded)`. Only messages of a
+/// pose type in CDR are kept, decoded as they are met (MCAP puts a channel before its
+/// messages): a bag's point clouds and images are skipped, not held.
 #[derive(Default)]
 struct Records {
     schemas: BTreeMap<u16, String>,
     channels: BTreeMap<u16, (String, u16, String)>,
-    messages: Vec<(u64, u16, Vec<u8>)>,
+    messages: Vec<(u64, u16, Decoded)>,
+}
+
+impl Records {
+    /// The pose type of `channel`'s messages, when they are pose messages in CDR.
+    fn pose_type(&self, channel: u16) -> Option<&str> {
+        let (_, schema, encoding) = self.channels.get(&channel)?;
+        let name = self.schemas.get(schema)?;
+        (encoding == "cdr" && POSE_TYPES.contains(&name.as_str())).then_some(name.as_str())
+    }
+
+    /// Reads a schema (0x03) or channel (0x04) record's body.
+    fn definition(&mut self, op: u8, body: &[u8]) -> Result<(), &'static str> {
+        let mut r = Cursor { bytes: body, at: 0 };
+        if op == 0x03 {
+            let id = r.u16().ok_or("a schema record")?;
+            let name = r.string().ok_or("a schema's name")?;
+            self.schemas.insert(id, name);
+        } else {
+            let (Some(id), Some(schema), Some(topic), Some(encoding)) =
+                (r.u16(), r.u16(), r.string(), r.string())
+            else {
+                return Err("a channel record");
+            };
+            self.channels.insert(id, (topic, schema, encoding));
+        }
+        Ok(())
+    }
+}
+
+/// A message record's header: channel, sequence, log time, publish time.
+const MESSAGE_HEAD: u64 = 22;
+
+/// `(channel, log time)` of a message record's header.
+fn message_head(head: &[u8]) -> Option<(u16, u64)> {
+    let mut r = Cursor { bytes: head, at: 0 };
+    let (Some(channel), Some(_sequence), Some(log_time), Some(_publish)) =
+        (r.u16(), r.u32(), r.u64(), r.u64())
+    else {
+        return None;
+    };
+    Some((channel, log_time))
 }
 
 fn corrupt(file: &Path, offset: usize, what: &str) -> Error {
@@ -180,7 +244,8 @@ fn corrupt(file: &Path, offset: usize, what: &str) -> Error {
     ))
 }
 
-/// Reads the records of `bytes` (a file's data section or a chunk's records) into `out`.
+/// Reads the records of a file's data section (`bytes`, starting at byte `base` of the file)
+/// into `out`.
 fn records(file: &Path, bytes: &[u8], base: usize, out: &mut Records) -> Result<(), Error> {
     let mut c = Cursor { bytes, at: 0 };
     while c.at < bytes.len() {
@@ -191,40 +256,73 @@ fn records(file: &Path, bytes: &[u8], base: usize, out: &mut Records) -> Result<
         let body = c
             .take(len)
             .ok_or_else(|| bad("a record longer than the file"))?;
-        let mut r = Cursor { bytes: body, at: 0 };
         match op {
             // Footer: the end of the data.
             0x02 => return Ok(()),
-            0x03 => {
-                let id = r.u16().ok_or_else(|| bad("a schema record"))?;
-                let name = r.string().ok_or_else(|| bad("a schema's name"))?;
-                out.schemas.insert(id, name);
-            }
-            0x04 => {
-                let (Some(id), Some(schema), Some(topic), Some(encoding)) =
-                    (r.u16(), r.u16(), r.string(), r.string())
-                else {
-                    return Err(bad("a channel record"));
-                };
-                out.channels.insert(id, (topic, schema, encoding));
-            }
+            0x03 | 0x04 => out.definition(op, body).map_err(bad)?,
             0x05 => {
-                let (Some(channel), Some(_sequence), Some(log_time), Some(_publish)) =
-                    (r.u16(), r.u32(), r.u64(), r.u64())
-                else {
-                    return Err(bad("a message record"));
-                };
-                out.messages
-                    .push((log_time, channel, body[r.at..].to_vec()));
+                let head = body
+                    .get(..MESSAGE_HEAD as usize)
+                    .ok_or_else(|| bad("a message record"))?;
+                let (channel, log_time) =
+                    message_head(head).ok_or_else(|| bad("a message record"))?;
+                if let Some(schema) = out.pose_type(channel) {
+                    let decoded = decode(&body[MESSAGE_HEAD as usize..], schema);
+                    out.messages.push((log_time, channel, decoded));
+                }
             }
-            0x06 => chunk(file, &mut r, base + c.at - body.len(), out)?,
+            0x06 => {
+                let mut r = Cursor { bytes: body, at: 0 };
+                chunk(file, &mut r, base + c.at - body.len(), out)?;
+            }
             _ => {}
         }
     }
     Ok(())
 }
 
-/// A chunk record: its records, decompressed.
+/// The uncompressed bytes the top-level chunk records of a data section declare, summed (the
+/// records are walked by their lengths only; a malformed one ends the walk, and is reported
+/// when the records are read).
+fn declared(bytes: &[u8]) -> u64 {
+    let mut c = Cursor { bytes, at: 0 };
+    let mut total: u64 = 0;
+    while let (Some(op), Some(len)) = (c.take(1), c.u64()) {
+        let Some(body) = c.take(len) else { break };
+        if op[0] == 0x06 {
+            let size = body.get(16..24).map_or(0, |b| {
+                u64::from_le_bytes(b.try_into().expect("eight bytes"))
+            });
+            total = total.saturating_add(size);
+        }
+    }
+    total
+}
+
+/// The window a Zstandard frame's header asks for, if `data` starts with one.
+fn zstd_window(data: &[u8]) -> Option<u64> {
+    if data.get(..4)? != [0x28, 0xb5, 0x2f, 0xfd] {
+        return None;
+    }
+    let descriptor = *data.get(4)?;
+    if descriptor & 0x20 == 0 {
+        // A window descriptor: exponent and mantissa.
+        let w = *data.get(5)?;
+        let base = 1u64 << (10 + u32::from(w >> 3));
+        return Some(base + (base / 8) * u64::from(w & 7));
+    }
+    // A single segment: the window is the frame's content size.
+    let dictionary = [0, 1, 2, 4][usize::from(descriptor & 3)];
+    let size_bytes = [1, 2, 4, 8][usize::from(descriptor >> 6)];
+    let at = 5 + dictionary;
+    let mut b = [0u8; 8];
+    b[..size_bytes].copy_from_slice(data.get(at..at + size_bytes)?);
+    let size = u64::from_le_bytes(b);
+    Some(if size_bytes == 2 { size + 256 } else { size })
+}
+
+/// A chunk record: its records, decompressed as they are read (never the whole chunk at
+/// once), and checked as they come: a chunk holds schemas, channels and messages, not chunks.
 fn chunk(file: &Path, r: &mut Cursor, at: usize, out: &mut Records) -> Result<(), Error> {
     let bad = |what: &str| corrupt(file, at, what);
     let (Some(_start), Some(_end), Some(size), Some(_crc), Some(compression), Some(n)) =
@@ -238,24 +336,19 @@ fn chunk(file: &Path, r: &mut Cursor, at: usize, out: &mut Records) -> Result<()
             "a chunk of {size} bytes uncompressed (more than the {MAX_CHUNK} read)"
         )));
     }
-    let plain: Vec<u8> = match compression.as_str() {
-        "" => data.to_vec(),
-        "lz4" => {
-            let mut v = Vec::with_capacity(size.min(16 * data.len() as u64) as usize);
-            lz4_flex::frame::FrameDecoder::new(data)
-                .take(size)
-                .read_to_end(&mut v)
-                .map_err(|e| bad(&format!("an LZ4 chunk that does not decompress: {e}")))?;
-            v
-        }
+    let plain: Box<dyn std::io::Read + '_> = match compression.as_str() {
+        "" => Box::new(data),
+        "lz4" => Box::new(lz4_flex::frame::FrameDecoder::new(data)),
         "zstd" => {
-            let mut v = Vec::with_capacity(size.min(16 * data.len() as u64) as usize);
-            ruzstd::decoding::StreamingDecoder::new(data)
-                .map_err(|e| bad(&format!("a Zstandard chunk: {e}")))?
-                .take(size)
-                .read_to_end(&mut v)
-                .map_err(|e| bad(&format!("a Zstandard chunk that does not decompress: {e}")))?;
-            v
+            if let Some(w) = zstd_window(data).filter(|&w| w > MAX_WINDOW) {
+                return Err(bad(&format!(
+                    "a Zstandard chunk asking for a window of {w} bytes, more than the {MAX_WINDOW} zstd's levels 1 to 19 use: recompress the bag (`mcap compress`)"
+                )));
+            }
+            Box::new(
+                ruzstd::decoding::StreamingDecoder::new(data)
+                    .map_err(|e| bad(&format!("a Zstandard chunk: {e}")))?,
+            )
         }
         other => {
             return Err(bad(&format!(
@@ -263,13 +356,87 @@ fn chunk(file: &Path, r: &mut Cursor, at: usize, out: &mut Records) -> Result<()
             )));
         }
     };
-    if plain.len() as u64 != size {
-        return Err(bad(&format!(
-            "a chunk of {} bytes where its record says {size}",
-            plain.len()
-        )));
+    let mut plain = std::io::BufReader::with_capacity(1 << 16, plain.take(size));
+    chunk_records(&mut plain, size, out).map_err(|what| bad(&what))
+}
+
+/// Reads `size` bytes of a chunk's records from `plain` into `out`, keeping only what
+/// [`Records`] keeps; `Err` says what is wrong.
+fn chunk_records(
+    plain: &mut impl std::io::Read,
+    size: u64,
+    out: &mut Records,
+) -> Result<(), String> {
+    let short = |e: std::io::Error| match e.kind() {
+        std::io::ErrorKind::UnexpectedEof => {
+            format!("a chunk that decompresses to fewer bytes than the {size} its record says")
+        }
+        _ => format!("a chunk that does not decompress: {e}"),
+    };
+    let mut left = size;
+    let skip = |plain: &mut dyn std::io::Read, n: u64| -> Result<(), String> {
+        let skipped = std::io::copy(&mut plain.take(n), &mut std::io::sink()).map_err(short)?;
+        if skipped < n {
+            return Err(short(std::io::ErrorKind::UnexpectedEof.into()));
+        }
+        Ok(())
+    };
+    while left > 0 {
+        let mut head = [0u8; 9];
+        if left < 9 {
+            return Err("a record cut at its chunk's end".to_owned());
+        }
+        plain.read_exact(&mut head).map_err(short)?;
+        let op = head[0];
+        let len = u64::from_le_bytes(head[1..].try_into().expect("eight bytes"));
+        left -= 9;
+        if len > left {
+            return Err("a record longer than its chunk".to_owned());
+        }
+        left -= len;
+        let body = |plain: &mut dyn std::io::Read, n: u64| -> Result<Vec<u8>, String> {
+            let mut v = vec![0; n as usize];
+            plain.read_exact(&mut v).map_err(short)?;
+            Ok(v)
+        };
+        match op {
+            0x06 => {
+                return Err(
+                    "a chunk inside a chunk: MCAP chunks hold schema, channel and message records only"
+                        .to_owned(),
+                );
+            }
+            0x03 | 0x04 if len > MAX_RECORD => {
+                return Err(format!(
+                    "a schema or channel record of {len} bytes (more than the {MAX_RECORD} read)"
+                ));
+            }
+            0x03 | 0x04 => {
+                let b = body(&mut *plain, len)?;
+                out.definition(op, &b).map_err(str::to_owned)?;
+            }
+            0x05 if len < MESSAGE_HEAD => return Err("a message record".to_owned()),
+            0x05 => {
+                let head = body(&mut *plain, MESSAGE_HEAD)?;
+                let (channel, log_time) = message_head(&head).ok_or("a message record")?;
+                let rest = len - MESSAGE_HEAD;
+                match out.pose_type(channel) {
+                    Some(schema) if rest <= MAX_RECORD => {
+                        let data = body(&mut *plain, rest)?;
+                        let decoded = decode(&data, schema);
+                        out.messages.push((log_time, channel, decoded));
+                    }
+                    Some(_) => {
+                        skip(&mut *plain, rest)?;
+                        out.messages.push((log_time, channel, None));
+                    }
+                    None => skip(&mut *plain, rest)?,
+                }
+            }
+            _ => skip(&mut *plain, len)?,
+        }
     }
-    records(file, &plain, at, out)
+    Ok(())
 }
 
 /// A CDR reader (`ros2msg` messages): alignment counted from after the 4-byte encapsulation
@@ -347,6 +514,18 @@ fn records_of(file: &Path, bytes: &[u8]) -> Result<Records, Error> {
             file.display()
         )));
     }
+    let declared = declared(&bytes[8..]);
+    let allowed = (bytes.len() as u64)
+        .saturating_mul(MAX_INFLATION)
+        .max(INFLATION_FLOOR);
+    if declared > allowed {
+        return Err(Error::Input(format!(
+            "{}: its chunks declare {declared} bytes uncompressed, {} times the file's {} bytes: more than the {MAX_INFLATION} times compression gives a bag (a decompression bomb, or not a bag)",
+            file.display(),
+            declared / (bytes.len() as u64).max(1),
+            bytes.len()
+        )));
+    }
     let mut one = Records::default();
     records(file, &bytes[8..], 8, &mut one)?;
     Ok(one)
@@ -357,8 +536,7 @@ fn records_of(file: &Path, bytes: &[u8]) -> Result<Records, Error> {
 pub fn read(bag: &Path, topic: Option<&str>) -> Result<(String, Vec<Stamped>), Error> {
     let mut by_file = Vec::new();
     for file in mcap_files(bag)? {
-        let bytes =
-            std::fs::read(&file).map_err(Error::io(format!("reading {}", file.display())))?;
+        let bytes = crate::input::read(&file)?;
         by_file.push(records_of(&file, &bytes)?);
     }
     select(bag, by_file, topic)
@@ -381,18 +559,16 @@ fn select(
 ) -> Result<(String, Vec<Stamped>), Error> {
     // Channel ids are per file: resolve each file's messages to (topic, schema) first.
     let mut topics: BTreeMap<String, String> = BTreeMap::new();
-    let mut messages: Vec<(u64, String, String, Vec<u8>)> = Vec::new();
+    let mut messages: Vec<(u64, String, String, Decoded)> = Vec::new();
     for f in by_file {
         for (t, schema, _) in f.channels.values() {
             let name = f.schemas.get(schema).cloned().unwrap_or_default();
             topics.insert(t.clone(), name);
         }
-        for (time, channel, data) in f.messages {
-            if let Some((t, schema, encoding)) = f.channels.get(&channel)
-                && encoding == "cdr"
-            {
+        for (time, channel, decoded) in f.messages {
+            if let Some((t, schema, _)) = f.channels.get(&channel) {
                 let name = f.schemas.get(schema).cloned().unwrap_or_default();
-                messages.push((time, t.clone(), name, data));
+                messages.push((time, t.clone(), name, decoded));
             }
         }
     }
@@ -439,8 +615,8 @@ fn select(
     messages.retain(|m| m.1 == topic);
     messages.sort_by_key(|m| m.0);
     let mut out = Vec::with_capacity(messages.len());
-    for (k, (_, _, schema, data)) in messages.iter().enumerate() {
-        let (time, position, orientation) = decode(data, schema).ok_or_else(|| {
+    for (k, (_, _, schema, decoded)) in messages.iter().enumerate() {
+        let (time, position, orientation) = decoded.ok_or_else(|| {
             Error::Input(format!(
                 "{}: topic {topic}: message {} is not a readable {schema} in CDR",
                 bag.display(),

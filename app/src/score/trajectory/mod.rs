@@ -19,6 +19,7 @@ pub mod bag;
 mod files;
 pub mod graph;
 mod levels;
+mod lines;
 mod metrics;
 pub mod pose;
 pub mod read;

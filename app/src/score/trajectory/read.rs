@@ -11,6 +11,7 @@
 
 use std::path::{Path, PathBuf};
 
+use super::lines;
 use super::pose::{Pose, from_matrix};
 use crate::Error;
 
@@ -57,90 +58,75 @@ fn bad(file: &Path, line: usize, what: impl std::fmt::Display) -> Error {
     Error::Input(format!("{}: line {line}: {what}", file.display()))
 }
 
-/// The numbers of each data line (blank lines and `#` comments skipped), with line numbers.
-fn rows(file: &Path) -> Result<Vec<(usize, Vec<f64>)>, Error> {
-    let text =
-        std::fs::read_to_string(file).map_err(Error::io(format!("reading {}", file.display())))?;
-    let mut out = Vec::new();
-    for (k, raw) in text.lines().enumerate() {
-        let line = k + 1;
-        let s = raw.trim();
-        if s.is_empty() || s.starts_with('#') {
-            continue;
-        }
-        let mut v = Vec::with_capacity(12);
-        for word in s.split(|c: char| c.is_whitespace() || c == ',') {
-            if word.is_empty() {
-                continue;
-            }
-            let x: f64 = word
-                .parse()
-                .map_err(|_| bad(file, line, format!("'{word}' is not a number")))?;
-            if !x.is_finite() {
-                return Err(bad(
-                    file,
-                    line,
-                    format!("{word} is not a finite number: every time and pose value must be"),
-                ));
-            }
-            v.push(x);
-        }
-        out.push((line, v));
-    }
-    Ok(out)
-}
-
-/// Reads a TUM or KITTI file (told by the number of columns: 8 or 12); a KITTI file's times
-/// come from `times`, or `times.txt` beside it.
+/// Reads a TUM or KITTI file (told by the number of columns of its first line: 8 or 12) a
+/// line at a time, each line checked as it is read; a KITTI file's times come from `times`,
+/// or `times.txt` beside it.
 pub fn read(file: &Path, times: Option<&Path>) -> Result<Trajectory, Error> {
-    let rows = rows(file)?;
-    let Some((_, first)) = rows.first() else {
+    let mut traj = Trajectory {
+        file: file.to_path_buf(),
+        format: "tum",
+        topic: None,
+        times: Vec::new(),
+        poses: Vec::new(),
+        lines: Vec::new(),
+    };
+    let mut want = 0;
+    lines::each_row(file, |line, n, v| {
+        if want == 0 {
+            want = match n {
+                8 => 8,
+                12 => 12,
+                _ => {
+                    return Err(bad(
+                        file,
+                        line,
+                        format!(
+                            "{n} number{}, but a trajectory line has 8 or 12: TUM lines are `t x y z qx qy qz qw` (8), KITTI lines a 3x4 pose matrix row by row (12)",
+                            if n == 1 { "" } else { "s" }
+                        ),
+                    ));
+                }
+            };
+        }
+        if n != want {
+            return Err(bad(
+                file,
+                line,
+                format!(
+                    "{n} numbers, but this file's first line has {want}: TUM lines are `t x y z qx qy qz qw` (8), KITTI lines a 3x4 pose matrix row by row (12)"
+                ),
+            ));
+        }
+        let pose = if want == 12 {
+            kitti_pose(v, file, line)?
+        } else {
+            traj.times.push(v[0]);
+            Pose {
+                q: unit([v[4], v[5], v[6], v[7]]).map_err(|why| bad(file, line, why))?,
+                t: [v[1], v[2], v[3]],
+            }
+        };
+        if let Some(why) = lines::too_far(pose.t) {
+            return Err(bad(file, line, why));
+        }
+        traj.poses.push(pose);
+        traj.lines.push(line);
+        Ok(())
+    })?;
+    if traj.poses.is_empty() {
         return Err(Error::Input(format!(
             "{}: no poses: a trajectory needs TUM lines `t x y z qx qy qz qw` or KITTI lines of 12 numbers (a 3x4 pose matrix, row by row)",
             file.display()
         )));
-    };
-    let kitti = first.len() == 12;
-    let want = if kitti { 12 } else { 8 };
-    let mut traj = Trajectory {
-        file: file.to_path_buf(),
-        format: if kitti { "kitti" } else { "tum" },
-        topic: None,
-        times: Vec::with_capacity(rows.len()),
-        poses: Vec::with_capacity(rows.len()),
-        lines: Vec::with_capacity(rows.len()),
-    };
-    for (line, v) in &rows {
-        if v.len() != want {
-            return Err(bad(
-                file,
-                *line,
-                format!(
-                    "{} numbers, but this file's first line has {want}: TUM lines are `t x y z qx qy qz qw` (8), KITTI lines a 3x4 pose matrix row by row (12)",
-                    v.len()
-                ),
-            ));
-        }
-        let pose = if kitti {
-            kitti_pose(v, file, *line)?
-        } else {
-            traj.times.push(v[0]);
-            Pose {
-                q: unit([v[4], v[5], v[6], v[7]]).map_err(|why| bad(file, *line, why))?,
-                t: [v[1], v[2], v[3]],
-            }
-        };
-        traj.poses.push(pose);
-        traj.lines.push(*line);
     }
-    let time_source = if kitti {
-        let (path, t, lines) = kitti_times(file, times, rows.len())?;
+    let (time_file, time_lines) = if want == 12 {
+        traj.format = "kitti";
+        let (path, t, lines) = kitti_times(file, times, traj.poses.len())?;
         traj.times = t;
         (path, lines)
     } else {
         (file.to_path_buf(), traj.lines.clone())
     };
-    let (time_file, time_lines) = time_source;
     increasing(&traj, |k, why| bad(&time_file, time_lines[k], why))?;
     Ok(traj)
 }
@@ -234,6 +220,9 @@ pub fn read_any(
             ));
         }
         let q = unit(m.orientation).map_err(|why| at(m.number, why))?;
+        if let Some(why) = lines::too_far(m.position) {
+            return Err(at(m.number, why));
+        }
         traj.times.push(m.time);
         traj.poses.push(Pose { q, t: m.position });
         traj.lines.push(m.number);
@@ -288,23 +277,27 @@ fn kitti_times(
             beside
         }
     };
-    let rows = rows(&path)?;
-    let mut out = Vec::with_capacity(rows.len());
-    let mut lines = Vec::with_capacity(rows.len());
-    for (line, v) in &rows {
-        if v.len() != 1 {
+    let mut out = Vec::with_capacity(poses);
+    let mut numbers = Vec::with_capacity(poses);
+    lines::each_row(&path, |line, n, v| {
+        if n != 1 {
             return Err(bad(
                 &path,
-                *line,
-                format!(
-                    "{} numbers: a times file has one time (seconds) a line",
-                    v.len()
-                ),
+                line,
+                format!("{n} numbers: a times file has one time (seconds) a line"),
             ));
         }
+        if out.len() == poses {
+            return Err(Error::Input(format!(
+                "{}: more than the {poses} times of the {poses} poses of {}: a KITTI times file has one line per pose",
+                path.display(),
+                file.display()
+            )));
+        }
         out.push(v[0]);
-        lines.push(*line);
-    }
+        numbers.push(line);
+        Ok(())
+    })?;
     if out.len() != poses {
         return Err(Error::Input(format!(
             "{}: {} times for the {poses} poses of {}: a KITTI times file has one line per pose",
@@ -313,5 +306,5 @@ fn kitti_times(
             file.display()
         )));
     }
-    Ok((path, out, lines))
+    Ok((path, out, numbers))
 }
