@@ -42,9 +42,11 @@ pub mod pipeline;
 pub mod plugins;
 pub mod presets;
 pub mod preview;
+pub mod rebuild;
 pub mod report;
 pub mod score;
 pub mod sense;
+pub mod sense_options;
 pub mod stats;
 pub mod validate;
 

@@ -31,9 +31,20 @@ fn meminfo_total(text: &str) -> Option<u64> {
     }
 }
 
+/// The largest size taken: 10^18 bytes (an exabyte), well within 64 bits.
+pub const MAX_SIZE: f64 = 1e18;
+
 /// Parses a size: bytes, or a number with a unit, `k`/`M`/`G`/`T` (powers of 1000) or
 /// `Ki`/`Mi`/`Gi`/`Ti` (powers of 1024), with or without a trailing `B`: `16G`, `512MiB`, `1.5GB`.
+/// Errors name `--max-memory`: [`parse_size_of`] names another option.
 pub fn parse_size(text: &str) -> Result<u64, Error> {
+    parse_size_of(text, "--max-memory", "16G")
+}
+
+/// [`parse_size`] of the option `knob` (in messages, with `example` as a size it takes): from
+/// 1M to [`MAX_SIZE`] bytes, each refusal saying which end was passed, or how sizes are
+/// written.
+pub fn parse_size_of(text: &str, knob: &str, example: &str) -> Result<u64, Error> {
     let t = text.trim();
     let split = t
         .find(|c: char| !(c.is_ascii_digit() || c == '.'))
@@ -54,15 +65,17 @@ pub fn parse_size(text: &str) -> Result<u64, Error> {
         _ => f64::NAN,
     };
     let value = number.parse::<f64>().map(|n| n * factor);
+    let shown = subtgraph_core::error::excerpt(text);
     match value {
-        Ok(v) if (1e6..1e18).contains(&v) => Ok(v as u64),
-        Ok(v) if v.is_finite() && (0.0..1e6).contains(&v) => Err(Error::Usage(format!(
-            "--max-memory {}: at least 1M is needed for any world",
-            subtgraph_core::error::excerpt(text)
+        Ok(v) if (1e6..MAX_SIZE).contains(&v) => Ok(v as u64),
+        Ok(v) if (0.0..1e6).contains(&v) => Err(Error::Usage(format!(
+            "{knob} {shown}: too small: give a size of at least 1M, like {example}, 512M or 2GiB"
+        ))),
+        Ok(v) if v >= MAX_SIZE => Err(Error::Usage(format!(
+            "{knob} {shown}: too large: a size may be at most 1000000T (10^18 bytes, within 64 bits); give one like {example}, 512M or 2GiB"
         ))),
         _ => Err(Error::Usage(format!(
-            "--max-memory {}: give a size like 16G, 512M or 2GiB",
-            subtgraph_core::error::excerpt(text)
+            "{knob} {shown}: give a size like {example}, 512M or 2GiB"
         ))),
     }
 }

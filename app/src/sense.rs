@@ -1,8 +1,9 @@
 //! `sense`: a sensor sequence along a route through a world folder's world. The request itself
 //! ([`SenseRequest`]) and everything it makes live in the sensors crate (`subtgraph-sensors`);
 //! this module is its host: the world of a folder, rebuilt with every built-in and the plugins
-//! its pipeline names, and the atomic sequence folder of [`crate::folder`], recorded as written
-//! by `sense` so that `sense --force` replaces only a sequence folder and never a world.
+//! the user names (never the ones its `world.toml` names: [`crate::rebuild`]), and the atomic
+//! sequence folder of [`crate::folder`], recorded as written by `sense` so that `sense --force`
+//! replaces only a sequence folder and never a world.
 //!
 //! Why rebuild rather than read the folder's `mesh/collision.obj`: the OBJ exists only when
 //! the world was exported to OBJ, carries no materials (which set the LiDAR's intensities),
@@ -16,9 +17,8 @@ use std::path::{Path, PathBuf};
 use subtgraph_core::World;
 pub use subtgraph_sensors::{SenseError, SenseRequest, Summary};
 
+use crate::Error;
 use crate::folder::{self, FolderError, Kind, Out};
-use crate::pipeline::{self, PipelineSource};
-use crate::{Error, memory};
 
 /// A written sequence.
 #[derive(Debug)]
@@ -30,10 +30,24 @@ pub struct Sensed {
 }
 
 /// Writes the sequence `request` asks for, atomically; `progress` is told each scan's index
-/// and the scan count as it is written (for a progress line).
+/// and the scan count as it is written (for a progress line). No plugin is loaded: see
+/// [`run_with`].
 pub fn run(request: &SenseRequest, progress: &dyn Fn(u64, u64)) -> Result<Sensed, Error> {
+    run_with(request, &[], progress)
+}
+
+/// [`run`], the world rebuilt with the plugin libraries `plugins` (the ones the user named:
+/// the world folder's own are never loaded for it, [`crate::rebuild`]). The folder also gets
+/// the options it was made with ([`crate::sense_options`]).
+pub fn run_with(
+    request: &SenseRequest,
+    plugins: &[PathBuf],
+    progress: &dyn Fn(u64, u64),
+) -> Result<Sensed, Error> {
     let host = AppHost {
         reading: [request.world.as_path()],
+        plugins,
+        options: crate::sense_options::text(request),
         progress,
         folder_error: RefCell::new(None),
         swept: RefCell::new(None),
@@ -52,19 +66,17 @@ pub fn run(request: &SenseRequest, progress: &dyn Fn(u64, u64)) -> Result<Sensed
 }
 
 /// The world a world folder was made from: its `world.toml` loaded and generated again (no
-/// exporters: only the world is wanted), with the plugins it names.
-pub fn world_of(folder: &Path) -> Result<World, Error> {
-    let (mut p, _) = PipelineSource::File(folder.join("world.toml")).load()?;
-    p.export.clear();
-    let registry = crate::registry_with(&p, &[])?;
-    let (components, _) = pipeline::build(&p, &registry, false)?;
-    let budget = memory::budget(None)?;
-    pipeline::generate(&p, &components, &folder.display().to_string(), &budget)
+/// exporters: only the world is wanted), with the plugins the user named
+/// ([`crate::rebuild::world_of`]).
+pub fn world_of(folder: &Path, plugins: &[PathBuf]) -> Result<World, Error> {
+    crate::rebuild::world_of(folder, plugins)
 }
 
 /// The application as the sensors' host.
 struct AppHost<'a> {
     reading: [&'a Path; 1],
+    plugins: &'a [PathBuf],
+    options: String,
     progress: &'a dyn Fn(u64, u64),
     folder_error: RefCell<Option<FolderError>>,
     swept: RefCell<Option<(PathBuf, usize)>>,
@@ -72,7 +84,7 @@ struct AppHost<'a> {
 
 impl subtgraph_sensors::Host for AppHost<'_> {
     fn world(&self, folder: &Path) -> Result<World, subtgraph_sensors::HostError> {
-        world_of(folder).map_err(|e| e.into())
+        world_of(folder, self.plugins).map_err(|e| e.into())
     }
 
     fn write_folder(
@@ -89,7 +101,17 @@ impl subtgraph_sensors::Host for AppHost<'_> {
         };
         out.check().map_err(|e| self.keep(e))?;
         *self.swept.borrow_mut() = folder::sweep_stale_beside(out.path);
-        folder::write_atomically(&out, |w| fill(w.root())).map_err(|e| match e {
+        let options = &self.options;
+        folder::write_atomically(&out, |w| {
+            fill(w.root())?;
+            let path = w.root().join(crate::sense_options::FILE);
+            std::fs::write(&path, options).map_err(|source| SenseError::Io {
+                what: "writing",
+                path,
+                source,
+            })
+        })
+        .map_err(|e| match e {
             FolderError::Content(inner) => match inner.downcast::<SenseError>() {
                 Ok(e) => *e,
                 Err(other) => SenseError::Host(other),

@@ -137,6 +137,21 @@ impl RouteGraph {
         })
     }
 
+    /// The first node position or polyline point farther than `reach` from every triangle of
+    /// `caster`, if any: a point a route cannot be at (a graph edited, or another world's; a
+    /// point moved 10,000 km once made the route ask for 4 GB).
+    pub fn stray(
+        &self,
+        caster: &subtgraph_core::raycast::RayCaster,
+        reach: f64,
+    ) -> Option<[f64; 3]> {
+        self.nodes
+            .iter()
+            .map(|n| n.position)
+            .chain(self.edges.iter().flat_map(|e| e.polyline.iter().copied()))
+            .find(|&p| caster.nearest(p, reach).is_none())
+    }
+
     /// The edges at a node, as `(edge id, the node at its other end)`, in id order.
     pub fn neighbours(&self, node: usize) -> impl Iterator<Item = (usize, usize)> + '_ {
         self.edges.iter().filter_map(move |e| {

@@ -117,6 +117,16 @@ pub fn options(r: &SenseRequest, seed: u64) -> Result<Options, SenseError> {
         imu = imu.noiseless();
     }
     imu.check()?;
+    if let Some(d) = r.duration
+        && !(d > 0.0 && d.is_finite())
+    {
+        // Before the world is rebuilt (issue 37, item 19).
+        return Err(SenseError::OutOfBounds {
+            what: "--duration".into(),
+            value: format!("{d} s"),
+            bounds: "a positive number of seconds".into(),
+        });
+    }
     Ok(Options {
         platform,
         route,
@@ -199,6 +209,18 @@ impl SenseRequest {
             // The survey of the world: its one ray-cast hierarchy is what the scans ask.
             let survey = WorldSurvey::new(&world)?;
             let scene = Scene::of_survey(&survey)?;
+            if let Some(p) = graph.stray(&scene.caster, 4.0 * scene.tile_pitch) {
+                return Err(SenseError::BadGraph {
+                    path: self.world.join("ground_truth/graph.json").display().to_string(),
+                    why: format!(
+                        "the point ({:.1}, {:.1}, {:.1}) is more than {} m from any rock of the world: the graph was edited, or is another world's; make the world again with `subtgraph generate`",
+                        p[0],
+                        p[1],
+                        p[2],
+                        4.0 * scene.tile_pitch
+                    ),
+                });
+            }
             let sequence = Sequence::plan(&scene, &graph, options)?;
             sequence.check_disk(limit)?;
             let about = serde_json::json!({

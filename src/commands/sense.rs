@@ -60,18 +60,17 @@ pub struct Args {
     /// Replace --out if it is a sensor sequence subtgraph sense wrote.
     #[arg(long)]
     force: bool,
+    /// A plugin library the world needs (repeatable): the plugins a world folder's world.toml
+    /// names are never loaded unless named here.
+    #[arg(long = "plugin", value_name = "PATH")]
+    plugins: Vec<PathBuf>,
 }
 
 /// Writes the sequence, with a progress line, and prints what it holds and how fast it went.
 pub fn run(a: Args) -> Result<(), Error> {
     let max_disk = match a.max_disk.as_deref() {
         // The sizes the memory limit takes, said of the disk.
-        Some(s) => Some(memory::parse_size(s).map_err(|_| {
-            Error::Usage(format!(
-                "--max-disk {}: give a size of at least 1M, like 20G, 500M or 2GiB",
-                subtgraph::core::error::excerpt(s)
-            ))
-        })?),
+        Some(s) => Some(memory::parse_size_of(s, "--max-disk", "20G")?),
         None => None,
     };
     let request = SenseRequest {
@@ -93,7 +92,7 @@ pub fn run(a: Args) -> Result<(), Error> {
         force: a.force,
     };
     let started = Instant::now();
-    let sensed = sense::run(&request, &|scan, of| {
+    let sensed = sense::run_with(&request, &a.plugins, &|scan, of| {
         if (scan + 1) % 500 == 0 || scan + 1 == of {
             eprint!("\r  scan {} of {of}", scan + 1);
             if scan + 1 == of {

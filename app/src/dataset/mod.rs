@@ -69,6 +69,9 @@ pub struct Options {
     /// A sensor sequence per world, as this request asks (its `world`, `out` and `force` are
     /// set per world): [`sense::sense_worlds`] after the worlds.
     pub sense: Option<SenseRequest>,
+    /// Plugin libraries given besides the pipelines' (`--plugin`): with the pipelines' own,
+    /// the ones the worlds may be rebuilt with for sensing.
+    pub plugins: Vec<PathBuf>,
 }
 
 /// What a run did.
@@ -195,6 +198,7 @@ impl DatasetRequest {
             shard: self.shard,
             max_memory,
             sense: self.sense.clone(),
+            plugins: self.plugins.clone(),
         })
     }
 

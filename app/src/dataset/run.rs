@@ -1,7 +1,7 @@
 //! Making a dataset: the folder prepared, the worlds already there checked, the rest made by
 //! worker threads one whole world at a time, and the index rebuilt.
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::sync::Mutex;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Instant;
@@ -126,10 +126,17 @@ pub fn run(sources: &[Source], opts: &Options) -> Result<Summary, Error> {
     let sensed = match &opts.sense {
         Some(template) => {
             let names: Vec<String> = mine.iter().map(|w| w.name.clone()).collect();
+            // The run's own plugins: its pipelines' and --plugin (a world's world.toml names
+            // the same ones, and nothing else is loaded).
+            let mut plugins = opts.plugins.clone();
+            for s in sources {
+                plugins.extend(s.pipeline.plugins.paths.iter().map(PathBuf::from));
+            }
             Some(sense::sense_worlds(
                 &opts.out,
                 &names,
                 template,
+                &plugins,
                 &|name, scan, of| {
                     if (scan + 1) % 500 == 0 || scan + 1 == of {
                         eprint!("\r  sensing {name}: scan {} of {of}", scan + 1);
@@ -156,6 +163,7 @@ pub fn run(sources: &[Source], opts: &Options) -> Result<Summary, Error> {
 /// hold nothing but this dataset's worlds: the index files written there would replace a
 /// user's files of the same names.
 pub fn check_out(out: &Path, all: &[Planned], reading: &[&Path]) -> Result<(), Error> {
+    crate::folder::not_current_folder(out)?;
     if out.exists() && !out.is_dir() {
         return Err(Error::Usage(format!(
             "--out {} is a file; give a folder for the dataset",
@@ -387,6 +395,7 @@ mod tests {
             shard: Shard::ALL,
             max_memory: subtgraph_core::Budget::unlimited(),
             sense: None,
+            plugins: Vec::new(),
         };
         let sources = std::slice::from_ref(&source);
         // This run planned cave-0000; another process then made it.

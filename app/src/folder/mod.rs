@@ -14,6 +14,8 @@
 //! - an interrupted run removes its temporary folder, and a killed one's is removed by the
 //!   next run ([`partial`]).
 
+pub mod digest;
+mod here;
 pub mod manifest;
 pub mod out;
 pub mod partial;
@@ -25,6 +27,7 @@ use std::path::{Path, PathBuf};
 use subtgraph_core::direct_file::{DirectFile, Spool};
 use subtgraph_core::export::WorldWriter;
 
+pub use here::not_current_folder;
 pub use manifest::Kind;
 pub use out::{Out, sweep_stale_beside};
 pub use partial::{install_signal_handlers, sweep_stale};
@@ -199,6 +202,20 @@ pub enum FolderError {
         /// What the command writes.
         wanted: Kind,
     },
+    /// The destination is the current folder or holds it (`--out .`, `--out ..`).
+    #[error(
+        "--out {} {how} the current folder ({}), which is yours: a command writes a new folder of its own; name one inside it, like --out ./NAME",
+        .out.display(),
+        .current.display()
+    )]
+    CurrentFolder {
+        /// The destination, as given.
+        out: PathBuf,
+        /// `is` or `holds`.
+        how: &'static str,
+        /// The current folder.
+        current: PathBuf,
+    },
     /// The destination is, holds or lies inside something the command reads.
     #[error(
         "--out {} {how} {}, which this command reads; write the result elsewhere: choose another --out",
@@ -341,7 +358,11 @@ fn fill_and_seal<E: std::error::Error + Send + Sync + 'static>(
     fill(&mut writer).map_err(|e| FolderError::Content(Box::new(e)))?;
     writer.close().map_err(io("writing", tmp))?;
     let files = manifest::list_files(tmp).map_err(io("listing", tmp))?;
-    fs::write(&marker, manifest::complete_text(kind, &files)).map_err(io("writing", &marker))?;
+    let mut text = manifest::complete_text(kind, &files);
+    if kind == Kind::World {
+        text.push_str(&digest::lines(tmp, &files).map_err(io("reading", tmp))?);
+    }
+    fs::write(&marker, text).map_err(io("writing", &marker))?;
     Ok(())
 }
 

@@ -32,6 +32,7 @@ impl Out<'_> {
     /// [`Out::check`], returning the parent folder, the folder's name, its path as the user
     /// wrote it (`race`, not `./race`, in messages) and what stands there now.
     pub(super) fn checked(&self) -> Result<(PathBuf, String, PathBuf, Before), FolderError> {
+        super::here::not_current(self.path, resolved(self.path))?;
         let (parent, name) = destination(self.path)?;
         let dest = if self.path.parent().is_some_and(|p| p.as_os_str().is_empty()) {
             PathBuf::from(&name)
@@ -80,7 +81,7 @@ impl Out<'_> {
 }
 
 /// `path` with its existing part resolved (links, `..`), the rest appended as written.
-fn resolved(path: &Path) -> PathBuf {
+pub(super) fn resolved(path: &Path) -> PathBuf {
     let mut rest = Vec::new();
     let mut at = path;
     loop {

@@ -1,0 +1,30 @@
+//! `--out` is never the current folder nor a folder holding it (issue 37, item 12): `--out .`
+//! wrote the world into a new subfolder named after the current folder and said `wrote .`;
+//! `--out ..` the same one level up; and with `--force` the user's own folder would be the one
+//! checked for replacing. A command writes a new folder of its own, so these are refused,
+//! before any work, for every command that writes one (and Python's `World.export`).
+
+use std::path::{Path, PathBuf};
+
+use super::FolderError;
+
+/// Refuses `out` (as given; `resolved` is it with links and `..` resolved) when it is the
+/// current folder or holds it.
+pub(super) fn not_current(out: &Path, resolved: PathBuf) -> Result<(), FolderError> {
+    let Ok(current) = std::env::current_dir().and_then(|d| d.canonicalize()) else {
+        return Ok(());
+    };
+    if !current.starts_with(&resolved) {
+        return Ok(());
+    }
+    Err(FolderError::CurrentFolder {
+        out: out.to_owned(),
+        how: if current == resolved { "is" } else { "holds" },
+        current,
+    })
+}
+
+/// [`not_current`] for a folder given by its path alone (a dataset's `--out`).
+pub fn not_current_folder(out: &Path) -> Result<(), FolderError> {
+    not_current(out, super::out::resolved(out))
+}
