@@ -11,6 +11,7 @@
 mod callbacks;
 mod convert;
 mod errors;
+mod rays;
 mod world;
 
 use std::path::PathBuf;

@@ -360,8 +360,9 @@ impl PyWorld {
     }
 
     /// Distances in metres from each origin along each direction (normalised) to the first
-    /// collision triangle, `inf` where none is within `max_range`, `nan` for a zero direction:
-    /// `float64 [n]`. Casts in parallel with the GIL released.
+    /// collision triangle, `inf` where none is within `max_range`: `float64 [n]`. Casts in
+    /// parallel with the GIL released. A NaN or infinite origin, or a direction that is zero,
+    /// NaN or infinite, is a `ValueError` naming its row.
     #[pyo3(signature = (origins, directions, max_range=f64::INFINITY))]
     fn raycast<'py>(
         slf: &Bound<'py, Self>,
@@ -379,6 +380,7 @@ impl PyWorld {
                 d.len()
             )));
         }
+        crate::rays::check_rays(&o, &d)?;
         let scene = scene_of(slf.get())?;
         let ranges = py.detach(|| {
             let rays: Vec<subtgraph_core::raycast::Ray> = o
@@ -401,21 +403,16 @@ impl PyWorld {
                 .caster
                 .cast_all(&rays, max)
                 .into_iter()
-                .zip(&rays)
-                .map(|(h, r)| match h {
-                    Some(h) => h.t,
-                    None if r.dir.iter().all(|x| x.is_finite()) => f64::INFINITY,
-                    None => f64::NAN,
-                })
+                .map(|h| h.map_or(f64::INFINITY, |h| h.t))
                 .collect::<Vec<f64>>()
         });
         Ok(numpy::PyArray1::from_vec(py, ranges))
     }
 
     /// One scan of a LiDAR model (`os1-32`, `os1-64`, `os1-128`, `vlp-16`, `mid-360`, or a
-    /// LiDAR table's path) standing still at `pose` (a 4 x 4 world-from-sensor matrix): its
-    /// returns as `float64 [n, 3]` in the sensor's frame (x forward, z up), without range noise
-    /// unless `noise` (drawn from `seed`).
+    /// LiDAR table's path) standing still at `pose` (a 4 x 4 world-from-sensor matrix, a rigid
+    /// transform: a `ValueError` otherwise): its returns as `float64 [n, 3]` in the sensor's
+    /// frame (x forward, z up), without range noise unless `noise` (drawn from `seed`).
     #[pyo3(signature = (pose, model="os1-32", noise=false, seed=0))]
     fn lidar_scan<'py>(
         slf: &Bound<'py, Self>,
@@ -440,6 +437,7 @@ impl PyWorld {
                 [m[[2, 0]], m[[2, 1]], m[[2, 2]]],
             ],
         };
+        crate::rays::check_rigid(&pose.rotation, [m[[3, 0]], m[[3, 1]], m[[3, 2]], m[[3, 3]]])?;
         let lidar =
             subtgraph_sensors::lidar::LidarModel::named(model, |p| std::fs::read_to_string(p).ok())
                 .map_err(|e| pyo3::exceptions::PyValueError::new_err(e.to_string()))?;
