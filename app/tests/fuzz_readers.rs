@@ -16,8 +16,15 @@
 //! - **Seeded**: the same cases on every run (`SUBTGRAPH_FUZZ_SEED` picks another seed,
 //!   `SUBTGRAPH_FUZZ_CASES` another number of cases per file).
 //!
+//! Issue 37 added the MCAP (Zstandard, LZ4 and plain chunks), segmentation image (PNG, NPY),
+//! trajectory (TUM, KITTI) and runs-CSV readers, each with cases crafted besides the mutated
+//! ones ([`fuzz_inputs`]): nesting, sizes in headers, decompression ratios. A reader that
+//! decompresses may also hold its decompressor's window ([`ALLOWED_DECOMPRESSING`]).
+//!
 //! `unsafe` is allowed in this file for the one thing that needs it: a global allocator.
 #![allow(unsafe_code)]
+
+mod fuzz_inputs;
 
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::cell::Cell;
@@ -36,6 +43,11 @@ const ALLOWED_PER_BYTE: usize = 64;
 const ALLOWED_FLOOR: usize = 4 << 20;
 /// A single allocation this large is reported before it is made.
 const HUGE: usize = 1 << 30;
+/// What a reader that decompresses may hold besides: its decompressor's window (the MCAP
+/// reader allows Zstandard windows of up to 8 MiB) and read buffers.
+const ALLOWED_DECOMPRESSING: usize = 12 << 20;
+/// Crafted cases per crafted reader (`SUBTGRAPH_FUZZ_CASES` scales them too).
+const CRAFTED: usize = 150;
 /// A case running this long is a hang: the binary stops, naming it.
 const HANG: Duration = Duration::from_secs(30);
 
@@ -218,6 +230,9 @@ fn mutate(seed: &[u8], rng: &mut Rng) -> Vec<u8> {
     }
     b
 }
+
+/// A generator of crafted cases.
+type Craft = fn(&mut Rng) -> Vec<u8>;
 
 /// A reader under test: its name and how it reads a file's bytes (an error is a fine answer).
 type Reader<'a> = (&'a str, Vec<Vec<u8>>, Box<dyn Fn(&[u8]) + 'a>);
@@ -439,6 +454,16 @@ fn tiles(dir: &Path) -> Vec<u8> {
     manifest.into_bytes()
 }
 
+/// What a case of `reader` on a file of `len` bytes may allocate.
+fn allowance(reader: &str, len: usize) -> usize {
+    let decompressing = if reader.contains("mcap") {
+        ALLOWED_DECOMPRESSING
+    } else {
+        0
+    };
+    ALLOWED_PER_BYTE * len + ALLOWED_FLOOR + decompressing
+}
+
 #[test]
 fn every_reader_answers_mutated_files_with_a_clean_error_in_bounded_memory() {
     let seed: u64 = std::env::var("SUBTGRAPH_FUZZ_SEED")
@@ -644,6 +669,65 @@ fn every_reader_answers_mutated_files_with_a_clean_error_in_bounded_memory() {
             }),
         ),
         (
+            "mcap (zstd, lz4, plain)",
+            fuzz_inputs::mcap_seeds(),
+            Box::new(|b: &[u8]| {
+                let _ =
+                    subtgraph_app::score::trajectory::bag::parse(b, Path::new("fuzz.mcap"), None);
+            }),
+        ),
+        (
+            "trajectory (tum)",
+            vec![fuzz_inputs::tum_seed()],
+            Box::new(|b: &[u8]| {
+                let path = scratch.join("fuzz.tum");
+                std::fs::write(&path, b).unwrap();
+                let _ = subtgraph_app::score::trajectory::read::read(&path, None);
+            }),
+        ),
+        (
+            "trajectory (kitti)",
+            vec![fuzz_inputs::kitti_seed()],
+            Box::new(|b: &[u8]| {
+                let path = scratch.join("kitti/poses.txt");
+                std::fs::create_dir_all(path.parent().unwrap()).unwrap();
+                let times: String = (0..20).map(|k| format!("{}\n", k as f64 * 0.1)).collect();
+                std::fs::write(path.with_file_name("times.txt"), times).unwrap();
+                std::fs::write(&path, b).unwrap();
+                let _ = subtgraph_app::score::trajectory::read::read(&path, None);
+            }),
+        ),
+        (
+            "runs.csv",
+            vec![fuzz_inputs::runs_seed()],
+            Box::new(|b: &[u8]| {
+                let path = scratch.join("runs.csv");
+                std::fs::write(&path, b).unwrap();
+                let _ = subtgraph_app::report::runs::from_csv(&path);
+            }),
+        ),
+        (
+            "segmentation png",
+            vec![fuzz_inputs::png_seed(64, 48)],
+            Box::new(|b: &[u8]| {
+                let path = scratch.join("level-0.png");
+                std::fs::write(&path, b).unwrap();
+                let _ = subtgraph_app::score::segmentation::read::prediction(&path, 64, 48);
+            }),
+        ),
+        (
+            "segmentation npy",
+            vec![subtgraph_core::npy::encode_u8(
+                &[48, 64],
+                &(0..48 * 64).map(|k| (k % 6) as u8).collect::<Vec<u8>>(),
+            )],
+            Box::new(|b: &[u8]| {
+                let path = scratch.join("level-0.npy");
+                std::fs::write(&path, b).unwrap();
+                let _ = subtgraph_app::score::segmentation::read::prediction(&path, 64, 48);
+            }),
+        ),
+        (
             "preview obj",
             vec![obj],
             Box::new(|b: &[u8]| {
@@ -693,13 +777,45 @@ fn every_reader_answers_mutated_files_with_a_clean_error_in_bounded_memory() {
         for k in 0..per_file * seeds.len() {
             let bytes = mutate(&seeds[k % seeds.len()], &mut rng);
             let m = run_case(name, case, &bytes, read.as_ref(), t0);
-            let allowed =
-                ALLOWED_PER_BYTE * m.len.max(seeds[k % seeds.len()].len()) + ALLOWED_FLOOR;
+            let allowed = allowance(name, m.len.max(seeds[k % seeds.len()].len()));
             if m.allocated > allowed {
                 let path = std::env::temp_dir().join(format!("subtgraph-fuzz-{name}-{case}.bin"));
                 let _ = std::fs::write(&path, &bytes);
                 panic!(
                     "{name} case {case}: {} bytes allocated for a file of {} bytes (at most {allowed}); its file is {}",
+                    m.allocated,
+                    m.len,
+                    path.display()
+                );
+            }
+            results.lock().unwrap().push(m);
+            case += 1;
+        }
+    }
+    // Crafted cases: structures a mutation rarely reaches (issue 37).
+    let crafted: [(&str, Craft); 7] = [
+        ("mcap (zstd, lz4, plain)", fuzz_inputs::crafted_mcap),
+        ("segmentation png", fuzz_inputs::crafted_png),
+        ("segmentation npy", fuzz_inputs::crafted_npy),
+        ("trajectory (tum)", fuzz_inputs::crafted_trajectory),
+        ("trajectory (kitti)", fuzz_inputs::crafted_trajectory),
+        ("runs.csv", fuzz_inputs::crafted_runs),
+        ("ros2 bag (mcap)", fuzz_inputs::crafted_mcap),
+    ];
+    for (name, make) in crafted {
+        let (_, _, read) = readers
+            .iter()
+            .find(|r| r.0 == name)
+            .expect("a reader of that name");
+        for _ in 0..CRAFTED * per_file / 150 {
+            let bytes = make(&mut rng);
+            let m = run_case(name, case, &bytes, read.as_ref(), t0);
+            let allowed = allowance(name, m.len);
+            if m.allocated > allowed {
+                let path = std::env::temp_dir().join(format!("subtgraph-fuzz-{name}-{case}.bin"));
+                let _ = std::fs::write(&path, &bytes);
+                panic!(
+                    "{name} crafted case {case}: {} bytes allocated for a file of {} bytes (at most {allowed}); its file is {}",
                     m.allocated,
                     m.len,
                     path.display()

@@ -85,3 +85,37 @@ def test_bad_rays_and_models_are_refused_with_what_to_change(cave):
     bare = subtgraph.generate(preset="cave", seed=7, mesh=False)
     with pytest.raises(ValueError, match="no mesh"):
         bare.raycast(np.zeros((1, 3)), np.ones((1, 3)))
+
+
+def test_item17_nan_zero_and_infinite_rays_and_non_rigid_poses_are_refused(cave):
+    """Issue 37 item 17: a ray with a NaN, infinite or zero direction, or a NaN origin, is a
+    ValueError naming its row (it returned NaN, neither a refusal nor the documented inf); a
+    LiDAR pose that is not a rigid transform (zero, scaled, sheared, mirrored, a bottom row
+    other than 0 0 0 1) is a ValueError (it returned an empty scan)."""
+    o = np.repeat(inside(cave)[None], 4, axis=0)
+    good = np.array([[1.0, 0, 0], [0, 1.0, 0], [0, 0, 1.0], [1.0, 1.0, 0]])
+    assert np.isfinite(cave.raycast(o, good)).all()
+    for bad in ([0.0, 0.0, 0.0], [np.nan, 1.0, 0.0], [np.inf, 0.0, 0.0], [1e-320, 0.0, 0.0]):
+        d = good.copy()
+        d[2] = bad
+        with pytest.raises(ValueError, match="direction 2"):
+            cave.raycast(o, d)
+    nan_origin = o.copy()
+    nan_origin[1, 0] = np.nan
+    with pytest.raises(ValueError, match="origin 1"):
+        cave.raycast(nan_origin, good)
+    pose = np.eye(4)
+    pose[:3, 3] = inside(cave)
+    assert len(cave.lidar_scan(pose)) > 1000
+    scaled = pose.copy()
+    scaled[:3, :3] *= 2.0
+    sheared = pose.copy()
+    sheared[0, 1] = 0.5
+    mirrored = pose.copy()
+    mirrored[2, 2] = -1.0
+    bottom = pose.copy()
+    bottom[3] = [0, 0, 1, 1]
+    zero = np.zeros((4, 4))
+    for bad in (zero, scaled, sheared, mirrored, bottom):
+        with pytest.raises(ValueError, match="rigid"):
+            cave.lidar_scan(bad)

@@ -212,6 +212,21 @@ def test_export_never_touches_a_users_files(tmp_path):
     assert "seed = 8" in (tmp_path / "ours" / "world.toml").read_text()
 
 
+def test_item12_export_never_writes_into_the_current_folder_or_one_holding_it(tmp_path, monkeypatch):
+    """Issue 37 item 12: World.export(".") (or "..", or the current folder by its path) is
+    refused: the world went into a new subfolder named after the current folder."""
+    world = subtgraph.generate(preset="cave", seed=7, mesh=False)
+    here = tmp_path / "a" / "b"
+    here.mkdir(parents=True)
+    (here / "notes.md").write_text("mine")
+    monkeypatch.chdir(here)
+    for out in (".", "..", "./", here, tmp_path / "a"):
+        for force in (False, True):
+            with pytest.raises(subtgraph.FolderError, match="current folder"):
+                world.export(out, force=force)
+    assert tree(tmp_path) == {"a/b/notes.md": b"mine"}
+
+
 def test_stats_never_replaces_a_world_or_what_it_reads(tmp_path):
     # Issue 21 item 1: stats([w], w2) replaced the world w2 with a report.
     for name, seed in (("a", 1), ("b", 2)):

@@ -36,6 +36,7 @@ mod plugins;
 mod preview;
 mod ramps;
 mod reliability;
+mod reliability_round3;
 mod report;
 mod room_and_pillar;
 mod rubble;
