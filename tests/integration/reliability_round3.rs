@@ -862,18 +862,18 @@ fn item14_dataset_sense_with_other_options_is_refused_naming_them() {
 #[test]
 fn item15_16_report_csvs_are_quoted_and_metrics_get_distinct_pictures() {
     let dir = tempfile::tempdir().unwrap();
-    let (_, runs) = report_runs(
+    report_runs(
         dir.path(),
         2,
         |m| serde_json::json!({"zz": {"y": m as f64}, "zz-y": (10 * m) as f64, "failed": m == 1}),
     );
-    let text = std::fs::read_to_string(&runs)
-        .unwrap()
-        .replace("method 0", "\"lio (v2, tuned)\"")
-        .replace("method 1", "\"say \"\"hi\"\"\"");
-    std::fs::write(&runs, text).unwrap();
+    // The methods named on the command line, as METHOD=FOLDER.
+    let (a, b) = (
+        format!("lio (v2, tuned)={}", arg(&dir.path().join("score-0"))),
+        format!("say \"hi\"={}", arg(&dir.path().join("score-1"))),
+    );
     let out = dir.path().join("r");
-    ok(&["report", "--runs", arg(&runs), "--out", arg(&out)]);
+    ok(&["report", &a, &b, "--out", arg(&out)]);
     let Some(python) = common::python_with(&["csv", "json"]) else {
         return;
     };
@@ -1044,21 +1044,42 @@ fn item20_a_first_line_of_the_wrong_width_is_named_as_it_is() {
 }
 
 /// Item 21: a `runs.csv` saved with a byte-order mark (as spreadsheets save it) reads as
-/// without it (it was told its header was missing).
+/// without it (it was told its header was missing); and its fields may be quoted as
+/// spreadsheets quote them (a method named `lio (v2, tuned)`).
 #[test]
 fn item21_a_runs_csv_with_a_byte_order_mark_reads_as_without() {
     let dir = tempfile::tempdir().unwrap();
     let (_, runs) = report_runs(dir.path(), 3, |m| serde_json::json!({"value": m as f64}));
+    let with_bom = |from: &Path, to: &Path| {
+        let mut bytes = "\u{feff}".as_bytes().to_vec();
+        bytes.extend_from_slice(&std::fs::read(from).unwrap());
+        std::fs::write(to, bytes).unwrap();
+    };
+    let report = |csv: &Path, out: &str| {
+        let out = dir.path().join(out);
+        ok(&["report", "--runs", arg(csv), "--out", arg(&out)]);
+        json(&out.join("report.json"))
+    };
     let bom = dir.path().join("bom.csv");
-    let mut bytes = "\u{feff}".as_bytes().to_vec();
-    bytes.extend_from_slice(&std::fs::read(&runs).unwrap());
-    std::fs::write(&bom, bytes).unwrap();
-    let (a, b) = (dir.path().join("a"), dir.path().join("b"));
-    ok(&["report", "--runs", arg(&runs), "--out", arg(&a)]);
-    ok(&["report", "--runs", arg(&bom), "--out", arg(&b)]);
-    let (ja, jb) = (json(&a.join("report.json")), json(&b.join("report.json")));
-    assert_eq!(ja["summary"], jb["summary"]);
-    assert_eq!(ja["paired"], jb["paired"]);
+    with_bom(&runs, &bom);
+    let (a, b) = (report(&runs, "a"), report(&bom, "b"));
+    assert_eq!(a["summary"], b["summary"]);
+    assert_eq!(a["paired"], b["paired"]);
+    // Quoted as a spreadsheet quotes a name with a comma or a quote.
+    let quoted = dir.path().join("quoted.csv");
+    let text = std::fs::read_to_string(&runs)
+        .unwrap()
+        .replace("method 0", "\"lio (v2, tuned)\"")
+        .replace("method 1", "\"say \"\"hi\"\"\"");
+    std::fs::write(&quoted, text).unwrap();
+    let quoted_bom = dir.path().join("quoted-bom.csv");
+    with_bom(&quoted, &quoted_bom);
+    let (c, d) = (report(&quoted, "c"), report(&quoted_bom, "d"));
+    assert_eq!(
+        c["methods"],
+        serde_json::json!(["lio (v2, tuned)", "method 2", "say \"hi\""])
+    );
+    assert_eq!(c["summary"], d["summary"]);
 }
 
 /// Item 22: a `--max-disk` or `--max-memory` past 64 bits is told it is too large and what the
