@@ -5,7 +5,8 @@
 
 use subtgraph_core::export::MemoryWriter;
 use subtgraph_schema::{
-    Artifacts, Document, FreeSpace, Graph, Hazards, SemanticLabels, SpawnPoses, Topology,
+    Artifacts, CollisionBudget, Document, FreeSpace, Graph, Hazards, SemanticLabels, SpawnPoses,
+    Topology,
 };
 
 fn world_files() -> MemoryWriter {
@@ -73,6 +74,8 @@ fn every_json_file_of_a_world_reads_back_whole_through_its_schema_type() {
     round_trip::<SpawnPoses>(&files);
     let f: FreeSpace = round_trip(&files);
     assert!(f.free_voxels > 0);
+    let b: CollisionBudget = round_trip(&files);
+    assert!(b.classes.floor_by_routes.count > 0 && b.classes.walls.count > 0);
 }
 
 #[test]

@@ -31,7 +31,8 @@ mod ray;
 use rayon::prelude::*;
 
 use crate::mesh::Mesh;
-use ray::{Prepared, box_distance2, closest_on_triangle};
+pub use ray::closest_on_triangle;
+use ray::{Prepared, box_distance2};
 
 /// Triangles a leaf holds at most (more only where the heuristic finds no cheaper split, up to
 /// four times this).
@@ -53,6 +54,10 @@ pub struct Hit {
     pub triangle: u32,
     /// The triangle's unit normal as wound (pointing into the passage).
     pub normal: [f32; 3],
+    /// Where on the triangle: the weights of its second and third vertex (as the mesh lists
+    /// them; the first's is `1 - u - v`), for what is interpolated across it (texture
+    /// coordinates, vertex normals, colours).
+    pub barycentric: [f32; 2],
 }
 
 /// A ray: where it starts and where it goes.
@@ -271,7 +276,7 @@ impl RayCaster {
             // The next child whose box the ray enters before the best hit so far.
             loop {
                 if top == 0 {
-                    return hit.map(|k| self.hit(k, best));
+                    return hit.map(|k| self.hit(k, best, origin, dir));
                 }
                 top -= 1;
                 if stack[top].t <= best {
@@ -282,14 +287,17 @@ impl RayCaster {
         }
     }
 
-    fn hit(&self, k: usize, t: f32) -> Hit {
+    fn hit(&self, k: usize, t: f32, origin: [f64; 3], dir: [f64; 3]) -> Hit {
+        let t = f64::from(t);
+        let p = [0, 1, 2].map(|i| origin[i] + t * dir[i]);
         Hit {
-            t: f64::from(t),
+            t,
             triangle: self.ids[k],
             normal: match self.normals.get(k) {
                 Some(&n) => n,
                 None => normal(&self.vertices[k]),
             },
+            barycentric: barycentric(&self.vertices[k], p),
         }
     }
 
@@ -433,6 +441,23 @@ fn normal(v: &[[f32; 3]; 3]) -> [f32; 3] {
     let n = crate::vec3::cross(crate::vec3::sub(b, a), crate::vec3::sub(c, a));
     let normal = crate::vec3::unit(n).unwrap_or([0.0, 0.0, 1.0]);
     normal.map(|x| x as f32)
+}
+
+/// The weights of `v`'s second and third vertex at `p` (projected onto its plane), clamped to
+/// the triangle: one square root-free solve in `f64`, once per hit.
+fn barycentric(v: &[[f32; 3]; 3], p: [f64; 3]) -> [f32; 2] {
+    use crate::vec3::{dot, sub};
+    let [a, b, c] = v.map(|q| q.map(f64::from));
+    let (e1, e2, d) = (sub(b, a), sub(c, a), sub(p, a));
+    let (d11, d12, d22) = (dot(e1, e1), dot(e1, e2), dot(e2, e2));
+    let (p1, p2) = (dot(d, e1), dot(d, e2));
+    let det = d11 * d22 - d12 * d12;
+    if det <= 0.0 {
+        return [0.0; 2];
+    }
+    let u = ((d22 * p1 - d12 * p2) / det).clamp(0.0, 1.0);
+    let w = ((d11 * p2 - d12 * p1) / det).clamp(0.0, 1.0 - u);
+    [u as f32, w as f32]
 }
 
 /// The largest `f32` below `x` (for positive, finite `x`; 0 stays 0).

@@ -49,7 +49,7 @@ mod world_toml;
 pub use gltf::Gltf;
 
 pub use ground_truth::{
-    Comms, FreeSpace, GraphFiles, GroundTruth, RosMap, SemanticLabels,
+    CollisionBudget, Comms, FreeSpace, GraphFiles, GroundTruth, RosMap, SemanticLabels,
     Settings as GroundTruthSettings, SpawnPoses,
 };
 pub use level_maps::{LevelMaps, kind_colour};
@@ -112,8 +112,16 @@ pub fn register(registry: &mut Registry) -> Result<(), DuplicateName> {
         },
     )?;
     e.add(
+        "collision-budget",
+        "ground truth: how far the visual surface lies from the collision surface, per class (ground_truth/collision_budget.json)",
+        |p| {
+            GroundTruthSettings::from_params(p, &[])?;
+            Ok(Box::new(CollisionBudget) as Box<dyn Exporter>)
+        },
+    )?;
+    e.add(
         "ground-truth",
-        "ground truth: graph, ros-map, free-space, semantic-labels and spawn-poses with their keys",
+        "ground truth: graph, ros-map, free-space, semantic-labels, spawn-poses and collision-budget with their keys",
         |p| Ok(Box::new(GroundTruth::from_params(p)?) as Box<dyn Exporter>),
     )?;
     e.add(

@@ -10,6 +10,7 @@
 //! | `topology.json` | [`Topology`] |
 //! | `ground_truth/graph.json` | [`Graph`] |
 //! | `ground_truth/artifacts.json` | [`Artifacts`] |
+//! | `ground_truth/collision_budget.json` | [`CollisionBudget`] |
 //! | `ground_truth/hazards.json` | [`Hazards`] |
 //! | `ground_truth/semantic_labels.json` | [`SemanticLabels`] |
 //! | `ground_truth/spawn_poses.json` | [`SpawnPoses`] |
@@ -30,6 +31,7 @@
 use serde::de::DeserializeOwned;
 
 mod artifacts;
+mod collision_budget;
 mod free_space;
 mod graph;
 mod hazards;
@@ -39,6 +41,7 @@ mod tasks;
 mod topology;
 
 pub use artifacts::{ArtifactEntry, Artifacts, GraphPlace, Hidden};
+pub use collision_budget::{Classes, CollisionBudget, Distances};
 pub use free_space::FreeSpace;
 pub use graph::{Graph, GraphEdge, GraphNode};
 pub use hazards::{HazardPatch, Hazards};

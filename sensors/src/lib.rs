@@ -6,11 +6,12 @@
 //!
 //! The paper stress-tests LiDAR-inertial odometry in its worlds with Gazebo, ROS, a robot model
 //! and an operator per world. None of that is needed to make what those methods read: the
-//! world's collision surface and its ground-truth graph suffice. A route is planned on the
+//! world's visual surface and its ground-truth graph suffice. A route is planned on the
 //! graph ([`route`]) and timed into a smooth trajectory ([`trajectory`]); a LiDAR model
 //! ([`lidar`]) casts its rays into the surface with the core's ray caster
-//! ([`subtgraph_core::raycast`]), the one the world's survey holds
-//! ([`subtgraph_survey::WorldSurvey::rays`]), from the pose the sensor has at each ray's instant; an IMU
+//! ([`subtgraph_core::raycast`]), the one the world's survey holds over the visual surface
+//! and a mine's services ([`subtgraph_survey::WorldSurvey::scan_rays`]; what each triangle
+//! is: [`surface`]), from the pose the sensor has at each ray's instant; an IMU
 //! ([`imu`]) reads the trajectory's exact derivatives; and the writers ([`write`](mod@write)) stream it all
 //! to disk. [`request::SenseRequest`] is the `subtgraph sense` command; a dataset worker that
 //! already holds a world and its survey calls [`scene::Scene::of_survey`], [`sequence::Sequence::plan`] and
@@ -31,6 +32,7 @@ pub mod request;
 pub mod route;
 pub mod scene;
 pub mod sequence;
+pub mod surface;
 pub mod trajectory;
 pub mod write;
 

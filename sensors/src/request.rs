@@ -228,7 +228,7 @@ impl SenseRequest {
                 "seed": world.resolved.seed,
                 "levels": world.resolved.levels,
                 "tile_pitch_m": world.resolved.tile_pitch,
-                "collision_triangles": scene.caster.triangle_count(),
+                "surface_triangles": scene.caster.triangle_count(),
             });
             let scans = sequence.scans;
             let prepare_s = started.elapsed().as_secs_f64();

@@ -1,9 +1,11 @@
-//! What the sensors see of a world: its collision surface in a ray caster, how strongly each
-//! triangle reflects a LiDAR's near-infrared light, and where its floor hazards are.
+//! What the sensors see of a world: its visual surface (with a mine's services) in a ray
+//! caster, what each triangle is (its material, how strongly that reflects a LiDAR's
+//! near-infrared light, the tile or fixture it belongs to), and where its floor hazards are.
 //!
-//! The ray caster is the world survey's ([`WorldSurvey::rays`]): one hierarchy over the
-//! collision surface, built once per world and shared (an `Arc`) by every question about
-//! what a ray hits, the survey's own widths and heights as well as the sensors' rays.
+//! The ray caster is the world survey's ([`WorldSurvey::scan_rays`]): one hierarchy over the
+//! surface `mesh/world.obj` and `mesh/services.obj` hold, the one cameras and other
+//! simulators' ray casters see, built once per world and shared (an `Arc`). The ground truth
+//! is made on the collision surface, within the world's collision budget of this one.
 
 use std::sync::Arc;
 
@@ -12,12 +14,15 @@ use subtgraph_core::raycast::RayCaster;
 use subtgraph_survey::WorldSurvey;
 
 use crate::error::SenseError;
+use crate::surface::Surface;
 
 /// A world made ready for sensing: built once, then shared by every scan.
 pub struct Scene {
-    /// The collision surface's hierarchy (the survey's, shared).
+    /// The sensed surface's hierarchy (the survey's, shared).
     pub caster: Arc<RayCaster>,
-    /// Each triangle's reflectivity in `[0, 1]` (index: the mesh's triangle).
+    /// What each triangle of that surface is: its material and part ([`Surface::hit`]).
+    pub surface: Surface,
+    /// Each material's reflectivity in `[0, 1]` (index: [`Surface::materials`]' values).
     pub reflectivity: Vec<f32>,
     /// Floor hazards (rubble fields, drops) as `[x0, y0, x1, y1, z0, z1]`.
     pub hazards: Vec<[f64; 6]>,
@@ -31,7 +36,7 @@ impl Scene {
         let world = survey.world();
         let mesh = world.mesh().ok_or(SenseError::NoMesh)?;
         // The rock and, in a mine, its services (bolts, duct, pipes, cable, lights).
-        let (caster, surface) = survey.scan_rays().ok_or(SenseError::NoMesh)?;
+        let (caster, _) = survey.scan_rays().ok_or(SenseError::NoMesh)?;
         let reflectivity: Vec<f32> = mesh.materials.iter().map(material_reflectivity).collect();
         let hazards = mesh
             .hazards
@@ -47,13 +52,13 @@ impl Scene {
                 ]
             })
             .collect();
-        Ok(Scene::with_caster(
-            Arc::clone(caster),
-            surface,
-            &reflectivity,
+        Ok(Scene {
+            caster: Arc::clone(caster),
+            surface: Surface::of_world(mesh),
+            reflectivity,
             hazards,
-            world.resolved.tile_pitch,
-        ))
+            tile_pitch: world.resolved.tile_pitch,
+        })
     }
 
     /// A scene of any mesh, not a world's (tests, a mesh read from elsewhere): builds a
@@ -65,30 +70,19 @@ impl Scene {
         hazards: Vec<[f64; 6]>,
         tile_pitch: f64,
     ) -> Scene {
-        let caster = Arc::new(RayCaster::new(mesh));
-        Scene::with_caster(caster, mesh, reflectivity, hazards, tile_pitch)
-    }
-
-    /// A scene of `mesh` whose hierarchy `caster` is already built (over that mesh).
-    fn with_caster(
-        caster: Arc<RayCaster>,
-        mesh: &Mesh,
-        reflectivity: &[f32],
-        hazards: Vec<[f64; 6]>,
-        tile_pitch: f64,
-    ) -> Scene {
-        let per_triangle = (0..mesh.triangles.len())
-            .map(|i| {
-                let m = mesh.materials.get(i).copied().unwrap_or(0) as usize;
-                reflectivity.get(m).copied().unwrap_or(0.3)
-            })
-            .collect();
         Scene {
-            caster,
-            reflectivity: per_triangle,
+            caster: Arc::new(RayCaster::new(mesh)),
+            surface: Surface::of_materials(&mesh.materials, mesh.triangles.len()),
+            reflectivity: reflectivity.to_vec(),
             hazards,
             tile_pitch,
         }
+    }
+
+    /// The reflectivity of triangle `t`'s material (0.3 for a material without one).
+    pub fn reflectivity_of(&self, t: u32) -> f32 {
+        let m = self.surface.material(t) as usize;
+        self.reflectivity.get(m).copied().unwrap_or(0.3)
     }
 
     /// Whether a point is over a floor hazard (within 1 m of its region in the plane).

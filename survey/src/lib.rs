@@ -10,8 +10,8 @@
 //! | each tile's passage axis: where its node stands, its paths to its openings, its grade | [`axis`] | per tile, when first asked for (artifact placement asks for a few, the ground truth for all, in parallel) |
 //! | each edge's centreline and its length | [`centrelines`] | when first asked for |
 //! | each edge's least width and height on the collision surface | [`sections`] | when first asked for |
-//! | what a ray hits: one hierarchy over the collision surface, shared by the widths and heights and by the sensors (`subtgraph sense`, Python's `World.raycast`) | [`WorldSurvey::rays`] | built when first asked for |
-//! | what a sensor's ray hits in a world with fixtures (a mine's services): the collision surface and the fixtures | [`WorldSurvey::scan_rays`] | built when first asked for |
+//! | what a ray hits on the collision surface: one hierarchy, shared by the widths and heights, the comms and the collision budget | [`WorldSurvey::rays`] | built when first asked for |
+//! | what a sensor's ray hits: the visual surface and the fixtures (a mine's services), for `subtgraph sense` and Python's `World.raycast` and `World.lidar_scan` | [`WorldSurvey::scan_rays`] | built when first asked for |
 //! | the artifacts' poses and whether each is seen from its tile's passage | [`artifacts`], [`sight`] | when the survey is made (a pipeline with `[artifacts]` always writes them) |
 //! | the floor patches of `[hazards] friction` | [`hazards`] | when the survey is made |
 //! | MuJoCo's height fields and convex slabs | [`heightfields`], [`convex_pieces`] | when MuJoCo's writer asks, with its settings |
@@ -86,12 +86,13 @@ pub struct WorldSurvey<'w> {
     all_axes: OnceLock<()>,
     edges: OnceLock<Vec<EdgeLine>>,
     /// The one ray-cast structure over the collision surface (`core::raycast`'s hierarchy),
-    /// built once, when first needed: by the edges' widths and heights ([`Sections`]) or by
-    /// the sensors (`subtgraph-sensors`' `Scene` holds the same `Arc`). `None` without a mesh.
+    /// built once, when first needed: by the edges' widths and heights ([`Sections`]), the
+    /// comms or the collision budget. `None` without a mesh.
     rays: OnceLock<Option<Arc<RayCaster>>>,
-    /// What a sensor's rays hit when the world has fixtures (a mine's services): the
-    /// collision surface with the fixtures baked after it, and the hierarchy over both.
-    scan: OnceLock<Option<(Arc<RayCaster>, Mesh)>>,
+    /// What a sensor's rays hit: the hierarchy over the visual surface, and with fixtures (a
+    /// mine's services) the visual surface with the fixtures baked after it (`None`: the
+    /// visual surface alone, not copied).
+    scan: OnceLock<Option<(Arc<RayCaster>, Option<Mesh>)>>,
     sections: OnceLock<Vec<Option<(f64, f64)>>>,
     artifacts: Option<PlacedArtifacts>,
     patches: Option<Vec<Patch>>,
@@ -141,12 +142,12 @@ impl<'w> WorldSurvey<'w> {
         axes
     }
 
-    /// What a ray hits: the hierarchy over the world's collision surface (what a robot's body
-    /// and its sensors meet), built on the first call (about half a second for the 1.2 M
-    /// triangles of the lava-tube preset, on two cores) and shared from then on; `None` for a world
-    /// without a mesh. Every ray question about the world asks this one: the edges' widths
-    /// and heights here, the LiDAR and the routes' clearances in `subtgraph sense`, and
-    /// Python's `World.raycast` and `World.lidar_scan`.
+    /// What a ray hits on the collision surface (what a robot's body meets and the ground
+    /// truth is made on): the hierarchy over it, built on the first call (a fraction of a
+    /// second for the lava-tube preset's 0.55 M collision triangles, on two cores) and shared
+    /// from then on; `None` for a world without a mesh. The edges' widths and heights, the
+    /// comms and the collision budget ask this one; the sensors ask
+    /// [`scan_rays`](Self::scan_rays).
     pub fn rays(&self) -> Option<&Arc<RayCaster>> {
         self.rays
             .get_or_init(|| {
@@ -156,28 +157,31 @@ impl<'w> WorldSurvey<'w> {
             .as_ref()
     }
 
-    /// What a sensor sees, and the surface its hits' triangle indices refer to: the collision
-    /// surface ([`rays`](Self::rays)) or, in a world with fixtures (a mine's bolts, duct,
-    /// pipes, cable and lights), a second hierarchy over the collision surface and the
-    /// fixtures together, built when first asked for. The ground truth's widths and heights
-    /// keep to the rock ([`rays`](Self::rays)): the services hang above a ground robot, and
-    /// what a LiDAR sees of them is the point of having them.
+    /// What a sensor sees, and the surface its hits' triangle indices refer to: the world's
+    /// finest surface, the one `mesh/world.obj` holds and cameras and other simulators' ray
+    /// casters see (the visual surface), and in a world with fixtures (a mine's bolts, duct,
+    /// pipes, cable and lights, `mesh/services.obj`) the fixtures baked after it, in one
+    /// hierarchy built when first asked for. Its triangle indices are the visual mesh's, then
+    /// the fixtures' (so a hit's material, texture coordinates and tile are looked up there).
+    /// The ground truth keeps to the collision surface ([`rays`](Self::rays)), which the
+    /// collision budget (`ground_truth/collision_budget.json`) says how far it lies from this.
     pub fn scan_rays(&self) -> Option<(&Arc<RayCaster>, &Mesh)> {
         let mesh = self.world.mesh()?;
-        if mesh.fixtures.is_empty() {
-            return Some((self.rays()?, &mesh.collision));
-        }
-        self.scan
+        let (caster, all) = self
+            .scan
             .get_or_init(|| {
-                let mut all = mesh.collision.clone();
+                if mesh.fixtures.is_empty() {
+                    return Some((Arc::new(RayCaster::new(&mesh.visual)), None));
+                }
+                let mut all = mesh.visual.clone();
                 // Rays take their triangles' normals; the fixtures are baked without vertex
                 // normals, so the rock's go too rather than cover only part of the surface.
                 all.normals.clear();
                 all.append(&mesh.fixtures.baked());
-                Some((Arc::new(RayCaster::new(&all)), all))
+                Some((Arc::new(RayCaster::new(&all)), Some(all)))
             })
-            .as_ref()
-            .map(|(r, m)| (r, m))
+            .as_ref()?;
+        Some((caster, all.as_ref().unwrap_or(&mesh.visual)))
     }
 
     /// The edges' widths and heights, measured by rays into [`rays`](Self::rays).

@@ -12,6 +12,7 @@
 //! world coordinates, and each tile meshes its own block of a world-wide lattice with marching
 //! tetrahedra ([`marching`]). Adjacent tiles therefore meet on exactly the same opening,
 //! vertex for vertex, the assembled world is one closed surface, and no two tiles are alike.
+//! Each tile's collision copy is its visual surface simplified within a bound ([`collision`]).
 //! A new cave type needs only a [`passage::Profile`] and a [`procedural::Style`].
 //!
 //! [`mesh_files`] places meshes of your own (the DARPA SubT tiles, scans) from a manifest.
@@ -23,6 +24,7 @@ pub mod axis;
 pub mod bends;
 pub mod cave;
 pub mod chambers;
+pub mod collision;
 pub mod field;
 pub mod finish;
 pub mod islands;
@@ -39,6 +41,7 @@ pub mod ramp;
 pub mod refuge;
 pub mod rubble;
 pub mod services;
+pub mod simplify;
 pub mod slope;
 pub mod textures;
 pub mod winding;

@@ -1,6 +1,6 @@
 //! What the procedural tile sets share: resolving their knobs against the world, checking the
 //! passages fit the tiles, and meshing a tile's block of the world field (visual at the full
-//! resolution, collision at a coarser one).
+//! resolution; its collision copy simplified from it within `collision_tolerance`).
 
 use serde::Deserialize;
 use subtgraph_core::Layout;
@@ -30,6 +30,10 @@ use crate::textures::rock::Look;
 /// Triangles per lattice cell of surface that marching tetrahedra make on these fields
 /// (measured on the presets; see the test `estimates_follow_the_meshes`).
 const TRIANGLES_PER_CELL: f64 = 6.0;
+
+/// The collision copy's triangles per visual triangle at the default tolerance (measured on
+/// the presets, seed 1: cave 0.15, mine 0.12, lava tube 0.11), rounded up.
+const COLLISION_SHARE: f64 = 0.16;
 
 /// Metres per texture repeat: the box-projected texture coordinates' scale and the size of
 /// one tile of the procedural textures.
@@ -81,9 +85,14 @@ pub struct Settings {
     pub light_spacing: Option<f64>,
     /// Lattice cells per tile pitch for the visual mesh: the detail level (multiple of 4).
     pub resolution: Option<u32>,
-    /// Lattice cells per tile pitch for the collision mesh (multiple of 2, divides
-    /// `resolution`).
+    /// Lattice cells per tile pitch of the coarse lattice (multiple of 2, divides
+    /// `resolution`): the smallest rubble rock, the rock about a ramp and a squeeze's slack
+    /// follow it (the collision mesh was marched on it before `collision_tolerance`).
     pub collision_resolution: Option<u32>,
+    /// `[floors, the rest]`, metres: how far the visual surface may lie from the collision
+    /// surface (see [`crate::collision`]; default `[0.02, 0.10]`, `[0, 0]` for a copy of the
+    /// visual surface).
+    pub collision_tolerance: Option<[f64; 2]>,
     /// Which surface materials to paint; others fall back to the wall material.
     pub materials: Option<Vec<String>>,
     /// Rooms at junctions and dead ends (see [`crate::chambers`]).
@@ -184,6 +193,17 @@ impl Procedural {
                     format!("must be even, at least 4, and divide resolution ({res})"),
                 ));
             }
+        }
+        if settings
+            .collision_tolerance
+            .is_some_and(|t| t.iter().any(|v| !(v.is_finite() && (0.0..=1.0).contains(v))))
+        {
+            return Err(params.error(
+                "collision_tolerance",
+                "must be [floors, the rest] in metres, each from 0 to 1 (how far the visual \
+                 surface may lie from the collision surface), e.g. collision_tolerance = \
+                 [0.02, 0.10]",
+            ));
         }
         check_rooms(&settings, params)?;
         check_finish(&style, &settings, params)?;
@@ -468,6 +488,13 @@ impl Procedural {
             ),
             fix: smaller,
         }
+    }
+
+    /// `[floors, the rest]`, metres: as asked, or [`crate::collision::DEFAULT_TOLERANCE`].
+    fn collision_tolerance(&self) -> [f64; 2] {
+        self.settings
+            .collision_tolerance
+            .unwrap_or(crate::collision::DEFAULT_TOLERANCE)
     }
 
     fn resolution(&self) -> (u32, u32) {
@@ -798,7 +825,7 @@ impl TileSet for Procedural {
         let world = ctx.layout;
         let passage = self.passage(world);
         let levels = self.levels(world);
-        let (visual_n, collision_n) = self.resolution();
+        let (visual_n, _) = self.resolution();
         let fine = world.resolved.tile_pitch / f64::from(visual_n);
         let field = LocalField::around(
             world,
@@ -824,7 +851,7 @@ impl TileSet for Procedural {
         let block = |n| Self::block(world, ctx.cell, n, levels);
         // Points beyond the block, for a small piece across a face (`crate::islands`).
         let blocks_of = |n: u32| move |cell| Self::block(world, cell, n, levels);
-        let (visual_blocks, collision_blocks) = (blocks_of(visual_n), blocks_of(collision_n));
+        let visual_blocks = blocks_of(visual_n);
         let profile = self.style.profile.as_ref();
         let visual_owners = Owners::new(
             world,
@@ -835,25 +862,13 @@ impl TileSet for Procedural {
             &visual_blocks,
             &field,
         );
-        let collision_owners = Owners::new(
-            world,
-            &passage,
-            profile,
-            levels,
-            fine,
-            &collision_blocks,
-            &field,
-        );
-        let h = |n: u32| world.resolved.tile_pitch / f64::from(n);
+        let h = world.resolved.tile_pitch / f64::from(visual_n);
         let (visual, visual_seam) =
             polygonise_columns(block(visual_n), material::ROCK, column, paint, |p| {
-                visual_owners.value(p, h(visual_n))
+                visual_owners.value(p, h)
             });
-        let (mut collision, collision_seam) =
-            polygonise_columns(block(collision_n), material::ROCK, column, paint, |p| {
-                collision_owners.value(p, h(collision_n))
-            });
-        collision.materials.clear();
+        let (collision, collision_seam) =
+            crate::collision::collision_of(&visual, &visual_seam, self.collision_tolerance());
         let (chamber, squeeze) =
             crate::chambers::of_cell(world, ctx.cell, ctx.tile.kind, &passage, levels, fine);
         // No rubble or drop in a squeeze (`crate::rubble::tile_hazard` says none there).
@@ -1087,22 +1102,30 @@ impl TileSet for Procedural {
         };
         let rocks = p.rocks.ceil() * 2.0 * std::f64::consts::TAU * p.rock_size * p.rock_size;
         let area = arms * perimeter * 0.5 * pitch + shaft + rocks;
-        let (visual, collision) = self.resolution();
-        let triangles = |n: u32| {
-            let h = pitch / f64::from(n);
-            TRIANGLES_PER_CELL * area / (h * h)
+        let h = pitch / f64::from(self.resolution().0);
+        let visual = TRIANGLES_PER_CELL * area / (h * h);
+        // The collision copy is the visual surface simplified (`crate::collision`): all of it
+        // at a tolerance of 0, a share at the others (assembly's check of the first tiles made
+        // catches a tighter tolerance's larger share).
+        let share = if self.collision_tolerance().iter().all(|&t| t <= 0.0) {
+            1.0
+        } else {
+            COLLISION_SHARE
         };
         Some(TileTriangles {
-            visual: triangles(visual),
-            collision: triangles(collision),
+            visual,
+            collision: share * visual,
         })
     }
 
     fn detail_advice(&self) -> Option<String> {
-        let (visual, collision) = self.resolution();
+        let (visual, _) = self.resolution();
+        let [floors, rest] = self.collision_tolerance();
         Some(format!(
             "lower [tileset] resolution (now {visual}; triangles grow with its square) or \
-             collision_resolution (now {collision})"
+             raise collision_tolerance (now [{}, {}] m)",
+            number(floors),
+            number(rest)
         ))
     }
 }

@@ -183,7 +183,8 @@ pub(super) fn box_distance2(n: &Node4, p: [f64; 3]) -> [f64; 4] {
 }
 
 /// The point of triangle `t` nearest `p` (Ericson, Real-Time Collision Detection, 5.1.5).
-pub(super) fn closest_on_triangle(p: [f64; 3], t: [[f64; 3]; 3]) -> [f64; 3] {
+#[inline]
+pub fn closest_on_triangle(p: [f64; 3], t: [[f64; 3]; 3]) -> [f64; 3] {
     use crate::vec3::{dot, sub};
     let [a, b, c] = t;
     let (ab, ac, ap) = (sub(b, a), sub(c, a), sub(p, a));

@@ -168,6 +168,15 @@ fn hits_lie_on_the_surface_and_normals_face_the_inside() {
         let n = h.normal.map(f64::from);
         assert!(dot(n, d) < 0.0, "the normal faces the ray's origin");
         assert!((dot(n, n) - 1.0).abs() < 1e-5);
+        // The barycentric coordinates rebuild the hit point from the triangle's vertices, as
+        // the mesh lists them (what a camera interpolates texture coordinates with).
+        let [u, v] = h.barycentric.map(f64::from);
+        assert!(u >= 0.0 && v >= 0.0 && u + v <= 1.0 + 1e-6, "{u} {v}");
+        let [a, b, c] = m.triangles[h.triangle as usize].map(|i| m.positions[i as usize].map(f64::from));
+        let at = [0, 1, 2].map(|k| (1.0 - u - v) * a[k] + u * b[k] + v * c[k]);
+        let hit = [0, 1, 2].map(|k| centre[k] + h.t * d[k]);
+        let miss = sub(at, hit);
+        assert!(dot(miss, miss).sqrt() < 1e-4, "{at:?} against {hit:?}");
     }
     // From outside, looking away: nothing.
     assert_eq!(caster.cast([30.0, 20.0, 30.0], [1.0, 0.0, 0.0], 1e3), None);

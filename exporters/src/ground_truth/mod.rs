@@ -9,6 +9,7 @@
 //! | `free-space` | `free_space.npy` + `.json` | 3D exploration coverage, volumetric mapping |
 //! | `semantic-labels` | `semantic_labels.json`, `.csv` | place categorisation (junction, dead end, ...) |
 //! | `spawn-poses` | `spawn_poses.json` | multi-robot start and goal poses |
+//! | `collision-budget` | `collision_budget.json` | how far the visual surface lies from the collision surface, per class (with a mesh) |
 //! | `ground-truth` | all of the above | |
 //! | `comms` | `comms.csv`, `comms.json` | radio line of sight between tiles (not in `ground-truth`) |
 //!
@@ -27,6 +28,7 @@ use subtgraph_core::params::Params;
 use subtgraph_core::survey::Survey;
 
 pub(crate) mod artifacts;
+mod collision_budget;
 mod comms;
 mod free_space;
 mod graph;
@@ -35,6 +37,7 @@ pub(crate) mod ros_map;
 mod semantic_labels;
 mod spawn_poses;
 
+pub use collision_budget::CollisionBudget;
 pub use comms::Comms;
 pub use free_space::FreeSpace;
 pub use graph::GraphFiles;
@@ -146,13 +149,18 @@ impl Exporter for GroundTruth {
         survey: &dyn Survey,
         out: &mut dyn WorldWriter,
     ) -> Result<(), ExportError> {
-        // One survey for all five: the passages and the tiles' axes are found once.
+        // One survey for all of them: the passages and the tiles' axes are found once.
         let s = &self.settings;
         GraphFiles.export(world, survey, out)?;
         SemanticLabels.export(world, survey, out)?;
         RosMap::from_settings(s).export(world, survey, out)?;
         FreeSpace::from_settings(s).export(world, survey, out)?;
-        SpawnPoses::from_settings(s).export(world, survey, out)
+        SpawnPoses::from_settings(s).export(world, survey, out)?;
+        // Only a world with a mesh has two surfaces to compare.
+        if world.mesh().is_some_and(collision_budget::has_surfaces) {
+            CollisionBudget.export(world, survey, out)?;
+        }
+        Ok(())
     }
 }
 

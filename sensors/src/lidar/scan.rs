@@ -197,12 +197,7 @@ impl<'a> Scanner<'a> {
                 } else {
                     hit.t
                 };
-                let rho = self
-                    .scene
-                    .reflectivity
-                    .get(hit.triangle as usize)
-                    .copied()
-                    .unwrap_or(0.3);
+                let rho = self.scene.reflectivity_of(hit.triangle);
                 p.xyz = [
                     (range * beam.dir[0]) as f32,
                     (range * beam.dir[1]) as f32,
