@@ -62,6 +62,9 @@ pub struct Label {
     pub returns: usize,
     /// How well its geometry constrains the pose (`null` under 100 returns).
     pub degeneracy: Option<Degeneracy>,
+    /// What the conditions did to it (only with `--conditions`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub conditions: Option<crate::conditions::ScanConditions>,
 }
 
 /// The label of a scan.
@@ -77,6 +80,7 @@ pub fn label(scan: &Scan, route: &Route, wall_distance_m: f64) -> Label {
         wall_distance_m: (wall_distance_m * 1000.0).round() / 1000.0,
         returns: scan.returns,
         degeneracy: (scan.returns >= 100).then(|| degeneracy(scan)),
+        conditions: None,
     }
 }
 
