@@ -12,7 +12,8 @@
 //! - `coverage`: every edge the platform can take, depth first, each driven out and back;
 //! - `shaft`, `edge:N`, `node:N`: straight to what a study measures, starting there rather
 //!   than at the world's start (see `target`): the shaft nearest the start, climbed and
-//!   flown back down; edge N driven end to end and back; node N crossed and back.
+//!   flown back down; edge N driven end to end and back; node N crossed from its shortest
+//!   edge and back.
 //!
 //! The seed picks what is left to chance: the way round a loop, the side a turn-around turns
 //! to, the order coverage takes a junction's edges in.

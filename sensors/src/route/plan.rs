@@ -172,7 +172,7 @@ pub(super) fn legs(
             Ok(all)
         }
         RouteKind::Shaft | RouteKind::Edge(_) | RouteKind::Node(_) => {
-            super::target::legs(g, p, kind, &dist, &via)
+            super::target::legs(g, p, kind, &dist)
         }
         RouteKind::Coverage => {
             let mut done = vec![false; g.edges.len()];

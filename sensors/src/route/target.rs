@@ -6,8 +6,8 @@
 //!   platform that flies), up to its landing, and back down: a still start at the foot for
 //!   the IMU, then the climb at once.
 //! - `edge:N`: from the end of edge N nearer the world's start, along it, and back.
-//! - `node:N`: from the neighbour of node N on the way from the world's start, across N to the
-//!   neighbour straightest ahead, and back (into N and back out if it is a dead end).
+//! - `node:N`: from the far end of node N's shortest edge, across N to the way straightest
+//!   ahead, and back (into N and back out if it is a dead end).
 //!
 //! Each is refused, saying why and what to pass instead, where the platform cannot take it.
 
@@ -17,14 +17,13 @@ use crate::error::SenseError;
 use crate::graph::{EdgeKind, RouteGraph};
 use crate::platform::{Kind, Platform};
 
-/// The legs of a `shaft`, `edge:N` or `node:N` route; `dist` and `via` are the shortest
-/// distances and the edges they came by, from the world's start.
+/// The legs of a `shaft`, `edge:N` or `node:N` route; `dist` holds the shortest distances
+/// from the world's start.
 pub(super) fn legs(
     g: &RouteGraph,
     p: &Platform,
     kind: RouteKind,
     dist: &[f64],
-    via: &[Option<usize>],
 ) -> Result<Vec<Leg>, SenseError> {
     let no_route = |why: String, fix: &str| SenseError::NoRoute {
         route: kind.name(),
@@ -94,7 +93,7 @@ pub(super) fn legs(
                     "pass an id from ground_truth/graph.json",
                 ));
             }
-            node_legs(g, p, n, via).ok_or_else(|| {
+            node_legs(g, p, n).ok_or_else(|| {
                 no_route(
                     format!("node {n} has no passage this platform can take"),
                     "choose another node, or --platform aerial",
@@ -108,14 +107,17 @@ pub(super) fn legs(
     Ok(all)
 }
 
-/// Into node `n` by the edge the way from the start comes in by (or its first edge, from the
-/// start itself), and out by the edge straightest ahead.
-fn node_legs(g: &RouteGraph, p: &Platform, n: usize, via: &[Option<usize>]) -> Option<Vec<Leg>> {
+/// Into node `n` by its shortest edge (the platform is there soonest), and out by the edge
+/// straightest ahead.
+fn node_legs(g: &RouteGraph, p: &Platform, n: usize) -> Option<Vec<Leg>> {
     let edges: Vec<(usize, usize)> = g
         .neighbours(n)
         .filter(|&(e, _)| allowed(p, g.edges[e].kind))
         .collect();
-    let into = via[n].or_else(|| edges.first().map(|&(e, _)| e))?;
+    let into = edges
+        .iter()
+        .map(|&(e, _)| e)
+        .min_by(|&a, &b| g.edges[a].length.total_cmp(&g.edges[b].length).then(a.cmp(&b)))?;
     let edge = &g.edges[into];
     let leg_in = Leg {
         edge: into,
