@@ -79,7 +79,14 @@ fn conditions_none_is_clear_air_and_conditions_are_the_same_on_one_and_three_thr
     let world = cave_world(dir.path(), 1);
     let plain = dir.path().join("plain");
     let none = dir.path().join("none");
-    ok(&["sense", arg(&world), "--out", arg(&plain), "--duration", "3"]);
+    ok(&[
+        "sense",
+        arg(&world),
+        "--out",
+        arg(&plain),
+        "--duration",
+        "3",
+    ]);
     ok(&[
         "sense",
         arg(&world),
@@ -155,8 +162,14 @@ fn bad_condition_tables_are_refused_before_anything_is_cast() {
             "[[conditions]]\ntype = \"dust\"\nat = \"route\"\ndensity_mg_m3 = 10\nspeed = 3\n",
             "unknown key 'speed'",
         ),
-        ("[[conditions]]\ntype = \"sand\"\nat = \"route\"\n", "'sand'"),
-        ("[[conditions]]\ntype = \"drips\"\nat = \"level 7\"\n", "level 7 does not exist"),
+        (
+            "[[conditions]]\ntype = \"sand\"\nat = \"route\"\n",
+            "'sand'",
+        ),
+        (
+            "[[conditions]]\ntype = \"drips\"\nat = \"level 7\"\n",
+            "level 7 does not exist",
+        ),
         ("wind = 3\n", "unknown key 'wind'"),
     ];
     for (text, says) in cases {
@@ -180,7 +193,10 @@ fn bad_condition_tables_are_refused_before_anything_is_cast() {
         "--conditions",
         "missing.toml",
     ]);
-    assert!(e.contains("missing.toml") && e.contains("cannot be read"), "{e}");
+    assert!(
+        e.contains("missing.toml") && e.contains("cannot be read"),
+        "{e}"
+    );
 }
 
 #[test]
@@ -245,7 +261,12 @@ fn routes_go_straight_to_a_shaft_an_edge_and_a_node() {
         .unwrap()
         .iter()
         .filter(|e| e["kind"] == "corridor")
-        .flat_map(|e| [(e["from"].clone(), e["length_m"].as_f64().unwrap()), (e["to"].clone(), e["length_m"].as_f64().unwrap())])
+        .flat_map(|e| {
+            [
+                (e["from"].clone(), e["length_m"].as_f64().unwrap()),
+                (e["to"].clone(), e["length_m"].as_f64().unwrap()),
+            ]
+        })
         .filter(|(n, _)| {
             let node = &g["nodes"][n.as_u64().unwrap() as usize];
             node["kind"] != "dead-end" && node["level"] == 0

@@ -150,7 +150,9 @@ fn one(item: &toml::Value, graph: &RouteGraph) -> Result<Condition, String> {
             ));
         }
         None => {
-            return Err("has no type: write type = \"dust\" (or fog, mist, wet-rock, drips)".into());
+            return Err(
+                "has no type: write type = \"dust\" (or fog, mist, wet-rock, drips)".into(),
+            );
         }
     };
     let allowed = keys(kind);

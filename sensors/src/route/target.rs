@@ -114,10 +114,12 @@ fn node_legs(g: &RouteGraph, p: &Platform, n: usize) -> Option<Vec<Leg>> {
         .neighbours(n)
         .filter(|&(e, _)| allowed(p, g.edges[e].kind))
         .collect();
-    let into = edges
-        .iter()
-        .map(|&(e, _)| e)
-        .min_by(|&a, &b| g.edges[a].length.total_cmp(&g.edges[b].length).then(a.cmp(&b)))?;
+    let into = edges.iter().map(|&(e, _)| e).min_by(|&a, &b| {
+        g.edges[a]
+            .length
+            .total_cmp(&g.edges[b].length)
+            .then(a.cmp(&b))
+    })?;
     let edge = &g.edges[into];
     let leg_in = Leg {
         edge: into,
