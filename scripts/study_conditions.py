@@ -230,7 +230,42 @@ def analyse(out):
                       "held_out_even_seeds": pr(test, key, thr),
                       "all": pr(lidar_only, key, thr)}
     summary["label_calibration_kiss"] = calib
+    summary["dust_minus_clean"] = paired(out)
     print(json.dumps(summary, indent=1))
+
+
+def paired(out):
+    """Per method: the dusty run's error minus the clean one's on the same world (APE RMSE,
+    final drift), their mean with a 95 % bootstrap interval (2000 resamples, seed 0), and
+    the Wilcoxon p `subtgraph report` gives (OUT/report-METHOD/paired.csv, when written)."""
+    res = {}
+    for method in ("kiss", "genz"):
+        scores = {}
+        for cond in ("clean", "dust"):
+            for f in (out / "scores" / f"{method}-{cond}").glob("*/trajectory.json"):
+                d = json.loads(f.read_text())
+                scores.setdefault(f.parent.name, {})[cond] = d
+        both = sorted(w for w, v in scores.items() if len(v) == 2)
+        if not both:
+            continue
+        rng = np.random.default_rng(0)
+        m = {"worlds": len(both)}
+        for key, get in (("ape_rmse_m", lambda d: d["ape_m"]["rmse"]),
+                         ("final_drift_percent", lambda d: d["final_drift_percent"])):
+            diff = np.array([get(scores[w]["dust"]) - get(scores[w]["clean"]) for w in both])
+            boots = rng.choice(diff, size=(2000, len(diff)), replace=True).mean(axis=1)
+            m[key] = {"clean_mean": float(np.mean([get(scores[w]["clean"]) for w in both])),
+                      "dust_mean": float(np.mean([get(scores[w]["dust"]) for w in both])),
+                      "mean_difference": float(diff.mean()),
+                      "ci95": [float(np.percentile(boots, 2.5)), float(np.percentile(boots, 97.5))],
+                      "dust_worse_share": float(np.mean(diff > 0))}
+        csv_path = out / f"report-{method}" / "paired.csv"
+        if csv_path.exists():
+            for row in csv.DictReader(open(csv_path)):
+                if row["metric"] in ("trajectory.ape_m.rmse", "trajectory.final_drift_percent"):
+                    m[row["metric"] + ".wilcoxon_p"] = float(row["p"])
+        res[method] = m
+    return res
 
 
 if __name__ == "__main__":
