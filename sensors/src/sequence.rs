@@ -233,7 +233,7 @@ impl<'a> Sequence<'a> {
                 self.graph,
                 self.scene,
                 &self.route,
-                model,
+                model.range_m,
                 &o.platform,
                 crate::noise::hash(o.seed, 0xc0d1),
             )

@@ -60,7 +60,6 @@ use self::medium::{Particles, Receiver, Span};
 use self::place::{Place, Volume};
 pub use self::spec::{Condition, ConditionKind, Conditions};
 use crate::graph::RouteGraph;
-use crate::lidar::LidarModel;
 use crate::platform::Platform;
 use crate::route::Route;
 use crate::scene::Scene;
@@ -172,19 +171,19 @@ pub struct Frame {
 }
 
 impl<'a> Active<'a> {
-    /// The conditions `spec` lists, placed in a world along `route`, for `model` on
-    /// `platform`, their draws from `seed`.
+    /// The conditions `spec` lists, placed in a world along `route`, for a LiDAR whose
+    /// returns span `range_m` (nearest, farthest) on `platform`, their draws from `seed`.
     #[allow(clippy::too_many_arguments)]
     pub fn new(
         spec: &Conditions,
         graph: &RouteGraph,
         scene: &'a Scene,
         route: &'a Route,
-        model: &LidarModel,
+        range_m: [f64; 2],
         platform: &Platform,
         seed: u64,
     ) -> Active<'a> {
-        let rx = Receiver::of_range(model.range_m[0], model.range_m[1]);
+        let rx = Receiver::of_range(range_m[0], range_m[1]);
         let mut rng = WorldRng::new(seed, "conditions", 0);
         let mut placed = Vec::new();
         let mut lines = Vec::new();
