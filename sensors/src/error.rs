@@ -67,6 +67,14 @@ pub enum SenseError {
         /// What is wrong, and what to write instead.
         why: String,
     },
+    /// A conditions file (`--conditions`) could not be used.
+    #[error("conditions {path}: {why}")]
+    BadConditions {
+        /// The file.
+        path: String,
+        /// What is wrong, and what to write instead.
+        why: String,
+    },
     /// The route cannot be made in this world with this platform.
     #[error("route '{route}': {why}; {fix}")]
     NoRoute {

@@ -20,6 +20,11 @@ use serde::Serialize;
 use crate::lidar::scan::Scan;
 use crate::route::{Mark, Phase, Route};
 
+/// `along_travel` below this predicts that LiDAR-only odometry slides: the threshold with the
+/// best F1 for "KISS-ICP estimates under 90 % of the distance driven in 5 s" on the odd seeds
+/// of `scripts/study-conditions`, held out on the even ones (docs/src/conditions.md).
+pub const SLIDES_BELOW: f64 = 0.086;
+
 /// Scores below this are degenerate: the weakest direction of translation is held by less
 /// than a fiftieth of what holds the strongest. Measured on the presets' default routes (60 s,
 /// OS1-32): the cave's scans score 0.021 to 0.28 (median 0.15), the mine's 0.002 to 0.26
@@ -41,6 +46,14 @@ pub struct Degeneracy {
     pub translation_eigenvalues: [f64; 3],
     /// The direction of translation least constrained, world axes (a unit vector).
     pub weakest_translation: [f64; 3],
+    /// How strongly the scan holds the platform's motion along the way it is going: the
+    /// translation block's curvature along the direction of travel over its largest
+    /// eigenvalue, `0..=1` (`null` when the platform moves slower than 0.2 m/s).
+    pub along_travel: Option<f64>,
+    /// Whether LiDAR-only odometry is expected to slide here (lose a tenth or more of the
+    /// distance driven): `along_travel` below [`SLIDES_BELOW`], as calibrated against
+    /// KISS-ICP on the presets (docs/src/conditions.md).
+    pub slides: bool,
 }
 
 /// Everything `sequence.json` says about one scan.
@@ -62,6 +75,9 @@ pub struct Label {
     pub returns: usize,
     /// How well its geometry constrains the pose (`null` under 100 returns).
     pub degeneracy: Option<Degeneracy>,
+    /// What the conditions did to it (only with `--conditions`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub conditions: Option<crate::conditions::ScanConditions>,
 }
 
 /// The label of a scan.
@@ -76,8 +92,54 @@ pub fn label(scan: &Scan, route: &Route, wall_distance_m: f64) -> Label {
         phase: mark.phase,
         wall_distance_m: (wall_distance_m * 1000.0).round() / 1000.0,
         returns: scan.returns,
-        degeneracy: (scan.returns >= 100).then(|| degeneracy(scan)),
+        degeneracy: (scan.returns >= 100).then(|| {
+            let v = route.trajectory.state(scan.start).velocity;
+            with_travel(degeneracy(scan), scan, v)
+        }),
+        conditions: None,
     }
+}
+
+/// `d` with its constraint along the velocity `v` (world frame) filled in.
+pub fn with_travel(mut d: Degeneracy, scan: &Scan, v: [f64; 3]) -> Degeneracy {
+    let speed = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+    if speed < 0.2 {
+        return d;
+    }
+    let u = v.map(|x| x / speed);
+    let t = translation_block(scan);
+    let mut along = 0.0;
+    for (a, row) in t.iter().enumerate() {
+        for (b, x) in row.iter().enumerate() {
+            along += u[a] * x * u[b];
+        }
+    }
+    let top = d.translation_eigenvalues[2];
+    let value = if top > 0.0 {
+        (along / top).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    d.along_travel = Some((value * 1e6).round() / 1e6);
+    d.slides = value < SLIDES_BELOW;
+    d
+}
+
+/// The translation block of a scan's Hessian over its returns.
+// Indices, as the matrix algebra is written.
+#[allow(clippy::needless_range_loop)]
+fn translation_block(scan: &Scan) -> [[f64; 3]; 3] {
+    let n = scan.returns.max(1) as f64;
+    let mut h = [[0.0; 6]; 6];
+    let mut k = 0;
+    for a in 0..6 {
+        for b in a..6 {
+            h[a][b] = scan.hessian[k] / n;
+            h[b][a] = h[a][b];
+            k += 1;
+        }
+    }
+    std::array::from_fn(|a| std::array::from_fn(|b| h[3 + a][3 + b]))
 }
 
 /// The degeneracy of a scan's Hessian.
@@ -118,6 +180,8 @@ pub fn degeneracy(scan: &Scan) -> Degeneracy {
         weakest: canonical(vectors[0]).map(round),
         translation_eigenvalues: tv.map(round),
         weakest_translation: canonical(tvec[0]).map(round),
+        along_travel: None,
+        slides: false,
     }
 }
 
@@ -234,5 +298,18 @@ mod tests {
         assert!(t.weakest_translation[0] > 0.999, "{t:?}");
         let r = degeneracy(&room);
         assert!(!r.degenerate && r.score > 0.5, "{r:?}");
+        // Driving along the tube it slides; across it (were it possible) it would not.
+        let along = with_travel(t.clone(), &tube, [2.0, 0.0, 0.0]);
+        assert!(
+            along.slides && along.along_travel.unwrap() < 1e-6,
+            "{along:?}"
+        );
+        let across = with_travel(t, &tube, [0.0, 2.0, 0.0]);
+        assert!(
+            !across.slides && across.along_travel.unwrap() > 0.4,
+            "{across:?}"
+        );
+        let still = with_travel(r, &room, [0.0, 0.0, 0.05]);
+        assert!(still.along_travel.is_none() && !still.slides);
     }
 }

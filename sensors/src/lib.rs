@@ -20,6 +20,7 @@
 //! Everything is deterministic: the same world, options and seed give byte-identical folders
 //! on any number of threads.
 
+pub mod conditions;
 pub mod error;
 pub mod frames;
 pub mod graph;

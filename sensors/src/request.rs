@@ -6,6 +6,7 @@ use std::path::{Path, PathBuf};
 use subtgraph_core::World;
 use subtgraph_survey::WorldSurvey;
 
+use crate::conditions::Conditions;
 use crate::error::{HostError, SenseError};
 use crate::graph::RouteGraph;
 use crate::imu::ImuModel;
@@ -45,6 +46,10 @@ pub struct SenseRequest {
     pub noiseless: bool,
     /// Stop after this many seconds.
     pub duration: Option<f64>,
+    /// Start this many seconds into the route (a window).
+    pub start: Option<f64>,
+    /// A conditions file (`[[conditions]]` tables), or `none` (and `None`) for clear air.
+    pub conditions: Option<String>,
     /// The seed of the route's choices and the noise (default: the world's).
     pub seed: Option<u64>,
     /// The most bytes the folder may take (default: the free space where it goes, less 1 GB).
@@ -69,6 +74,8 @@ impl Default for SenseRequest {
             wheel_odometry: false,
             noiseless: false,
             duration: None,
+            start: None,
+            conditions: None,
             seed: None,
             max_disk: None,
             force: false,
@@ -136,6 +143,8 @@ pub fn options(r: &SenseRequest, seed: u64) -> Result<Options, SenseError> {
         wheel_odometry: r.wheel_odometry,
         seed: r.seed.unwrap_or(seed),
         duration: r.duration,
+        start: r.start,
+        conditions: None,
     })
 }
 
@@ -165,6 +174,24 @@ pub fn read_graph(world: &Path) -> Result<RouteGraph, SenseError> {
     RouteGraph::from_json(&text, &path.display().to_string())
 }
 
+/// The conditions a `--conditions` value names: `None` for clear air (`none`, or no value),
+/// or the file's tables checked against the world's graph.
+pub fn read_conditions(
+    value: Option<&str>,
+    graph: &RouteGraph,
+) -> Result<Option<Conditions>, SenseError> {
+    match value {
+        None | Some("none") => Ok(None),
+        Some(path) => {
+            let text = std::fs::read_to_string(path).map_err(|e| SenseError::BadConditions {
+                path: path.to_owned(),
+                why: format!("cannot be read ({e}); pass a [[conditions]] file, or none"),
+            })?;
+            Conditions::parse(&text, path, graph).map(Some)
+        }
+    }
+}
+
 /// Free bytes on the file system that `out` goes to (its nearest existing ancestor).
 pub fn free_space(out: &Path) -> Option<u64> {
     #[cfg(unix)]
@@ -191,6 +218,8 @@ impl SenseRequest {
         // Names and bounds first, with a placeholder seed: nothing heavy yet.
         options(self, 0)?;
         let graph = read_graph(&self.world)?;
+        // The conditions, checked against the graph before the world is rebuilt.
+        let conditions = read_conditions(self.conditions.as_deref(), &graph)?;
         let limit = match self.max_disk {
             Some(b) => b,
             None => free_space(&self.out).map_or(u64::MAX, |f| f.saturating_sub(1 << 30)),
@@ -205,7 +234,8 @@ impl SenseRequest {
                     source,
                 })?;
             check_graph(&world, &graph, &self.world)?;
-            let options = options(self, world.resolved.seed)?;
+            let mut options = options(self, world.resolved.seed)?;
+            options.conditions = conditions.clone();
             // The survey of the world: its one ray-cast hierarchy is what the scans ask.
             let survey = WorldSurvey::new(&world)?;
             let scene = Scene::of_survey(&survey)?;

@@ -15,6 +15,7 @@ use std::path::Path;
 use serde::Serialize;
 use subtgraph_core::vec3::V3;
 
+use crate::conditions::{Active, Conditions};
 use crate::error::SenseError;
 use crate::frames::{Pose, mul_t};
 use crate::graph::RouteGraph;
@@ -53,6 +54,10 @@ pub struct Options {
     pub seed: u64,
     /// Stop after this many seconds (the whole route without).
     pub duration: Option<f64>,
+    /// Start this many seconds into the route (a window; the start without).
+    pub start: Option<f64>,
+    /// Dust, fog, wet rock, drips (`None`: clear air).
+    pub conditions: Option<Conditions>,
 }
 
 /// A planned sequence, ready to write.
@@ -69,6 +74,8 @@ pub struct Sequence<'a> {
     pub scans: u64,
     /// Seconds it lasts.
     pub duration: f64,
+    /// The route's time of its first scan, seconds (0 unless a window starts later).
+    pub t0: f64,
 }
 
 /// Bytes a sequence will take.
@@ -132,7 +139,18 @@ impl<'a> Sequence<'a> {
         let route =
             crate::route::plan(graph, scene, &options.platform, options.route, options.seed)?;
         let full = route.trajectory.duration();
-        let duration = options.duration.map_or(full, |d| d.min(full));
+        let t0 = options.start.unwrap_or(0.0);
+        if !(t0 >= 0.0 && t0 < full) {
+            return Err(SenseError::OutOfBounds {
+                what: "--start".into(),
+                value: format!("{t0} s"),
+                bounds: format!(
+                    "0 or more and within the route's {full:.1} s (route '{}')",
+                    route.kind.name()
+                ),
+            });
+        }
+        let duration = options.duration.map_or(full - t0, |d| d.min(full - t0));
         let period = options.lidar.period();
         let scans = ((duration / period).floor() as u64).max(1);
         Ok(Sequence {
@@ -142,6 +160,7 @@ impl<'a> Sequence<'a> {
             route,
             scans,
             duration,
+            t0,
         })
     }
 
@@ -208,16 +227,28 @@ impl<'a> Sequence<'a> {
         };
         let o = &self.options;
         let model = &o.lidar;
+        let active = o.conditions.as_ref().map(|c| {
+            Active::new(
+                c,
+                self.graph,
+                self.scene,
+                &self.route,
+                model.range_m,
+                &o.platform,
+                crate::noise::hash(o.seed, 0xc0d1),
+            )
+        });
+        let debug = active.is_some();
         let mut bag = if o.formats.bag {
             let d = dir.join("bag");
             std::fs::create_dir_all(&d).map_err(io("creating", &d))?;
-            Some(Bag::create(&d, model, o.wheel_odometry).map_err(io("writing", &d))?)
+            Some(Bag::create(&d, model, o.wheel_odometry, debug).map_err(io("writing", &d))?)
         } else {
             None
         };
         let mut kitti = if o.formats.kitti {
             let d = dir.join("kitti");
-            Some(Kitti::create(&d).map_err(io("writing", &d))?)
+            Some(Kitti::create(&d, debug).map_err(io("writing", &d))?)
         } else {
             None
         };
@@ -225,7 +256,10 @@ impl<'a> Sequence<'a> {
         let mut tum = Tum::create(&tum_path).map_err(io("writing", &tum_path))?;
         let json_path = dir.join("sequence.json");
         let mut json = BufWriter::new(File::create(&json_path).map_err(io("writing", &json_path))?);
-        let head = self.head(world);
+        let mut head = self.head(world);
+        if let Some(a) = &active {
+            head["conditions"] = a.describe();
+        }
         let head = serde_json::to_string_pretty(&head).expect("plain data");
         // The head object, left open for the labels.
         let head = head.trim_end().trim_end_matches('}').trim_end();
@@ -239,14 +273,15 @@ impl<'a> Sequence<'a> {
             ])
             .map_err(io("writing", dir))?;
         }
-        let scanner = self.scanner();
+        let scanner = self.scanner().with_conditions(active.as_ref());
         let trajectory = &self.route.trajectory;
         let mut imu = ImuStream::new(&o.imu, trajectory, platform.imu, o.seed);
         let variances = [
             o.imu.gyroscope_noise_density.powi(2) * o.imu.rate_hz,
             o.imu.accelerometer_noise_density.powi(2) * o.imu.rate_hz,
         ];
-        let mut odometry_next = 0u64;
+        let t0 = self.t0;
+        let mut odometry_next = (t0 * ODOMETRY_HZ).ceil() as u64;
         let mut wheel = Wheel::new(o.seed);
         let period = model.period();
         let mut summary = Summary {
@@ -260,7 +295,7 @@ impl<'a> Sequence<'a> {
             prepare_s: 0.0,
         };
         let mut buffers = [Scan::default(), Scan::default()];
-        scanner.scan(0, 0.0, &mut buffers[0]);
+        scanner.scan(0, t0, &mut buffers[0]);
         let mut last_position: Option<V3> = None;
         for k in 0..self.scans {
             let (current, next) = buffers.split_at_mut(1);
@@ -271,14 +306,14 @@ impl<'a> Sequence<'a> {
             };
             let cast_next = || {
                 if k + 1 < self.scans {
-                    scanner.scan(k + 1, (k + 1) as f64 * period, next);
+                    scanner.scan(k + 1, t0 + (k + 1) as f64 * period, next);
                 }
             };
             let scan: &Scan = current;
             let write_this = || -> Result<(labels::Label, Pose), SenseError> {
                 let publish = scan.start + period;
                 // Everything logged before this scan's cloud arrives.
-                log_imu(&mut imu, publish, &mut bag, &mut kitti, variances)
+                log_imu(&mut imu, t0, publish, &mut bag, &mut kitti, variances)
                     .map_err(io("writing", dir))?;
                 while (odometry_next as f64) / ODOMETRY_HZ <= publish {
                     let t = odometry_next as f64 / ODOMETRY_HZ;
@@ -301,6 +336,9 @@ impl<'a> Sequence<'a> {
                 if o.wheel_odometry {
                     while wheel.next_time() <= publish {
                         let (t, pose, v, w) = wheel.step(trajectory);
+                        if t < t0 {
+                            continue;
+                        }
                         if let Some(b) = &mut bag {
                             b.odometry("/wheel/odom", t, bag::ODOM, &pose, v, w, 1e-3)
                                 .map_err(io("writing", dir))?;
@@ -321,7 +359,13 @@ impl<'a> Sequence<'a> {
                     .caster
                     .nearest(pose.translation, 100.0)
                     .map_or(100.0, |n| n.distance);
-                Ok((labels::label(scan, &self.route, wall), pose))
+                let mut label = labels::label(scan, &self.route, wall);
+                if let Some(a) = &active {
+                    let rays = scan.points.len();
+                    label.conditions =
+                        Some(a.label(scan.start, pose.translation, &scan.kinds, rays));
+                }
+                Ok((label, pose))
             };
             let ((), written) = rayon::join(cast_next, write_this);
             let (label, pose) = written?;
@@ -341,8 +385,8 @@ impl<'a> Sequence<'a> {
             progress(k);
         }
         // The IMU and odometry to the end of the last scan.
-        let end = self.scans as f64 * period;
-        log_imu(&mut imu, end, &mut bag, &mut kitti, variances).map_err(io("writing", dir))?;
+        let end = t0 + self.scans as f64 * period;
+        log_imu(&mut imu, t0, end, &mut bag, &mut kitti, variances).map_err(io("writing", dir))?;
         if let Some(b) = bag {
             summary.bytes += b.finish().map_err(io("writing", dir))?;
         }
@@ -368,7 +412,7 @@ impl<'a> Sequence<'a> {
                 "quaternion_xyzw": p.quaternion(),
             })
         };
-        serde_json::json!({
+        let mut head = serde_json::json!({
             "format": "subtgraph-sequence/1",
             "world": world,
             "seed": o.seed,
@@ -403,7 +447,11 @@ impl<'a> Sequence<'a> {
             "scan_count": self.scans,
             "scan_period_s": o.lidar.period(),
             "degenerate_below": labels::DEGENERATE,
-        })
+        });
+        if self.t0 > 0.0 {
+            head["window_start_s"] = self.t0.into();
+        }
+        head
     }
 }
 
@@ -452,9 +500,11 @@ impl Wheel {
 }
 
 /// Writes every IMU sample of `imu` stamped up to `until` (seconds) to the outputs asked for;
-/// samples before the sequence's start (the stream's warm-up, stamped below 0) are dropped.
+/// samples before the sequence's start `from` (the stream's warm-up, stamped below 0, and a
+/// window's route before it) are dropped.
 fn log_imu(
     imu: &mut ImuStream,
+    from: f64,
     until: f64,
     bag: &mut Option<Bag>,
     kitti: &mut Option<Kitti>,
@@ -462,7 +512,7 @@ fn log_imu(
 ) -> std::io::Result<()> {
     while imu.peek_time() <= until {
         let s = imu.sample();
-        if s.stamp < 0.0 {
+        if s.stamp < from {
             continue;
         }
         if let Some(b) = bag {

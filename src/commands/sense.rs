@@ -16,7 +16,8 @@ pub struct Args {
     /// ground (a wheeled robot: corridors and ramps) or aerial (a quadrotor: shafts too).
     #[arg(long, default_value = "ground")]
     platform: String,
-    /// out-and-back (to the farthest dead end and back), loop, levels or coverage.
+    /// out-and-back (to the farthest dead end and back), loop, levels, coverage, or straight
+    /// to a study's target: shaft (the nearest, up and back: aerial), edge:N, node:N.
     #[arg(long, default_value = "out-and-back")]
     route: String,
     /// os1-32, os1-64, os1-128, vlp-16, mid-360, or a LiDAR table FILE.toml.
@@ -51,6 +52,12 @@ pub struct Args {
     /// Stop after this many seconds of the route.
     #[arg(long, value_name = "SECONDS")]
     duration: Option<f64>,
+    /// Start this many seconds into the route: a window of it (with --duration).
+    #[arg(long, value_name = "SECONDS")]
+    start: Option<f64>,
+    /// Dust, fog, mist, wet rock, drips: a FILE.toml of [[conditions]] tables, or none.
+    #[arg(long, value_name = "FILE", default_value = "none")]
+    conditions: String,
     /// Seed of the route's choices and the noise (default: the world's seed).
     #[arg(long)]
     seed: Option<u64>,
@@ -87,6 +94,8 @@ pub fn run(a: Args) -> Result<(), Error> {
         wheel_odometry: a.wheel_odometry,
         noiseless: a.noiseless,
         duration: a.duration,
+        start: a.start,
+        conditions: Some(a.conditions),
         seed: a.seed,
         max_disk,
         force: a.force,

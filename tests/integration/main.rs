@@ -12,6 +12,7 @@ mod artifacts;
 mod centrelines;
 mod chambers;
 mod cli;
+mod conditions;
 mod dataset;
 mod declines;
 mod doc_commands;

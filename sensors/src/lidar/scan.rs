@@ -15,6 +15,7 @@ use rayon::prelude::*;
 use subtgraph_core::vec3::V3;
 
 use super::{Beam, LidarModel};
+use crate::conditions::{Active, Kind};
 use crate::frames::{Pose, mul};
 use crate::noise;
 use crate::scene::Scene;
@@ -35,6 +36,9 @@ pub struct Point {
     pub ring: u16,
     /// Whether the ray returned.
     pub valid: bool,
+    /// What made the return, or took it ([`crate::conditions::Kind`]; 0, the surface, in
+    /// clear air).
+    pub kind: u8,
 }
 
 /// A scan: its rays' points in the model's order (group by group) and what the labels need.
@@ -54,6 +58,8 @@ pub struct Scan {
     pub hessian: [f64; 21],
     /// Sum of squared true ranges (for the rotation block's scale).
     pub range2: f64,
+    /// Rays by what became of them ([`crate::conditions::Kind`]), counted under conditions.
+    pub kinds: [u32; 7],
 }
 
 /// What scans a sequence: a model on a platform moving through a scene.
@@ -66,7 +72,13 @@ pub struct Scanner<'a> {
     /// A spinning model's beams, the same every scan, group by group (computed once: a
     /// scan's sines and cosines cost as much as a tenth of its rays).
     table: Option<Vec<Beam>>,
+    /// Dust, fog, wet rock, drips: `None` in clear air.
+    conditions: Option<&'a Active<'a>>,
 }
+
+/// What one task adds to its scan: the Hessian's sums, the squared ranges, the returns, the
+/// rays by kind.
+type Partial = ([f64; 21], f64, usize, [u32; 7]);
 
 /// Firing groups cast by one task.
 const GROUPS_PER_TASK: usize = 32;
@@ -98,7 +110,14 @@ impl<'a> Scanner<'a> {
             mount,
             seed,
             table,
+            conditions: None,
         }
+    }
+
+    /// The same scanner in `conditions`.
+    pub fn with_conditions(mut self, conditions: Option<&'a Active<'a>>) -> Scanner<'a> {
+        self.conditions = conditions;
+        self
     }
 
     /// The sensor's pose at time `t`.
@@ -113,7 +132,7 @@ impl<'a> Scanner<'a> {
         out.start = start;
         // Every point is written by its ray (a miss included), so the buffer is only resized.
         out.points.resize(groups * per_group, Point::default());
-        let partials: Vec<([f64; 21], f64, usize)> = out
+        let partials: Vec<Partial> = out
             .points
             .par_chunks_mut(GROUPS_PER_TASK * per_group)
             .enumerate()
@@ -122,25 +141,23 @@ impl<'a> Scanner<'a> {
         out.hessian = [0.0; 21];
         out.range2 = 0.0;
         out.returns = 0;
-        for (h, r2, n) in partials {
+        out.kinds = [0; 7];
+        for (h, r2, n, kinds) in partials {
             for (a, b) in out.hessian.iter_mut().zip(h) {
                 *a += b;
             }
             out.range2 += r2;
             out.returns += n;
+            for (a, b) in out.kinds.iter_mut().zip(kinds) {
+                *a += b;
+            }
         }
     }
 
     /// One task's groups of a scan: their poses first, then the rays beam by beam across the
     /// groups (neighbouring columns' rays run nearly parallel and visit the same boxes, so
     /// the hierarchy stays in cache).
-    fn task(
-        &self,
-        index: u64,
-        start: f64,
-        task: usize,
-        points: &mut [Point],
-    ) -> ([f64; 21], f64, usize) {
+    fn task(&self, index: u64, start: f64, task: usize, points: &mut [Point]) -> Partial {
         let (_, per_group) = self.model.groups();
         let cos_grazing = self.model.grazing_deg.to_radians().cos();
         let [near, far] = self.model.range_m;
@@ -172,7 +189,15 @@ impl<'a> Scanner<'a> {
         let mut h = [0.0; 21];
         let mut r2 = 0.0;
         let mut returns = 0;
+        let mut kinds = [0u32; 7];
         let mut tracer = self.scene.caster.tracer();
+        let frames: Vec<crate::conditions::Frame> = match self.conditions {
+            Some(c) => poses
+                .iter()
+                .map(|(dt, pose)| c.frame(start + dt, pose.translation))
+                .collect(),
+            None => Vec::new(),
+        };
         for j in 0..per_group {
             for (k, (dt, pose)) in poses.iter().enumerate() {
                 let i = k * per_group + j;
@@ -183,7 +208,25 @@ impl<'a> Scanner<'a> {
                     time: *dt as f32,
                     ..Point::default()
                 };
-                let Some(hit) = tracer.cast(pose.translation, d, far) else {
+                let hit = tracer.cast(pose.translation, d, far);
+                if let Some(c) = self.conditions {
+                    let ray = ((first * per_group + i) as u64) | (index << 32);
+                    let kind =
+                        self.condition_ray(c, &frames[k], ray, pose, d, beam, hit, p, &mut tracer);
+                    kinds[kind as usize] += 1;
+                    if p.valid {
+                        returns += 1;
+                        if let Some(hit) =
+                            hit.filter(|_| kind == Kind::Surface as u8 || kind == Kind::Wet as u8)
+                        {
+                            let n = hit.normal.map(f64::from);
+                            accumulate(&mut h, [hit.t * d[0], hit.t * d[1], hit.t * d[2]], n);
+                            r2 += hit.t * hit.t;
+                        }
+                    }
+                    continue;
+                }
+                let Some(hit) = hit else {
                     continue;
                 };
                 let n = hit.normal.map(f64::from);
@@ -213,7 +256,84 @@ impl<'a> Scanner<'a> {
                 r2 += hit.t * hit.t;
             }
         }
-        (h, r2, returns)
+        (h, r2, returns, kinds)
+    }
+
+    /// One ray in conditions: fills `p` as the conditions make it and says what made it
+    /// ([`Kind`]). A ray they do not touch comes out as in clear air.
+    #[allow(clippy::too_many_arguments)]
+    fn condition_ray(
+        &self,
+        c: &Active<'_>,
+        frame: &crate::conditions::Frame,
+        ray: u64,
+        pose: &Pose,
+        d: V3,
+        beam: &Beam,
+        hit: Option<subtgraph_core::raycast::Hit>,
+        p: &mut Point,
+        tracer: &mut subtgraph_core::raycast::Tracer<'_>,
+    ) -> u8 {
+        use crate::conditions::{Outcome, Shot, Surface};
+        let m = self.model;
+        let cos_grazing = m.grazing_deg.to_radians().cos();
+        let surface = hit.and_then(|hit| {
+            let n = hit.normal.map(f64::from);
+            let cos = (n[0] * d[0] + n[1] * d[1] + n[2] * d[2]).abs();
+            let rho = self.scene.reflectivity.get(hit.triangle as usize).copied();
+            (hit.t >= m.range_m[0] && cos >= cos_grazing).then(|| Surface {
+                t: hit.t,
+                normal: n,
+                rho: f64::from(rho.unwrap_or(0.3)),
+                cos,
+            })
+        });
+        let sigma = m.range_noise_m;
+        let normal_draw = if sigma > 0.0 {
+            noise::normal(self.seed, ray)
+        } else {
+            0.0
+        };
+        let shot = Shot {
+            origin: pose.translation,
+            dir: d,
+            key: ray,
+            surface,
+            far: m.range_m[1],
+            sigma,
+            normal_draw,
+        };
+        let (range, reflectance, kind) = match c.shoot(frame, &shot, tracer) {
+            Outcome::Untouched => match surface {
+                None => return Kind::Surface as u8,
+                Some(s) if sigma > 0.0 => (
+                    (s.t + sigma * normal_draw).max(0.0),
+                    s.rho * s.cos,
+                    Kind::Surface,
+                ),
+                Some(s) => (s.t, s.rho * s.cos, Kind::Surface),
+            },
+            Outcome::Return {
+                range,
+                reflectance,
+                kind,
+                ..
+            } => (range, reflectance, kind),
+            Outcome::Lost => {
+                p.kind = Kind::Lost as u8;
+                return Kind::Lost as u8;
+            }
+        };
+        p.xyz = [
+            (range * beam.dir[0]) as f32,
+            (range * beam.dir[1]) as f32,
+            (range * beam.dir[2]) as f32,
+        ];
+        p.range = range as f32;
+        p.reflectance = reflectance as f32;
+        p.valid = true;
+        p.kind = kind as u8;
+        kind as u8
     }
 
     /// A point of scan `scan` moved into the world by the sensor's pose at its time (what a

@@ -9,13 +9,18 @@
 //! - `loop`: to the nearest loop, once around it (a loop closure), and back;
 //! - `levels`: to the farthest node of the level farthest from the start's, by ramps for a
 //!   ground robot or up shafts along their axis for an aerial one, and back;
-//! - `coverage`: every edge the platform can take, depth first, each driven out and back.
+//! - `coverage`: every edge the platform can take, depth first, each driven out and back;
+//! - `shaft`, `edge:N`, `node:N`: straight to what a study measures, starting there rather
+//!   than at the world's start (see `target`): the shaft nearest the start, climbed and
+//!   flown back down; edge N driven end to end and back; node N crossed from its shortest
+//!   edge and back.
 //!
 //! The seed picks what is left to chance: the way round a loop, the side a turn-around turns
 //! to, the order coverage takes a junction's edges in.
 
 mod path;
 mod plan;
+mod target;
 mod timing;
 
 use serde::Serialize;
@@ -40,10 +45,24 @@ pub enum RouteKind {
     Levels,
     /// Every edge.
     Coverage,
+    /// Up the shaft nearest the start and back down (aerial).
+    Shaft,
+    /// Along one edge and back.
+    Edge(usize),
+    /// Across one node and back.
+    Node(usize),
 }
 
-/// The names `--route` takes, in [`RouteKind`] order.
-pub const NAMES: [&str; 4] = ["out-and-back", "loop", "levels", "coverage"];
+/// The names `--route` takes, in [`RouteKind`] order (`edge:N` and `node:N` with a graph id).
+pub const NAMES: [&str; 7] = [
+    "out-and-back",
+    "loop",
+    "levels",
+    "coverage",
+    "shaft",
+    "edge:N",
+    "node:N",
+];
 
 impl RouteKind {
     /// A route kind by its name.
@@ -53,6 +72,21 @@ impl RouteKind {
             "loop" => Ok(RouteKind::Loop),
             "levels" => Ok(RouteKind::Levels),
             "coverage" => Ok(RouteKind::Coverage),
+            "shaft" => Ok(RouteKind::Shaft),
+            other if other.starts_with("edge:") || other.starts_with("node:") => {
+                let id = other[5..]
+                    .parse::<usize>()
+                    .map_err(|_| SenseError::Unknown {
+                        what: "route",
+                        name: other.to_owned(),
+                        known: format!("{} (N a graph id, like edge:12)", NAMES.join(", ")),
+                    })?;
+                Ok(if other.starts_with("edge:") {
+                    RouteKind::Edge(id)
+                } else {
+                    RouteKind::Node(id)
+                })
+            }
             other => Err(SenseError::Unknown {
                 what: "route",
                 name: other.to_owned(),
@@ -62,12 +96,15 @@ impl RouteKind {
     }
 
     /// Its name.
-    pub fn name(self) -> &'static str {
+    pub fn name(self) -> String {
         match self {
-            RouteKind::OutAndBack => NAMES[0],
-            RouteKind::Loop => NAMES[1],
-            RouteKind::Levels => NAMES[2],
-            RouteKind::Coverage => NAMES[3],
+            RouteKind::OutAndBack => NAMES[0].into(),
+            RouteKind::Loop => NAMES[1].into(),
+            RouteKind::Levels => NAMES[2].into(),
+            RouteKind::Coverage => NAMES[3].into(),
+            RouteKind::Shaft => NAMES[4].into(),
+            RouteKind::Edge(e) => format!("edge:{e}"),
+            RouteKind::Node(n) => format!("node:{n}"),
         }
     }
 }
@@ -160,7 +197,10 @@ pub fn plan(
     let legs = plan::legs(graph, platform, kind, &mut rng)?;
     let stretches = path::stretches(graph, scene, platform, &legs)?;
     let timed = timing::control_points(&stretches, platform, &mut rng);
-    let mut nodes = vec![graph.start];
+    let first = legs
+        .first()
+        .map_or(graph.start, |l| plan::leg_start(graph, l));
+    let mut nodes = vec![first];
     for l in &legs {
         let e = &graph.edges[l.edge];
         nodes.push(if l.reversed { e.from } else { e.to });

@@ -17,7 +17,11 @@ pub(super) fn allowed(platform: &Platform, kind: EdgeKind) -> bool {
 
 /// Shortest distances (metres) from `from` over the edges the platform takes, and the edge each
 /// node was reached by. Ties go to the lower node id, so the result is the same every run.
-fn dijkstra(g: &RouteGraph, p: &Platform, from: usize) -> (Vec<f64>, Vec<Option<usize>>) {
+pub(super) fn dijkstra(
+    g: &RouteGraph,
+    p: &Platform,
+    from: usize,
+) -> (Vec<f64>, Vec<Option<usize>>) {
     let n = g.nodes.len();
     let mut dist = vec![f64::INFINITY; n];
     let mut via = vec![None; n];
@@ -64,7 +68,7 @@ fn path(g: &RouteGraph, via: &[Option<usize>], from: usize, to: usize) -> Vec<Le
 }
 
 /// The same legs driven back.
-fn back(legs: &[Leg]) -> Vec<Leg> {
+pub(super) fn back(legs: &[Leg]) -> Vec<Leg> {
     legs.iter()
         .rev()
         .map(|l| Leg {
@@ -166,6 +170,9 @@ pub(super) fn legs(
             all.extend(cycle);
             all.extend(back(&out));
             Ok(all)
+        }
+        RouteKind::Shaft | RouteKind::Edge(_) | RouteKind::Node(_) => {
+            super::target::legs(g, p, kind, &dist)
         }
         RouteKind::Coverage => {
             let mut done = vec![false; g.edges.len()];

@@ -57,6 +57,8 @@ pub struct Bag {
     model: LidarModel,
     /// Scratch for reordering an organized cloud.
     order: Vec<usize>,
+    /// Whether an Ouster cloud carries the `return_kind` debug field (under conditions).
+    kinds: bool,
 }
 
 /// Nanoseconds from seconds.
@@ -65,8 +67,9 @@ pub fn ns(t: f64) -> u64 {
 }
 
 impl Bag {
-    /// Starts a bag in `dir` (which must exist).
-    pub fn create(dir: &Path, model: &LidarModel, wheel: bool) -> io::Result<Bag> {
+    /// Starts a bag in `dir` (which must exist); `kinds` adds the `return_kind` debug field to
+    /// an Ouster cloud (a byte of its record's padding: what made each return, or took it).
+    pub fn create(dir: &Path, model: &LidarModel, wheel: bool, kinds: bool) -> io::Result<Bag> {
         let file = DirectFile::create(&dir.join("bag_0.mcap"), Spool::new()?)?;
         let mut mcap = Mcap::new(file)?;
         let mut topics = Vec::new();
@@ -103,6 +106,7 @@ impl Bag {
             topics,
             model: model.clone(),
             order: Vec::new(),
+            kinds,
         })
     }
 
@@ -136,7 +140,7 @@ impl Bag {
                     self.order
                         .extend((0..columns).map(|col| col * rings + ring));
                 }
-                let fields = [
+                let all = [
                     f("x", 0, FLOAT32),
                     f("y", 4, FLOAT32),
                     f("z", 8, FLOAT32),
@@ -146,7 +150,10 @@ impl Bag {
                     f("ring", 22, UINT16),
                     f("ambient", 24, UINT16),
                     f("range", 28, UINT32),
+                    f("return_kind", 26, UINT8),
                 ];
+                let kinds = self.kinds;
+                let fields = if kinds { &all[..] } else { &all[..9] };
                 let order = &self.order;
                 self.mcap.message(c, ns(log), ns(log), |b| {
                     cdr::point_cloud2(
@@ -155,7 +162,7 @@ impl Bag {
                         frame,
                         rings as u32,
                         columns as u32,
-                        &fields,
+                        fields,
                         32,
                         true,
                         |b| {
@@ -166,6 +173,9 @@ impl Bag {
                                 let t = round_u32(f64::from(p.time) * 1e9);
                                 rec[16..20].copy_from_slice(&t.to_le_bytes());
                                 rec[22..24].copy_from_slice(&p.ring.to_le_bytes());
+                                if kinds {
+                                    rec[26] = p.kind;
+                                }
                                 if p.valid {
                                     for k in 0..3 {
                                         rec[4 * k..4 * k + 4]

@@ -34,6 +34,8 @@ pub struct Kitti {
     spool: Option<Spool>,
     /// Bytes written.
     pub bytes: u64,
+    /// Whether each scan gets its `labels/NNNNNN.label` (under conditions).
+    labels: bool,
 }
 
 /// The TUM ground truth.
@@ -48,9 +50,15 @@ fn create(p: &Path) -> io::Result<BufWriter<File>> {
 }
 
 impl Kitti {
-    /// Starts the files under `dir` (`kitti/`, which must exist).
-    pub fn create(dir: &Path) -> io::Result<Kitti> {
+    /// Starts the files under `dir` (`kitti/`, which must exist); with `labels`, each scan
+    /// gets `labels/NNNNNN.label` beside it as SemanticKITTI lays its labels out (a
+    /// little-endian `uint32` per point of the `.bin`, in its order), holding what made each
+    /// return ([`crate::conditions::Kind`]).
+    pub fn create(dir: &Path, labels: bool) -> io::Result<Kitti> {
         std::fs::create_dir_all(dir.join("velodyne"))?;
+        if labels {
+            std::fs::create_dir_all(dir.join("labels"))?;
+        }
         let identity = "1 0 0 0 0 1 0 0 0 0 1 0";
         let calib = format!(
             "P0: {identity}\nP1: {identity}\nP2: {identity}\nP3: {identity}\nTr: {identity}\n"
@@ -67,6 +75,7 @@ impl Kitti {
             buf: Vec::new(),
             spool: Some(Spool::new()?),
             bytes: calib.len() as u64,
+            labels,
         })
     }
 
@@ -86,6 +95,17 @@ impl Kitti {
         let mut file = DirectFile::create(&self.dir.join(name), spool)?;
         file.write_all(&self.buf)?;
         self.spool = Some(file.finish()?);
+        if self.labels {
+            let kinds: Vec<u8> = scan
+                .points
+                .iter()
+                .filter(|p| p.valid)
+                .flat_map(|p| u32::from(p.kind).to_le_bytes())
+                .collect();
+            let name = self.dir.join(format!("labels/{:06}.label", scan.index));
+            std::fs::write(name, &kinds)?;
+            self.bytes += kinds.len() as u64;
+        }
         let m = pose.matrix_3x4();
         let line: Vec<String> = m.iter().map(|x| format!("{x:.9e}")).collect();
         let pose_line = line.join(" ") + "\n";
