@@ -178,7 +178,7 @@ pub fn options(r: &SenseRequest, seed: u64) -> Result<Options, SenseError> {
 }
 
 /// The camera options a request names, checked.
-fn camera_options(c: &CameraRequest, noiseless: bool) -> Result<CameraOptions, SenseError> {
+pub fn camera_options(c: &CameraRequest, noiseless: bool) -> Result<CameraOptions, SenseError> {
     let model = CameraModel::named(&c.model, |p| std::fs::read_to_string(p).ok())?;
     let model = CameraOverrides {
         rate_hz: c.rate,

@@ -30,6 +30,7 @@ pub mod render;
 pub mod scene;
 pub mod sensor;
 pub mod shade;
+pub mod still;
 pub mod stream;
 pub mod table;
 pub mod texture;
