@@ -157,6 +157,13 @@ pub fn options(r: &SenseRequest, seed: u64) -> Result<Options, SenseError> {
         .as_ref()
         .map(|c| camera_options(c, r.noiseless))
         .transpose()?;
+    if lidar.is_none() && camera.is_none() {
+        return Err(SenseError::OutOfBounds {
+            what: "--lidar".into(),
+            value: "none".into(),
+            bounds: "given a --camera (a sequence needs a LiDAR or a camera)".into(),
+        });
+    }
     let mut imu = ImuModel::adis16448(r.imu_rate);
     imu.time_offset_s = r.imu_time_offset;
     if r.noiseless {
