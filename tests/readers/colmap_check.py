@@ -55,9 +55,12 @@ reader.camera_model = model
 reader.camera_params = ",".join(str(x) for x in params)
 pycolmap.extract_features(db, images, camera_mode=pycolmap.CameraMode.SINGLE,
                           reader_options=reader, device=pycolmap.Device.cpu)
-pairing = pycolmap.SequentialPairingOptions()
-pairing.overlap = 10
-pycolmap.match_sequential(db, pairing_options=pairing, device=pycolmap.Device.cpu)
+if "--exhaustive" in sys.argv:
+    pycolmap.match_exhaustive(db, device=pycolmap.Device.cpu)
+else:
+    pairing = pycolmap.SequentialPairingOptions()
+    pairing.overlap = int(sys.argv[sys.argv.index("--overlap") + 1]) if "--overlap" in sys.argv else 10
+    pycolmap.match_sequential(db, pairing_options=pairing, device=pycolmap.Device.cpu)
 options = pycolmap.IncrementalPipelineOptions()
 options.ba_refine_focal_length = False
 options.ba_refine_principal_point = False
@@ -65,8 +68,9 @@ options.ba_refine_extra_params = False
 out = work / "sparse"
 out.mkdir()
 maps = pycolmap.incremental_mapping(db, images, out, options)
-best = max(maps.values(), key=lambda r: r.num_reg_images(), default=None)
-registered = best.num_reg_images() if best is not None else 0
+best = max(maps.values(), key=lambda r: sum(1 for i in r.images.values() if i.has_pose),
+           default=None)
+registered = sum(1 for i in best.images.values() if i.has_pose) if best is not None else 0
 result = {"images": len(names), "registered": registered, "ape_rmse_m": None}
 if best is not None and registered >= 3:
     est = []
