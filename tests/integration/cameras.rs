@@ -79,12 +79,13 @@ fn camera_sequences_are_what_opencv_trimesh_and_rosbags_read_back() {
                 "0.5",
             ][..],
         ),
-        // Rows exposed one after another, motion blur (standing still: the same geometry).
+        // The D435i's colour camera as it is, its rows exposed one after another, with motion
+        // blur (standing still: the same geometry).
         (
             "rolling",
             &[
                 "--camera",
-                "mono",
+                "d435i",
                 "--lidar",
                 "none",
                 "--rolling-shutter",
