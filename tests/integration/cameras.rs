@@ -207,10 +207,7 @@ fn bad_camera_input_is_refused_and_nothing_is_written() {
             "an RGB-D camera",
         ),
         (&["--format", "euroc"], "--format euroc"),
-        (
-            &["--camera", "stereo", "--lamp-lumens", "-5"],
-            "--lamp-lumens",
-        ),
+        (&["--camera", "stereo", "--lamp-lumens=-5"], "--lamp-lumens"),
         (
             &["--camera", "stereo", "--max-disk", "50M"],
             "camera frames of",
