@@ -233,7 +233,7 @@ impl Intrinsics {
         }
         if let Some(c) = self.circle_deg {
             let fisheye = matches!(self.distortion, Distortion::Equidistant { .. });
-            if !(c.is_finite() && c > 10.0 && c <= 178.0) || !fisheye {
+            if !(c.is_finite() && c > 10.0 && c <= 178.0 && fisheye) {
                 return problem(
                     "field_of_view_deg",
                     format!("{c}"),
@@ -339,9 +339,9 @@ impl Intrinsics {
                         return None;
                     }
                     if theta > MAX_THETA {
-                        return Some(format!(
-                            "the image's corners lie more than 89 degrees from the optical axis (a field of view of 178 degrees or more); use a wider focal length or a smaller image"
-                        ));
+                        return Some(
+                            "the image's corners lie more than 89 degrees from the optical axis (a field of view of 178 degrees or more); use a longer focal length or a smaller image".to_owned(),
+                        );
                     }
                     theta += 1e-3;
                 }

@@ -162,13 +162,9 @@ impl CameraModel {
             );
         }
         for c in &self.cameras {
-            c.intrinsics.check().or_else(|p| {
-                oob(
-                    &format!("{} of {}", p.what, c.name),
-                    p.value,
-                    &format!("{}", p.bounds),
-                )
-            })?;
+            c.intrinsics
+                .check()
+                .or_else(|p| oob(&format!("{} of {}", p.what, c.name), p.value, &p.bounds))?;
             if c.offset_m.iter().any(|x| !x.is_finite() || x.abs() > 2.0) {
                 return oob(
                     &format!("offset_m of {}", c.name),

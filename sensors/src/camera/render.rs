@@ -586,7 +586,7 @@ fn blocked(tracer: &mut Tracer<'_>, p: V3, n: V3, l: V3, dist: f64) -> bool {
 /// whole `log2`, from the float's exponent (no logarithm).
 #[inline]
 fn level_of(texels_per_pixel: f64) -> usize {
-    if !(texels_per_pixel > 1.0) {
+    if texels_per_pixel.is_nan() || texels_per_pixel <= 1.0 {
         return 0;
     }
     let x = (texels_per_pixel * std::f64::consts::SQRT_2).min(1e300);
