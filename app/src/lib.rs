@@ -61,6 +61,6 @@ pub use report::ReportRequest;
 pub use score::ScoreRequest;
 pub use score::segmentation::SegmentationRequest;
 pub use score::trajectory::{Align, Associate, TrajectoryRequest};
-pub use sense::SenseRequest;
+pub use sense::{CameraRequest, SenseRequest};
 pub use stats::StatsRequest;
 pub use validate::ValidateRequest;

@@ -15,7 +15,7 @@ use std::cell::RefCell;
 use std::path::{Path, PathBuf};
 
 use subtgraph_core::World;
-pub use subtgraph_sensors::{SenseError, SenseRequest, Summary};
+pub use subtgraph_sensors::{CameraRequest, SenseError, SenseRequest, Summary};
 
 use crate::Error;
 use crate::folder::{self, FolderError, Kind, Out};

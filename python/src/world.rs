@@ -43,6 +43,9 @@ pub struct PyWorld {
     /// The collision surface's ray caster (the world survey's) and reflectivities, built on
     /// the first cast.
     scene: OnceLock<subtgraph_sensors::Scene>,
+    /// What the cameras see (the visual surface, services and artifacts), built on the first
+    /// render.
+    camera_scene: OnceLock<subtgraph_sensors::camera::scene::CameraScene>,
 }
 
 impl PyWorld {
@@ -55,6 +58,7 @@ impl PyWorld {
             codes: OnceLock::new(),
             tiles: OnceLock::new(),
             scene: OnceLock::new(),
+            camera_scene: OnceLock::new(),
         }
     }
 }
@@ -70,6 +74,40 @@ fn scene_of(w: &PyWorld) -> PyResult<&subtgraph_sensors::Scene> {
     let survey = subtgraph_survey::WorldSurvey::new(&w.world).map_err(|e| value_error(&e))?;
     let scene = subtgraph_sensors::Scene::of_survey(&survey).map_err(|e| value_error(&e))?;
     Ok(w.scene.get_or_init(|| scene))
+}
+
+/// The cameras' scene of the world (built once), or a `ValueError` for a world without meshes.
+fn camera_scene_of(w: &PyWorld) -> PyResult<&subtgraph_sensors::camera::scene::CameraScene> {
+    if let Some(s) = w.camera_scene.get() {
+        return Ok(s);
+    }
+    use subtgraph_core::survey::Survey;
+    let value_error =
+        |e: &dyn std::fmt::Display| pyo3::exceptions::PyValueError::new_err(e.to_string());
+    let survey = subtgraph_survey::WorldSurvey::new(&w.world).map_err(|e| value_error(&e))?;
+    let artifacts = survey.artifacts().map_or(&[][..], |a| &a.artifacts);
+    let scene = subtgraph_sensors::camera::scene::CameraScene::of(&w.world, artifacts)
+        .map_err(|e| value_error(&e))?;
+    Ok(w.camera_scene.get_or_init(|| scene))
+}
+
+/// A finite 4 x 4 pose matrix's rigid part.
+fn pose_of(m: &numpy::PyReadonlyArray2<'_, f64>) -> PyResult<subtgraph_sensors::frames::Pose> {
+    let m = m.as_array();
+    if m.shape() != [4, 4] || m.iter().any(|x| !x.is_finite()) {
+        return Err(pyo3::exceptions::PyValueError::new_err(format!(
+            "pose must be a finite 4 x 4 matrix, not {:?}",
+            m.shape()
+        )));
+    }
+    Ok(subtgraph_sensors::frames::Pose {
+        translation: [m[[0, 3]], m[[1, 3]], m[[2, 3]]],
+        rotation: [
+            [m[[0, 0]], m[[0, 1]], m[[0, 2]]],
+            [m[[1, 0]], m[[1, 1]], m[[1, 2]]],
+            [m[[2, 0]], m[[2, 1]], m[[2, 2]]],
+        ],
+    })
 }
 
 /// Rows of three numbers from an `(n, 3)` array.
@@ -448,6 +486,90 @@ impl PyWorld {
         let n = points.len();
         let flat: Vec<f64> = points.into_iter().flatten().collect();
         numpy::PyArrayMethods::reshape(&numpy::PyArray1::from_vec(py, flat), [n, 3])
+    }
+
+    /// One frame of a camera model (`mono`, `stereo`, `fisheye-stereo`, `d435i`, or a
+    /// camera table's path) whose camera `index` has its optical frame at `pose` (a 4 x 4
+    /// world-from-camera matrix, x right, y down, z forward), lit by the `platform`'s lamps
+    /// beside it (`lamp_lumens` each instead, 0 for none; `ambient` lux from everywhere),
+    /// exposed by its own metering, without shot and read noise unless `noise`: a dict of
+    /// `rgb` (`uint8 [h, w, 3]`, or `[h, w]` for a monochrome camera), `depth` (`float32
+    /// [h, w]`, metres along the optical axis, 0 where nothing is seen), `labels` (`uint16
+    /// [h, w]`, semantic class ids) and `instances` (`uint32 [h, w]`). `legend()` says what
+    /// the class ids are.
+    #[pyo3(signature = (pose, camera="stereo", index=0, noise=false, seed=0, lamp_lumens=None, ambient=0.0, platform="ground"))]
+    #[allow(clippy::too_many_arguments)]
+    fn render<'py>(
+        slf: &Bound<'py, Self>,
+        pose: numpy::PyReadonlyArray2<'py, f64>,
+        camera: &str,
+        index: usize,
+        noise: bool,
+        seed: u64,
+        lamp_lumens: Option<f64>,
+        ambient: f64,
+        platform: &str,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        let py = slf.py();
+        let value_error =
+            |e: &dyn std::fmt::Display| pyo3::exceptions::PyValueError::new_err(e.to_string());
+        let pose = pose_of(&pose)?;
+        let request = subtgraph_sensors::CameraRequest {
+            model: camera.to_owned(),
+            lamp_lumens,
+            ambient_lux: ambient,
+            ..Default::default()
+        };
+        let model = subtgraph_sensors::request::camera_options(&request, !noise)
+            .map_err(|e| value_error(&e))?
+            .model;
+        if index >= model.cameras.len() {
+            return Err(pyo3::exceptions::PyIndexError::new_err(format!(
+                "camera '{camera}' has {} camera(s); index must be below that",
+                model.cameras.len()
+            )));
+        }
+        let platform =
+            subtgraph_sensors::platform::Platform::named(platform).map_err(|e| value_error(&e))?;
+        let scene = camera_scene_of(slf.get())?;
+        let still = py.detach(|| {
+            subtgraph_sensors::camera::still::render(
+                scene,
+                &model,
+                &platform,
+                index,
+                pose,
+                lamp_lumens,
+                ambient,
+                !noise,
+                seed,
+            )
+        });
+        let (h, w) = (still.height, still.width);
+        let out = PyDict::new(py);
+        let rgb = numpy::PyArray1::from_vec(py, still.image);
+        if still.channels == 3 {
+            out.set_item("rgb", numpy::PyArrayMethods::reshape(&rgb, [h, w, 3])?)?;
+        } else {
+            out.set_item("rgb", numpy::PyArrayMethods::reshape(&rgb, [h, w])?)?;
+        }
+        let depth = numpy::PyArray1::from_vec(py, still.depth);
+        out.set_item("depth", numpy::PyArrayMethods::reshape(&depth, [h, w])?)?;
+        let labels = numpy::PyArray1::from_vec(py, still.labels);
+        out.set_item("labels", numpy::PyArrayMethods::reshape(&labels, [h, w])?)?;
+        let instances = numpy::PyArray1::from_vec(py, still.instances);
+        out.set_item(
+            "instances",
+            numpy::PyArrayMethods::reshape(&instances, [h, w])?,
+        )?;
+        Ok(out)
+    }
+
+    /// What `render`'s class ids and instance ids are, as JSON text: `{"legend": [...],
+    /// "instances": {...}}`, as a sequence's `sequence.json` gives them.
+    fn legend(&self) -> PyResult<String> {
+        let scene = camera_scene_of(self)?;
+        Ok(serde_json::json!({"legend": &scene.legend, "instances": &scene.instances}).to_string())
     }
 
     /// The tile set's material names.

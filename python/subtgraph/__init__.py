@@ -238,6 +238,33 @@ class World:
         p = np.ascontiguousarray(pose, dtype=np.float64)
         return self._w.lidar_scan(p, model, bool(noise), int(seed))
 
+    def render(self, pose: Any, camera: str = "stereo", index: int = 0, noise: bool = False,
+               seed: int = 0, lamp_lumens: float | None = None, ambient: float = 0.0,
+               platform: str = "ground") -> dict[str, Any]:
+        """One lamp-lit frame of a camera model (``mono``, ``stereo``, ``fisheye-stereo``,
+        ``d435i`` or a camera table's path, as ``subtgraph sense --camera`` takes) whose
+        camera ``index`` has its optical frame at ``pose`` (a 4 x 4 world-from-camera matrix,
+        OpenCV's axes: x right, y down, z forward): ``{"rgb", "depth", "labels",
+        "instances"}`` as numpy arrays (``uint8 [h, w, 3]`` or ``[h, w]`` for a monochrome
+        camera, ``float32`` metres along the optical axis, ``uint16`` class ids, ``uint32``
+        instance ids). Lit by the ``platform``'s lamps beside the lens (``lamp_lumens`` each
+        instead, 0 for none) and ``ambient`` lux; shot and read noise only with ``noise``.
+        ``legend()`` says what the ids are."""
+        import numpy as np
+
+        p = np.ascontiguousarray(pose, dtype=np.float64)
+        lumens = None if lamp_lumens is None else float(lamp_lumens)
+        return self._w.render(p, camera, int(index), bool(noise), int(seed), lumens,
+                              float(ambient), platform)
+
+    def legend(self) -> dict[str, Any]:
+        """What ``render``'s ids are: ``{"legend": [...], "instances": {...}}``, each class
+        with its ``id``, ``surface`` (rock, service, artifact), tile kind, features, part or
+        artifact class, and material, as a sequence's ``sequence.json`` gives them."""
+        import json
+
+        return json.loads(self._w.legend())
+
     @property
     def graph(self) -> dict[str, Any]:
         """The topology graph as ``topology.json`` writes it: ``{"nodes": [...], "edges":

@@ -75,6 +75,29 @@ pub enum SenseError {
         /// What is wrong, and what to write instead.
         why: String,
     },
+    /// A camera table (a custom camera) could not be used.
+    #[error("camera table {path}: {why}")]
+    BadCameraTable {
+        /// The file.
+        path: String,
+        /// What is wrong, and what to write instead.
+        why: String,
+    },
+    /// A sequence with cameras would take more disk than allowed.
+    #[error(
+        "this sequence would write about {} ({frames} camera frames of {} each, the scans and the IMU); --max-disk allows {}: pass a larger --max-disk, a shorter --duration, a lower --camera-rate, fewer --format outputs, or a camera with fewer pixels",
+        bytes(*.estimate), bytes(*.per_frame), bytes(*.limit)
+    )]
+    TooLargeWithCameras {
+        /// Bytes estimated.
+        estimate: u64,
+        /// Bytes per frame (every camera of the rig).
+        per_frame: u64,
+        /// Frames.
+        frames: u64,
+        /// The limit.
+        limit: u64,
+    },
     /// The route cannot be made in this world with this platform.
     #[error("route '{route}': {why}; {fix}")]
     NoRoute {

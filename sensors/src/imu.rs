@@ -96,6 +96,9 @@ pub struct ImuSample {
     pub gyroscope: V3,
     /// Specific force, m/s^2, IMU frame.
     pub accelerometer: V3,
+    /// The biases in this reading, gyroscope (rad/s) and accelerometer (m/s^2): the ground
+    /// truth EuRoC's `state_groundtruth_estimate0` gives.
+    pub bias: [V3; 2],
 }
 
 /// The noise-free reading at time `t` of an IMU mounted at `mount` in `base_link`.
@@ -158,6 +161,7 @@ impl<'a> ImuStream<'a> {
             m.accelerometer_random_walk * dt.sqrt(),
         ];
         let mut out = [gyro, accel];
+        let bias = self.bias;
         for (s, reading) in out.iter_mut().enumerate() {
             for (axis, r) in reading.iter_mut().enumerate() {
                 let key = k * 12 + (s * 6 + axis) as u64;
@@ -169,6 +173,7 @@ impl<'a> ImuStream<'a> {
             stamp: t + m.time_offset_s,
             gyroscope: out[0],
             accelerometer: out[1],
+            bias,
         }
     }
 }

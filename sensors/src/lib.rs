@@ -20,6 +20,7 @@
 //! Everything is deterministic: the same world, options and seed give byte-identical folders
 //! on any number of threads.
 
+pub mod camera;
 pub mod conditions;
 pub mod error;
 pub mod frames;
@@ -38,6 +39,6 @@ pub mod trajectory;
 pub mod write;
 
 pub use error::{HostError, SenseError};
-pub use request::{Host, SenseRequest};
+pub use request::{CameraRequest, Host, SenseRequest};
 pub use scene::Scene;
 pub use sequence::{Options, Sequence, Summary};

@@ -6,6 +6,9 @@ use std::path::{Path, PathBuf};
 use subtgraph_core::World;
 use subtgraph_survey::WorldSurvey;
 
+use crate::camera::scene::CameraScene;
+use crate::camera::stream::CameraOptions;
+use crate::camera::{CameraModel, Overrides as CameraOverrides};
 use crate::conditions::Conditions;
 use crate::error::{HostError, SenseError};
 use crate::graph::RouteGraph;
@@ -16,6 +19,7 @@ use crate::route::RouteKind;
 use crate::scene::Scene;
 use crate::sequence::{Options, Sequence, Summary};
 use crate::write::Formats;
+use subtgraph_core::survey::Survey;
 
 /// What `subtgraph sense` is asked for. [`Default`] gives the command line's defaults.
 #[derive(Clone, Debug, PartialEq)]
@@ -28,7 +32,7 @@ pub struct SenseRequest {
     pub platform: String,
     /// `out-and-back`, `loop`, `levels` or `coverage`.
     pub route: String,
-    /// A built-in LiDAR model's name, or a LiDAR table's path (`.toml`).
+    /// A built-in LiDAR model's name, a LiDAR table's path (`.toml`), or `none`.
     pub lidar: String,
     /// Scans a second, overriding the model's.
     pub lidar_rate: Option<f64>,
@@ -56,6 +60,26 @@ pub struct SenseRequest {
     pub max_disk: Option<u64>,
     /// Replace `out` if subtgraph wrote it.
     pub force: bool,
+    /// The cameras: a built-in camera model's name or a camera table's path (`None`: no
+    /// camera), and how to render them.
+    pub camera: Option<CameraRequest>,
+}
+
+/// What `--camera` and its options ask for.
+#[derive(Clone, Debug, PartialEq, Default)]
+pub struct CameraRequest {
+    /// A built-in camera model's name, or a camera table's path (`.toml`).
+    pub model: String,
+    /// Frames a second, overriding the model's.
+    pub rate: Option<f64>,
+    /// Expose row by row with the model's readout time.
+    pub rolling_shutter: bool,
+    /// Average instants over each exposure.
+    pub motion_blur: bool,
+    /// Each lamp's lumens instead of the platform's (0: off).
+    pub lamp_lumens: Option<f64>,
+    /// Light from everywhere, lux.
+    pub ambient_lux: f64,
 }
 
 impl Default for SenseRequest {
@@ -79,6 +103,7 @@ impl Default for SenseRequest {
             seed: None,
             max_disk: None,
             force: false,
+            camera: None,
         }
     }
 }
@@ -111,13 +136,41 @@ pub trait Host {
 pub fn options(r: &SenseRequest, seed: u64) -> Result<Options, SenseError> {
     let platform = Platform::named(&r.platform)?;
     let route = RouteKind::named(&r.route)?;
-    let lidar = LidarModel::named(&r.lidar, |p| std::fs::read_to_string(p).ok())?;
-    let lidar = Overrides {
-        rate_hz: r.lidar_rate,
-        max_range_m: r.max_range,
-        noiseless: r.noiseless,
+    let lidar = if r.lidar == "none" {
+        if let Some((what, v)) = [("--lidar-rate", r.lidar_rate), ("--max-range", r.max_range)]
+            .into_iter()
+            .find_map(|(w, v)| v.map(|v| (w, v)))
+        {
+            return Err(SenseError::OutOfBounds {
+                what: what.into(),
+                value: v.to_string(),
+                bounds: "left out with --lidar none".into(),
+            });
+        }
+        None
+    } else {
+        let lidar = LidarModel::named(&r.lidar, |p| std::fs::read_to_string(p).ok())?;
+        Some(
+            Overrides {
+                rate_hz: r.lidar_rate,
+                max_range_m: r.max_range,
+                noiseless: r.noiseless,
+            }
+            .apply(lidar)?,
+        )
+    };
+    let camera = r
+        .camera
+        .as_ref()
+        .map(|c| camera_options(c, r.noiseless))
+        .transpose()?;
+    if lidar.is_none() && camera.is_none() {
+        return Err(SenseError::OutOfBounds {
+            what: "--lidar".into(),
+            value: "none".into(),
+            bounds: "given a --camera (a sequence needs a LiDAR or a camera)".into(),
+        });
     }
-    .apply(lidar)?;
     let mut imu = ImuModel::adis16448(r.imu_rate);
     imu.time_offset_s = r.imu_time_offset;
     if r.noiseless {
@@ -134,17 +187,52 @@ pub fn options(r: &SenseRequest, seed: u64) -> Result<Options, SenseError> {
             bounds: "a positive number of seconds".into(),
         });
     }
+    let depth = camera.as_ref().map(|c| c.model.depth_range_m.is_some());
     Ok(Options {
         platform,
         route,
+        formats: Formats::for_sensors(&r.formats, lidar.is_some(), depth)?,
         lidar,
+        camera,
         imu,
-        formats: Formats::parse(&r.formats)?,
         wheel_odometry: r.wheel_odometry,
         seed: r.seed.unwrap_or(seed),
         duration: r.duration,
         start: r.start,
         conditions: None,
+    })
+}
+
+/// The camera options a request names, checked.
+pub fn camera_options(c: &CameraRequest, noiseless: bool) -> Result<CameraOptions, SenseError> {
+    let model = CameraModel::named(&c.model, |p| std::fs::read_to_string(p).ok())?;
+    let model = CameraOverrides {
+        rate_hz: c.rate,
+        rolling_shutter: c.rolling_shutter,
+    }
+    .apply(model)?;
+    if let Some(l) = c.lamp_lumens
+        && !(l.is_finite() && (0.0..=100_000.0).contains(&l))
+    {
+        return Err(SenseError::OutOfBounds {
+            what: "--lamp-lumens".into(),
+            value: l.to_string(),
+            bounds: "0 (lamps off) to 100,000 lumens a lamp".into(),
+        });
+    }
+    if !(c.ambient_lux.is_finite() && (0.0..=100_000.0).contains(&c.ambient_lux)) {
+        return Err(SenseError::OutOfBounds {
+            what: "--ambient".into(),
+            value: format!("{} lux", c.ambient_lux),
+            bounds: "0 (none, underground) to 100,000 lux (daylight)".into(),
+        });
+    }
+    Ok(CameraOptions {
+        model,
+        motion_blur: c.motion_blur,
+        lamp_lumens: c.lamp_lumens,
+        ambient_lux: c.ambient_lux,
+        noiseless,
     })
 }
 
@@ -251,7 +339,17 @@ impl SenseRequest {
                     ),
                 });
             }
-            let sequence = Sequence::plan(&scene, &graph, options)?;
+            let camera_scene = match &options.camera {
+                Some(_) => Some(CameraScene::of(
+                    &world,
+                    survey.artifacts().map_or(&[][..], |a| &a.artifacts),
+                )?),
+                None => None,
+            };
+            let mut sequence = Sequence::plan(&scene, &graph, options)?;
+            if let Some(cs) = &camera_scene {
+                sequence = sequence.with_camera_scene(cs);
+            }
             sequence.check_disk(limit)?;
             let about = serde_json::json!({
                 "folder": self.world.display().to_string(),

@@ -1,5 +1,5 @@
 //! A sequence: a route planned through a scene, the sensors sampled along it, every file
-//! streamed to disk scan by scan.
+//! streamed to disk scan by scan (frame by frame, with cameras and no LiDAR).
 //!
 //! Memory does not grow with the route's length beyond its trajectory (a few hundred bytes per
 //! second of driving): scans are cast into two reused buffers, the next cast while the last is
@@ -15,6 +15,9 @@ use std::path::Path;
 use serde::Serialize;
 use subtgraph_core::vec3::V3;
 
+use crate::camera::light::Rig;
+use crate::camera::scene::CameraScene;
+use crate::camera::stream::{CameraOptions, Frames, Outputs, frame_bytes};
 use crate::conditions::{Active, Conditions};
 use crate::error::SenseError;
 use crate::frames::{Pose, mul_t};
@@ -42,8 +45,10 @@ pub struct Options {
     pub platform: Platform,
     /// The route.
     pub route: RouteKind,
-    /// The LiDAR.
-    pub lidar: LidarModel,
+    /// The LiDAR (`None`: `--lidar none`).
+    pub lidar: Option<LidarModel>,
+    /// The cameras (`None`: no camera).
+    pub camera: Option<CameraOptions>,
     /// The IMU.
     pub imu: ImuModel,
     /// Which outputs.
@@ -70,8 +75,12 @@ pub struct Sequence<'a> {
     pub options: Options,
     /// The route.
     pub route: Route,
-    /// Scans it will have.
+    /// Scans it will have (0 without a LiDAR).
     pub scans: u64,
+    /// Camera frames it will have (0 without a camera).
+    pub frames: u64,
+    /// What the cameras see ([`Sequence::with_camera_scene`]).
+    pub camera_scene: Option<&'a CameraScene>,
     /// Seconds it lasts.
     pub duration: f64,
     /// The route's time of its first scan, seconds (0 unless a window starts later).
@@ -85,6 +94,8 @@ pub struct Estimate {
     pub bytes: u64,
     /// Per scan (both formats), at most.
     pub per_scan: u64,
+    /// Per camera frame (every camera and output), at most.
+    pub per_frame: u64,
 }
 
 /// What a written sequence holds.
@@ -104,10 +115,24 @@ pub struct Summary {
     pub bytes: u64,
     /// Scans labelled degenerate.
     pub degenerate_scans: u64,
+    /// What the cameras wrote, with cameras.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub camera: Option<CameraSummary>,
     /// Seconds spent before the first scan (rebuilding the world, building the ray caster,
     /// planning the route): for the benchmark, not written (it differs from run to run).
     #[serde(skip)]
     pub prepare_s: f64,
+}
+
+/// What a sequence's cameras wrote.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct CameraSummary {
+    /// Frames (each with an image of every camera).
+    pub frames: u64,
+    /// Images (frames times cameras).
+    pub images: u64,
+    /// Pixels rendered.
+    pub pixels: u64,
 }
 
 impl<'a> Sequence<'a> {
@@ -117,7 +142,19 @@ impl<'a> Sequence<'a> {
         graph: &'a RouteGraph,
         options: Options,
     ) -> Result<Sequence<'a>, SenseError> {
-        options.lidar.check()?;
+        if let Some(l) = &options.lidar {
+            l.check()?;
+        }
+        if let Some(c) = &options.camera {
+            c.model.check()?;
+        }
+        if options.lidar.is_none() && options.camera.is_none() {
+            return Err(SenseError::OutOfBounds {
+                what: "--lidar".into(),
+                value: "none".into(),
+                bounds: "given a --camera (a sequence needs a LiDAR or a camera)".into(),
+            });
+        }
         options.imu.check()?;
         if let Some(d) = options.duration
             && !(d > 0.0 && d.is_finite())
@@ -150,31 +187,56 @@ impl<'a> Sequence<'a> {
                 ),
             });
         }
+        if t0 > 0.0 && options.camera.is_some() {
+            return Err(SenseError::OutOfBounds {
+                what: "--start".into(),
+                value: format!("{t0} s"),
+                bounds: "0 with --camera (cameras record from the route's start; a later window is for the LiDAR alone): drop --start, or --camera".into(),
+            });
+        }
         let duration = options.duration.map_or(full - t0, |d| d.min(full - t0));
-        let period = options.lidar.period();
-        let scans = ((duration / period).floor() as u64).max(1);
+        let count = |period: f64| ((duration / period).floor() as u64).max(1);
+        let scans = options.lidar.as_ref().map_or(0, |l| count(l.period()));
+        let frames = options
+            .camera
+            .as_ref()
+            .map_or(0, |c| count(c.model.period()));
         Ok(Sequence {
             scene,
             graph,
             options,
             route,
             scans,
+            frames,
+            camera_scene: None,
             duration,
             t0,
         })
     }
 
+    /// This sequence with what its cameras see (needed when it has cameras).
+    pub fn with_camera_scene(mut self, scene: &'a CameraScene) -> Sequence<'a> {
+        self.camera_scene = Some(scene);
+        self
+    }
+
     /// The bytes the folder will take, at most (the bag counted uncompressed).
     pub fn estimate(&self) -> Estimate {
         let o = &self.options;
-        let rays = o.lidar.rays_per_scan();
         let mut per_scan = 600 + 110; // the label in sequence.json, the TUM line
-        if o.formats.bag {
-            per_scan += bag::scan_bytes(&o.lidar, rays);
+        if let Some(lidar) = &o.lidar {
+            let rays = lidar.rays_per_scan();
+            if o.formats.bag {
+                per_scan += bag::scan_bytes(lidar, rays);
+            }
+            if o.formats.kitti {
+                per_scan += 16 * rays as u64 + 260;
+            }
         }
-        if o.formats.kitti {
-            per_scan += 16 * rays as u64 + 260;
-        }
+        let per_frame = o
+            .camera
+            .as_ref()
+            .map_or(0, |c| frame_bytes(&c.model, o.formats));
         let mut per_second = 0.0;
         if o.formats.bag {
             per_second += o.imu.rate_hz * 360.0 + ODOMETRY_HZ * 760.0;
@@ -185,13 +247,31 @@ impl<'a> Sequence<'a> {
         if o.formats.kitti {
             per_second += o.imu.rate_hz * 120.0;
         }
-        let bytes = self.scans * per_scan + (per_second * self.duration) as u64 + 64 * 1024;
-        Estimate { bytes, per_scan }
+        if o.formats.euroc {
+            per_second += o.imu.rate_hz * 400.0;
+        }
+        let bytes = self.scans * per_scan
+            + self.frames * per_frame
+            + (per_second * self.duration) as u64
+            + 64 * 1024;
+        Estimate {
+            bytes,
+            per_scan,
+            per_frame,
+        }
     }
 
     /// Refuses a sequence larger than `limit` bytes.
     pub fn check_disk(&self, limit: u64) -> Result<Estimate, SenseError> {
         let e = self.estimate();
+        if e.bytes > limit && self.frames > 0 {
+            return Err(SenseError::TooLargeWithCameras {
+                estimate: e.bytes,
+                per_frame: e.per_frame,
+                frames: self.frames,
+                limit,
+            });
+        }
         if e.bytes > limit {
             return Err(SenseError::TooLarge {
                 estimate: e.bytes,
@@ -203,14 +283,16 @@ impl<'a> Sequence<'a> {
         Ok(e)
     }
 
-    fn scanner(&self) -> Scanner<'_> {
-        Scanner::new(
-            &self.options.lidar,
-            self.scene,
-            &self.route.trajectory,
-            self.options.platform.lidar,
-            crate::noise::hash(self.options.seed, 0x11da5),
-        )
+    fn scanner(&self) -> Option<Scanner<'_>> {
+        self.options.lidar.as_ref().map(|lidar| {
+            Scanner::new(
+                lidar,
+                self.scene,
+                &self.route.trajectory,
+                self.options.platform.lidar,
+                crate::noise::hash(self.options.seed, 0x11da5),
+            )
+        })
     }
 
     /// Writes the sequence into `dir` (an empty folder): `world` describes the world in
@@ -226,9 +308,8 @@ impl<'a> Sequence<'a> {
             move |source| SenseError::Io { what, path, source }
         };
         let o = &self.options;
-        let model = &o.lidar;
-        let active = o.conditions.as_ref().map(|c| {
-            Active::new(
+        let active = match (&o.conditions, &o.lidar) {
+            (Some(c), Some(model)) => Some(Active::new(
                 c,
                 self.graph,
                 self.scene,
@@ -236,13 +317,21 @@ impl<'a> Sequence<'a> {
                 model.range_m,
                 &o.platform,
                 crate::noise::hash(o.seed, 0xc0d1),
-            )
-        });
+            )),
+            _ => None,
+        };
         let debug = active.is_some();
+        let camera_topics = match (&o.camera, o.formats.bag) {
+            (Some(c), true) => Frames::topics(&c.model),
+            _ => Vec::new(),
+        };
         let mut bag = if o.formats.bag {
             let d = dir.join("bag");
             std::fs::create_dir_all(&d).map_err(io("creating", &d))?;
-            Some(Bag::create(&d, model, o.wheel_odometry, debug).map_err(io("writing", &d))?)
+            Some(
+                Bag::create(&d, o.lidar.as_ref(), o.wheel_odometry, debug, &camera_topics)
+                    .map_err(io("writing", &d))?,
+            )
         } else {
             None
         };
@@ -256,7 +345,12 @@ impl<'a> Sequence<'a> {
         let mut tum = Tum::create(&tum_path).map_err(io("writing", &tum_path))?;
         let json_path = dir.join("sequence.json");
         let mut json = BufWriter::new(File::create(&json_path).map_err(io("writing", &json_path))?);
-        let mut head = self.head(world);
+        let platform = &o.platform;
+        let rig = o
+            .camera
+            .as_ref()
+            .map(|c| Rig::on(platform, &c.model, c.lamp_lumens, c.ambient_lux));
+        let mut head = self.head(world, rig.as_ref());
         if let Some(a) = &active {
             head["conditions"] = a.describe();
         }
@@ -265,15 +359,48 @@ impl<'a> Sequence<'a> {
         let head = head.trim_end().trim_end_matches('}').trim_end();
         write!(json, "{head},\n  \"scans\": [\n").map_err(io("writing", &json_path))?;
 
-        let platform = &o.platform;
         if let Some(b) = &mut bag {
-            b.tf_static(&[
-                (bag::BASE, model.driver.frame_id(), platform.lidar),
-                (bag::BASE, bag::IMU, platform.imu),
-            ])
-            .map_err(io("writing", dir))?;
+            let mut frames: Vec<(String, Pose)> = Vec::new();
+            if let Some(lidar) = &o.lidar {
+                frames.push((lidar.driver.frame_id().into(), platform.lidar));
+            }
+            frames.push((bag::IMU.into(), platform.imu));
+            if let (Some(c), Some(rig)) = (&o.camera, &rig) {
+                frames.extend(Frames::transforms(&c.model, rig));
+            }
+            let tf: Vec<(&str, &str, Pose)> = frames
+                .iter()
+                .map(|(child, pose)| (bag::BASE, child.as_str(), *pose))
+                .collect();
+            b.tf_static(&tf).map_err(io("writing", dir))?;
         }
-        let scanner = self.scanner().with_conditions(active.as_ref());
+        let mut frames = match (&o.camera, &rig) {
+            (Some(c), Some(rig)) => {
+                let scene = self.camera_scene.ok_or(SenseError::NoMesh)?;
+                let outputs = Outputs {
+                    bag: o.formats.bag,
+                    euroc: o.formats.euroc,
+                    tum: o.formats.tum,
+                };
+                let imu = (&o.imu, &platform.imu);
+                Some(
+                    Frames::create(
+                        dir,
+                        scene,
+                        &self.route,
+                        rig,
+                        c,
+                        outputs,
+                        self.frames,
+                        imu,
+                        o.seed,
+                    )
+                    .map_err(io("writing", dir))?,
+                )
+            }
+            _ => None,
+        };
+        let scanner = self.scanner().map(|s| s.with_conditions(active.as_ref()));
         let trajectory = &self.route.trajectory;
         let mut imu = ImuStream::new(&o.imu, trajectory, platform.imu, o.seed);
         let variances = [
@@ -283,7 +410,12 @@ impl<'a> Sequence<'a> {
         let t0 = self.t0;
         let mut odometry_next = (t0 * ODOMETRY_HZ).ceil() as u64;
         let mut wheel = Wheel::new(o.seed);
-        let period = model.period();
+        // The sequence's ticks: its scans, or without a LiDAR its camera frames.
+        let (ticks, period) = match (&o.lidar, &o.camera) {
+            (Some(l), _) => (self.scans, l.period()),
+            (None, Some(c)) => (self.frames, c.model.period()),
+            (None, None) => (0, 1.0),
+        };
         let mut summary = Summary {
             scans: self.scans,
             rays: 0,
@@ -292,12 +424,16 @@ impl<'a> Sequence<'a> {
             route_length_m: 0.0,
             bytes: 0,
             degenerate_scans: 0,
+            camera: None,
             prepare_s: 0.0,
         };
         let mut buffers = [Scan::default(), Scan::default()];
-        scanner.scan(0, t0, &mut buffers[0]);
+        if let Some(s) = &scanner {
+            s.scan(0, t0, &mut buffers[0]);
+        }
         let mut last_position: Option<V3> = None;
-        for k in 0..self.scans {
+        let mut first_label = true;
+        for k in 0..ticks {
             let (current, next) = buffers.split_at_mut(1);
             let (current, next) = if k % 2 == 0 {
                 (&mut current[0], &mut next[0])
@@ -305,16 +441,28 @@ impl<'a> Sequence<'a> {
                 (&mut next[0], &mut current[0])
             };
             let cast_next = || {
-                if k + 1 < self.scans {
-                    scanner.scan(k + 1, t0 + (k + 1) as f64 * period, next);
+                if let Some(s) = &scanner
+                    && k + 1 < ticks
+                {
+                    s.scan(k + 1, t0 + (k + 1) as f64 * period, next);
                 }
             };
-            let scan: &Scan = current;
-            let write_this = || -> Result<(labels::Label, Pose), SenseError> {
-                let publish = scan.start + period;
+            let scan: Option<&Scan> = scanner.as_ref().map(|_| &*current);
+            let write_this = || -> Result<(Option<labels::Label>, Pose), SenseError> {
+                let start = t0 + k as f64 * period;
+                let publish = start + period;
                 // Everything logged before this scan's cloud arrives.
-                log_imu(&mut imu, t0, publish, &mut bag, &mut kitti, variances)
-                    .map_err(io("writing", dir))?;
+                log_imu(
+                    &mut imu,
+                    t0,
+                    publish,
+                    &mut bag,
+                    &mut kitti,
+                    &mut frames,
+                    variances,
+                    &platform.imu,
+                )
+                .map_err(io("writing", dir))?;
                 while (odometry_next as f64) / ODOMETRY_HZ <= publish {
                     let t = odometry_next as f64 / ODOMETRY_HZ;
                     odometry_next += 1;
@@ -345,48 +493,101 @@ impl<'a> Sequence<'a> {
                         }
                     }
                 }
-                if let Some(b) = &mut bag {
-                    b.scan(scan).map_err(io("writing", dir))?;
-                }
-                let pose = scanner.pose(scan.start);
-                if let Some(kt) = &mut kitti {
-                    kt.scan(scan, &pose).map_err(io("writing", dir))?;
-                }
-                tum.pose(scan.start, &pose)
-                    .map_err(io("writing", &tum_path))?;
-                let wall = self
-                    .scene
-                    .caster
-                    .nearest(pose.translation, 100.0)
-                    .map_or(100.0, |n| n.distance);
-                let mut label = labels::label(scan, &self.route, wall);
-                if let Some(a) = &active {
-                    let rays = scan.points.len();
-                    label.conditions =
-                        Some(a.label(scan.start, pose.translation, &scan.kinds, rays));
+                let (label, pose) = match (scan, &scanner) {
+                    (Some(scan), Some(scanner)) => {
+                        if let Some(b) = &mut bag {
+                            b.scan(scan).map_err(io("writing", dir))?;
+                        }
+                        let pose = scanner.pose(scan.start);
+                        if let Some(kt) = &mut kitti {
+                            kt.scan(scan, &pose).map_err(io("writing", dir))?;
+                        }
+                        let wall = self
+                            .scene
+                            .caster
+                            .nearest(pose.translation, 100.0)
+                            .map_or(100.0, |n| n.distance);
+                        let mut label = labels::label(scan, &self.route, wall);
+                        if let Some(a) = &active {
+                            let rays = scan.points.len();
+                            label.conditions =
+                                Some(a.label(scan.start, pose.translation, &scan.kinds, rays));
+                        }
+                        (Some(label), pose)
+                    }
+                    // Without a LiDAR, the ground truth is the first camera's.
+                    _ => (
+                        None,
+                        trajectory
+                            .pose(start)
+                            .then(&rig.as_ref().map_or(Pose::IDENTITY, |r| r.cameras[0])),
+                    ),
+                };
+                tum.pose(start, &pose).map_err(io("writing", &tum_path))?;
+                if let Some(f) = &mut frames {
+                    f.write_until(publish, &mut bag)
+                        .map_err(io("writing", dir))?;
                 }
                 Ok((label, pose))
             };
             let ((), written) = rayon::join(cast_next, write_this);
             let (label, pose) = written?;
-            summary.rays += scan.points.len() as u64;
-            summary.returns += scan.returns as u64;
-            if label.degeneracy.as_ref().is_some_and(|d| d.degenerate) {
-                summary.degenerate_scans += 1;
+            if let (Some(scan), Some(label)) = (scan, &label) {
+                summary.rays += scan.points.len() as u64;
+                summary.returns += scan.returns as u64;
+                if label.degeneracy.as_ref().is_some_and(|d| d.degenerate) {
+                    summary.degenerate_scans += 1;
+                }
+                let line = serde_json::to_string(label).expect("plain data");
+                let sep = if first_label { "" } else { ",\n" };
+                first_label = false;
+                write!(json, "{sep}    {line}").map_err(io("writing", &json_path))?;
             }
             if let Some(p) = last_position {
                 summary.route_length_m +=
                     crate::frames::norm(subtgraph_core::vec3::sub(pose.translation, p));
             }
             last_position = Some(pose.translation);
-            let line = serde_json::to_string(&label).expect("plain data");
-            let sep = if k + 1 < self.scans { "," } else { "" };
-            writeln!(json, "    {line}{sep}").map_err(io("writing", &json_path))?;
             progress(k);
         }
-        // The IMU and odometry to the end of the last scan.
-        let end = t0 + self.scans as f64 * period;
-        log_imu(&mut imu, t0, end, &mut bag, &mut kitti, variances).map_err(io("writing", dir))?;
+        if !first_label {
+            writeln!(json).map_err(io("writing", &json_path))?;
+        }
+        // The IMU and odometry to the end of the last scan (and frame).
+        let end = t0 + (ticks as f64 * period).max(
+            o.camera
+                .as_ref()
+                .map_or(0.0, |c| self.frames as f64 * c.model.period()),
+        );
+        log_imu(
+            &mut imu,
+            t0,
+            end,
+            &mut bag,
+            &mut kitti,
+            &mut frames,
+            variances,
+            &platform.imu,
+        )
+        .map_err(io("writing", dir))?;
+        if let Some(f) = &mut frames {
+            f.write_until(f64::INFINITY, &mut bag)
+                .map_err(io("writing", dir))?;
+        }
+        let labels_file = match frames {
+            Some(f) => {
+                let (bytes, labels) = f.finish().map_err(io("writing", dir))?;
+                summary.bytes += bytes;
+                let c = o.camera.as_ref().map(|c| &c.model);
+                summary.camera = c.map(|m| CameraSummary {
+                    frames: self.frames,
+                    images: self.frames * m.cameras.len() as u64,
+                    pixels: self.frames * m.pixels_per_frame(),
+                });
+                Some(labels)
+            }
+            None => None,
+        };
         if let Some(b) = bag {
             summary.bytes += b.finish().map_err(io("writing", dir))?;
         }
@@ -395,16 +596,28 @@ impl<'a> Sequence<'a> {
         }
         summary.bytes += tum.finish().map_err(io("writing", &tum_path))?;
         summary.route_length_m = (summary.route_length_m * 1000.0).round() / 1000.0;
+        write!(json, "  ]").map_err(io("writing", &json_path))?;
+        if let Some(path) = labels_file {
+            // The frames' labels, one a line, taken in from the file they waited in.
+            let text = std::fs::read_to_string(&path).map_err(io("reading", &path))?;
+            write!(json, ",\n  \"camera_frames\": [\n").map_err(io("writing", &json_path))?;
+            for (i, line) in text.lines().enumerate() {
+                let sep = if i == 0 { "" } else { ",\n" };
+                write!(json, "{sep}    {line}").map_err(io("writing", &json_path))?;
+            }
+            write!(json, "\n  ]").map_err(io("writing", &json_path))?;
+            std::fs::remove_file(&path).map_err(io("removing", &path))?;
+        }
         let tail = serde_json::to_string_pretty(&serde_json::json!({ "summary": &summary }))
             .expect("plain data");
         let tail = tail.trim_start().trim_start_matches('{');
-        writeln!(json, "  ],{tail}").map_err(io("writing", &json_path))?;
+        writeln!(json, ",{tail}").map_err(io("writing", &json_path))?;
         json.flush().map_err(io("writing", &json_path))?;
         Ok(summary)
     }
 
     /// `sequence.json`'s head: everything but the labels and the summary.
-    fn head(&self, world: serde_json::Value) -> serde_json::Value {
+    fn head(&self, world: serde_json::Value, rig: Option<&Rig>) -> serde_json::Value {
         let o = &self.options;
         let pose = |p: &Pose| {
             serde_json::json!({
@@ -419,7 +632,7 @@ impl<'a> Sequence<'a> {
             "frames": {
                 "world": bag::MAP,
                 "base": bag::BASE,
-                "lidar": o.lidar.driver.frame_id(),
+                "lidar": o.lidar.as_ref().map(|l| l.driver.frame_id()),
                 "imu": bag::IMU,
                 "convention": "REP 103/105: metres, x east, y north, z up in map (the world folder's frame); x forward, y left, z up in base_link",
             },
@@ -445,11 +658,19 @@ impl<'a> Sequence<'a> {
                 "control_step_s": self.route.trajectory.step(),
             },
             "scan_count": self.scans,
-            "scan_period_s": o.lidar.period(),
+            "scan_period_s": o.lidar.as_ref().map(LidarModel::period),
             "degenerate_below": labels::DEGENERATE,
         });
         if self.t0 > 0.0 {
             head["window_start_s"] = self.t0.into();
+        }
+        if let (Some(c), Some(rig), Some(scene)) = (&o.camera, rig, self.camera_scene) {
+            head["camera"] = crate::camera::stream::head(c, rig, scene, self.frames);
+            head["outputs"]["euroc"] = o.formats.euroc.into();
+            head["outputs"]["tum_rgbd"] = o.formats.tum.into();
+            if o.lidar.is_none() {
+                head["outputs"]["ground_truth"] = "ground_truth.tum: the first camera's optical frame at each frame's stamp, world frame".into();
+            }
         }
         head
     }
@@ -499,16 +720,19 @@ impl Wheel {
     }
 }
 
-/// Writes every IMU sample of `imu` stamped up to `until` (seconds) to the outputs asked for;
-/// samples before the sequence's start `from` (the stream's warm-up, stamped below 0, and a
-/// window's route before it) are dropped.
+/// Writes every IMU sample of `imu` stamped up to `until` (seconds) to the outputs asked for
+/// (the EuRoC folder of `frames`, with its ground truth, through the IMU's `mount`); samples
+/// before the sequence's start `from` (the stream's warm-up, stamped below 0, and a window's
+/// route before it) are dropped.
 fn log_imu(
     imu: &mut ImuStream,
     from: f64,
     until: f64,
     bag: &mut Option<Bag>,
     kitti: &mut Option<Kitti>,
+    frames: &mut Option<Frames<'_>>,
     variances: [f64; 2],
+    mount: &Pose,
 ) -> std::io::Result<()> {
     while imu.peek_time() <= until {
         let s = imu.sample();
@@ -520,6 +744,9 @@ fn log_imu(
         }
         if let Some(kt) = kitti {
             kt.imu(s.stamp, s.gyroscope, s.accelerometer)?;
+        }
+        if let Some(f) = frames {
+            f.imu(&s, mount)?;
         }
     }
     Ok(())

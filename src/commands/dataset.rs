@@ -87,7 +87,8 @@ pub struct Args {
     /// With --sense: ground or aerial.
     #[arg(long, value_name = "P", default_value = "ground", requires = "sense")]
     sense_platform: String,
-    /// With --sense: os1-32, os1-64, os1-128, vlp-16, mid-360, or a LiDAR table FILE.toml.
+    /// With --sense: os1-32, os1-64, os1-128, vlp-16, mid-360, a LiDAR table FILE.toml, or
+    /// none.
     #[arg(
         long,
         value_name = "MODEL",
@@ -99,6 +100,10 @@ pub struct Args {
     /// (default both).
     #[arg(long, value_name = "LIST", requires = "sense")]
     sense_format: Vec<String>,
+    /// With --sense: cameras too: mono, stereo, fisheye-stereo, d435i, or a camera table
+    /// FILE.toml.
+    #[arg(long, value_name = "MODEL", requires = "sense")]
+    sense_camera: Option<String>,
 }
 
 /// Makes the dataset and prints what was made.
@@ -129,6 +134,10 @@ pub fn run(a: Args) -> Result<(), Error> {
             lidar: a.sense_lidar,
             formats: a.sense_format,
             duration: a.sense_duration,
+            camera: a.sense_camera.map(|model| subtgraph::app::CameraRequest {
+                model,
+                ..Default::default()
+            }),
             ..SenseRequest::default()
         }),
         ..DatasetRequest::default()

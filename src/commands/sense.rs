@@ -3,7 +3,7 @@
 use std::path::PathBuf;
 use std::time::Instant;
 
-use subtgraph::app::{Error, SenseRequest, memory, sense};
+use subtgraph::app::{CameraRequest, Error, SenseRequest, memory, sense};
 
 /// `sense`'s arguments.
 #[derive(clap::Args)]
@@ -20,7 +20,8 @@ pub struct Args {
     /// to a study's target: shaft (the nearest, up and back: aerial), edge:N, node:N.
     #[arg(long, default_value = "out-and-back")]
     route: String,
-    /// os1-32, os1-64, os1-128, vlp-16, mid-360, or a LiDAR table FILE.toml.
+    /// os1-32, os1-64, os1-128, vlp-16, mid-360, a LiDAR table FILE.toml, or none (cameras
+    /// alone).
     #[arg(long, default_value = "os1-32", value_name = "MODEL")]
     lidar: String,
     /// Scans a second, instead of the model's (1 to 50).
@@ -40,7 +41,8 @@ pub struct Args {
         allow_hyphen_values = true
     )]
     imu_time_offset: f64,
-    /// Outputs besides sequence.json and ground_truth.tum: bag, kitti (default both).
+    /// Outputs besides sequence.json and ground_truth.tum: bag, kitti, euroc, tum-rgbd
+    /// (default: bag, kitti with a LiDAR, euroc with a camera, tum-rgbd with an RGB-D one).
     #[arg(long, value_name = "LIST")]
     format: Vec<String>,
     /// Also publish wheel odometry on /wheel/odom (ground platform).
@@ -71,6 +73,24 @@ pub struct Args {
     /// names are never loaded unless named here.
     #[arg(long = "plugin", value_name = "PATH")]
     plugins: Vec<PathBuf>,
+    /// Cameras too: mono, stereo, fisheye-stereo, d435i, or a camera table FILE.toml.
+    #[arg(long, value_name = "MODEL")]
+    camera: Option<String>,
+    /// Camera frames a second, instead of the model's.
+    #[arg(long, value_name = "HZ", requires = "camera")]
+    camera_rate: Option<f64>,
+    /// Expose the cameras row by row (the model's readout time), not all at once.
+    #[arg(long, requires = "camera")]
+    rolling_shutter: bool,
+    /// Blur the images by the motion during each exposure (five times the rendering).
+    #[arg(long, requires = "camera")]
+    motion_blur: bool,
+    /// Each lamp's output in lumens instead of the platform's (0: lamps off).
+    #[arg(long, value_name = "LUMENS", requires = "camera")]
+    lamp_lumens: Option<f64>,
+    /// Light reaching everything from everywhere, lux (default 0: none underground).
+    #[arg(long, value_name = "LUX", default_value_t = 0.0, requires = "camera")]
+    ambient: f64,
 }
 
 /// Writes the sequence, with a progress line, and prints what it holds and how fast it went.
@@ -99,6 +119,14 @@ pub fn run(a: Args) -> Result<(), Error> {
         seed: a.seed,
         max_disk,
         force: a.force,
+        camera: a.camera.map(|model| CameraRequest {
+            model,
+            rate: a.camera_rate,
+            rolling_shutter: a.rolling_shutter,
+            motion_blur: a.motion_blur,
+            lamp_lumens: a.lamp_lumens,
+            ambient_lux: a.ambient,
+        }),
     };
     let started = Instant::now();
     let sensed = sense::run_with(&request, &a.plugins, &|scan, of| {
@@ -117,6 +145,15 @@ pub fn run(a: Args) -> Result<(), Error> {
         );
     }
     let s = &sensed.summary;
+    if let Some(c) = &s.camera {
+        super::print(&format!(
+            "cameras: {} frames, {} images, {:.1} M pixels rendered: {:.1} images/s\n",
+            c.frames,
+            c.images,
+            c.pixels as f64 / 1e6,
+            c.images as f64 / took
+        ));
+    }
     super::print(&format!(
         "wrote {} ({} scans, {:.1} s of sensor time, {:.0} m driven, {} of {} rays returned, {:.1} MB, {} degenerate scans) in {took:.1} s (world rebuilt, ray caster built and route planned in {:.1} s): {:.1} M rays/s, {:.0} scans/s\n",
         request.out.display(),

@@ -5,6 +5,8 @@ use std::path::Path;
 
 use subtgraph_core::vec3::{V3, cross, dot, sub};
 
+use subtgraph_sensors::camera::texture::{Texture, linear};
+
 use crate::Error;
 
 /// A parsed `mesh/world.obj`: positions, triangles and their colours, and where the
@@ -23,19 +25,14 @@ pub(super) struct Scene {
 /// A triangle without an albedo image.
 pub(super) const NO_IMAGE: u16 = u16::MAX;
 
-/// An albedo image, linear RGB per pixel, rows from the top (`v` = 1).
-pub(super) struct Albedo {
-    pub width: usize,
-    pub height: usize,
-    pub pixels: Vec<[f32; 3]>,
-}
+/// An albedo image: the sensors' texture (one reader of a world's images for the preview and
+/// the cameras), sampled at the nearest texel.
+pub(super) struct Albedo(Texture);
 
 impl Albedo {
-    /// The colour at texture coordinates `(u, v)`, repeating (nearest pixel).
+    /// The colour at texture coordinates `(u, v)`, repeating (nearest pixel), linear RGB.
     pub fn at(&self, u: f64, v: f64) -> [f32; 3] {
-        let x = ((u.rem_euclid(1.0) * self.width as f64) as usize).min(self.width - 1);
-        let y = (((1.0 - v.rem_euclid(1.0)) * self.height as f64) as usize).min(self.height - 1);
-        self.pixels[y * self.width + x]
+        self.0.nearest(u, v).map(linear)
     }
 
     fn read(path: &Path) -> Result<Albedo, Error> {
@@ -45,34 +42,8 @@ impl Albedo {
                 path.display()
             ))
         };
-        let f = std::fs::File::open(path).map_err(|e| bad(e.to_string()))?;
-        let mut dec = png::Decoder::new(std::io::BufReader::new(f));
-        dec.set_transformations(png::Transformations::EXPAND | png::Transformations::STRIP_16);
-        let mut reader = dec.read_info().map_err(|e| bad(e.to_string()))?;
-        // The header's size first: the pixels are given memory before they are read.
-        if let Some(why) =
-            subtgraph_tilesets::textures::image_too_large(reader.info().width, reader.info().height)
-        {
-            return Err(bad(format!("it is {why}")));
-        }
-        let mut buf = vec![0; reader.output_buffer_size().unwrap_or(0)];
-        let info = reader
-            .next_frame(&mut buf)
-            .map_err(|e| bad(e.to_string()))?;
-        let channels = info.color_type.samples();
-        let lin = |b: u8| (f32::from(b) / 255.0).powf(2.2);
-        let pixels = buf[..info.buffer_size()]
-            .chunks_exact(channels)
-            .map(|p| match channels {
-                1 | 2 => [lin(p[0]); 3],
-                _ => [lin(p[0]), lin(p[1]), lin(p[2])],
-            })
-            .collect();
-        Ok(Albedo {
-            width: info.width as usize,
-            height: info.height as usize,
-            pixels,
-        })
+        let bytes = std::fs::read(path).map_err(|e| bad(e.to_string()))?;
+        Texture::decode(&bytes).map(Albedo).map_err(bad)
     }
 }
 

@@ -6,7 +6,10 @@
 //! | `/imu` | `sensor_msgs/msg/Imu` | `imu_link` |
 //! | `/ground_truth/odom` | `nav_msgs/msg/Odometry`, `map` to `base_link` | `map` |
 //! | `/wheel/odom` (with wheel odometry) | `nav_msgs/msg/Odometry`, `odom` to `base_link` | `odom` |
-//! | `/tf_static` | `tf2_msgs/msg/TFMessage`: `base_link` to the LiDAR and the IMU | |
+//! | `/tf_static` | `tf2_msgs/msg/TFMessage`: `base_link` to the LiDAR and the IMU (and the cameras) | |
+//!
+//! With cameras, their images and calibrations too ([`super::camera_msgs`]); without a LiDAR
+//! (`--lidar none`), no `/points`.
 //!
 //! Frames follow REP 103 and REP 105: `map` is the world folder's frame (x east, y north,
 //! z up), `base_link` the platform's. A point cloud is stamped with its scan's start (the
@@ -43,7 +46,7 @@ fn qos_latched() -> String {
 
 /// A topic of the bag.
 struct Topic {
-    name: &'static str,
+    name: String,
     type_name: &'static str,
     channel: u16,
     qos: String,
@@ -54,7 +57,7 @@ pub struct Bag {
     mcap: Mcap<DirectFile>,
     dir: PathBuf,
     topics: Vec<Topic>,
-    model: LidarModel,
+    model: Option<LidarModel>,
     /// Scratch for reordering an organized cloud.
     order: Vec<usize>,
     /// Whether an Ouster cloud carries the `return_kind` debug field (under conditions).
@@ -67,21 +70,37 @@ pub fn ns(t: f64) -> u64 {
 }
 
 impl Bag {
-    /// Starts a bag in `dir` (which must exist); `kinds` adds the `return_kind` debug field to
-    /// an Ouster cloud (a byte of its record's padding: what made each return, or took it).
-    pub fn create(dir: &Path, model: &LidarModel, wheel: bool, kinds: bool) -> io::Result<Bag> {
+    /// Starts a bag in `dir` (which must exist), with `/points` for a LiDAR `model`, and the
+    /// `extra` topics (name, message type) after the others; `kinds` adds the `return_kind`
+    /// debug field to an Ouster cloud (a byte of its record's padding: what made each return,
+    /// or took it).
+    pub fn create(
+        dir: &Path,
+        model: Option<&LidarModel>,
+        wheel: bool,
+        kinds: bool,
+        extra: &[(String, &'static str)],
+    ) -> io::Result<Bag> {
         let file = DirectFile::create(&dir.join("bag_0.mcap"), Spool::new()?)?;
         let mut mcap = Mcap::new(file)?;
         let mut topics = Vec::new();
-        let mut list: Vec<(&'static str, &'static str, String)> = vec![
-            ("/points", "sensor_msgs/msg/PointCloud2", QOS.into()),
-            ("/imu", "sensor_msgs/msg/Imu", QOS.into()),
-            ("/ground_truth/odom", "nav_msgs/msg/Odometry", QOS.into()),
-            ("/tf_static", "tf2_msgs/msg/TFMessage", qos_latched()),
-        ];
-        if wheel {
-            list.push(("/wheel/odom", "nav_msgs/msg/Odometry", QOS.into()));
+        let mut list: Vec<(String, &'static str, String)> = Vec::new();
+        if model.is_some() {
+            list.push(("/points".into(), "sensor_msgs/msg/PointCloud2", QOS.into()));
         }
+        list.extend([
+            ("/imu".into(), "sensor_msgs/msg/Imu", QOS.into()),
+            (
+                "/ground_truth/odom".into(),
+                "nav_msgs/msg/Odometry",
+                QOS.into(),
+            ),
+            ("/tf_static".into(), "tf2_msgs/msg/TFMessage", qos_latched()),
+        ]);
+        if wheel {
+            list.push(("/wheel/odom".into(), "nav_msgs/msg/Odometry", QOS.into()));
+        }
+        list.extend(extra.iter().map(|(n, t)| (n.clone(), *t, QOS.to_owned())));
         let mut schemas: Vec<(&str, u16)> = Vec::new();
         for (name, type_name, qos) in list {
             let schema = match schemas.iter().find(|(t, _)| *t == type_name) {
@@ -92,7 +111,7 @@ impl Bag {
                     id
                 }
             };
-            let channel = mcap.channel(schema, name, &[("offered_qos_profiles", &qos)])?;
+            let channel = mcap.channel(schema, &name, &[("offered_qos_profiles", &qos)])?;
             topics.push(Topic {
                 name,
                 type_name,
@@ -104,10 +123,22 @@ impl Bag {
             mcap,
             dir: dir.to_owned(),
             topics,
-            model: model.clone(),
+            model: model.cloned(),
             order: Vec::new(),
             kinds,
         })
+    }
+
+    /// A message on `topic` (one of the bag's), stamped and logged at `stamp_ns`, whose CDR
+    /// `fill` writes.
+    pub fn publish(
+        &mut self,
+        topic: &str,
+        stamp_ns: u64,
+        fill: impl FnOnce(&mut Vec<u8>),
+    ) -> io::Result<()> {
+        let c = self.channel(topic);
+        self.mcap.message(c, stamp_ns, stamp_ns, fill)
     }
 
     fn channel(&self, name: &str) -> u16 {
@@ -129,7 +160,9 @@ impl Bag {
         let log = scan.start;
         let c = self.channel("/points");
         let stamp = ns(scan.start);
-        let m = &self.model;
+        let Some(m) = &self.model else {
+            return Ok(());
+        };
         let frame = m.driver.frame_id();
         match m.driver {
             Driver::Ouster => {

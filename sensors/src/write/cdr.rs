@@ -222,7 +222,7 @@ pub fn tf_message(buf: &mut Vec<u8>, stamp_ns: u64, transforms: &[(&str, &str, P
 const SEPARATOR: &str =
     "================================================================================\n";
 
-fn definition(main: &str, deps: &[&str]) -> String {
+pub(crate) fn definition(main: &str, deps: &[&str]) -> String {
     let mut s = main.to_owned();
     for d in deps {
         s.push_str(SEPARATOR);
@@ -231,8 +231,9 @@ fn definition(main: &str, deps: &[&str]) -> String {
     s
 }
 
-const HEADER: &str = "MSG: std_msgs/Header\nbuiltin_interfaces/Time stamp\nstring frame_id\n";
-const TIME: &str = "MSG: builtin_interfaces/Time\nint32 sec\nuint32 nanosec\n";
+pub(crate) const HEADER: &str =
+    "MSG: std_msgs/Header\nbuiltin_interfaces/Time stamp\nstring frame_id\n";
+pub(crate) const TIME: &str = "MSG: builtin_interfaces/Time\nint32 sec\nuint32 nanosec\n";
 const VECTOR3: &str = "MSG: geometry_msgs/Vector3\nfloat64 x\nfloat64 y\nfloat64 z\n";
 const POINT: &str = "MSG: geometry_msgs/Point\nfloat64 x\nfloat64 y\nfloat64 z\n";
 const QUATERNION: &str =
@@ -278,7 +279,7 @@ pub fn schema(type_name: &str) -> String {
                 QUATERNION,
             ],
         ),
-        _ => String::new(),
+        other => super::camera_msgs::schema(other),
     }
 }
 

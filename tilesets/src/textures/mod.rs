@@ -66,19 +66,7 @@ fn path_of(name: &str, map: usize) -> String {
     format!("textures/{}-{}.png", stem(name), MAPS[map])
 }
 
-/// The largest side of an image a world may carry: 8192 pixels (an "8K" texture). Checked from
-/// the header when the world is made (issue 37, item 6: a 900-byte PNG claiming 200,000 x
-/// 200,000 pixels was copied into the world, and `preview` then asked for 120 GB to draw it).
-pub const MAX_IMAGE_SIDE: u32 = 8192;
-
-/// Why a PNG of `width` x `height` pixels is too large for a texture, if it is.
-pub fn image_too_large(width: u32, height: u32) -> Option<String> {
-    (width > MAX_IMAGE_SIDE || height > MAX_IMAGE_SIDE).then(|| {
-        format!(
-            "{width} x {height} pixels, more than the {MAX_IMAGE_SIDE} a side a texture may have; scale it down"
-        )
-    })
-}
+pub use subtgraph_core::budget::{MAX_IMAGE_SIDE, image_too_large};
 
 /// Reads one of the user's images for `key`, refusing anything but a PNG of at most
 /// [`MAX_IMAGE_SIDE`] pixels a side.
