@@ -14,6 +14,7 @@
 //! rebuilt from the folders at the end of every run ([`index`]).
 
 mod existing;
+pub mod explore;
 pub mod index;
 mod plan;
 mod progress;
@@ -69,6 +70,8 @@ pub struct Options {
     /// A sensor sequence per world, as this request asks (its `world`, `out` and `force` are
     /// set per world): [`sense::sense_worlds`] after the worlds.
     pub sense: Option<SenseRequest>,
+    /// A mission per world, run and scored ([`explore::explore_worlds`]) after the worlds.
+    pub explore: Option<crate::ExploreRequest>,
 }
 
 /// What a run did.
@@ -86,6 +89,8 @@ pub struct Summary {
     pub indexed: usize,
     /// The sequences of `--sense`.
     pub sensed: Option<sense::Sensed>,
+    /// The runs of `--explore`.
+    pub explored: Option<explore::Explored>,
 }
 
 /// What `dataset` is asked to make.
@@ -116,6 +121,10 @@ pub struct DatasetRequest {
     /// A sensor sequence per world (`--sense`), as this request asks; `ground-truth` is added
     /// to every world's formats (the routes follow its graph).
     pub sense: Option<SenseRequest>,
+    /// A mission per world (`--explore`), as this request asks, run and scored; `ground-truth`
+    /// is added to every world's formats and `[artifacts]` (the defaults) to a pipeline
+    /// without one.
+    pub explore: Option<crate::ExploreRequest>,
 }
 
 impl Default for DatasetRequest {
@@ -133,6 +142,7 @@ impl Default for DatasetRequest {
             max_memory: None,
             frontend: Frontend::Cli,
             sense: None,
+            explore: None,
         }
     }
 }
@@ -179,6 +189,16 @@ impl DatasetRequest {
             }
             sense::check(template)?;
         }
+        if let Some(template) = &self.explore {
+            if self.adjust.no_mesh {
+                return Err(Error::Usage(format!(
+                    "{} needs the worlds' geometry (robots drive through the mesh): leave out {}",
+                    f.option("explore"),
+                    f.option("no-mesh")
+                )));
+            }
+            explore::check(template)?;
+        }
         let names: Vec<String> = self.chosen().map(|s| s.name()).collect();
         let names: Vec<&str> = names.iter().map(String::as_str).collect();
         let mut reading: Vec<&std::path::Path> =
@@ -195,6 +215,7 @@ impl DatasetRequest {
             shard: self.shard,
             max_memory,
             sense: self.sense.clone(),
+            explore: self.explore.clone(),
         })
     }
 
@@ -223,8 +244,11 @@ impl DatasetRequest {
         for from in chosen {
             let (mut p, description) = from.load()?;
             self.adjust.apply(&mut p)?;
-            if self.sense.is_some() {
+            if self.sense.is_some() || self.explore.is_some() {
                 pipeline::add_formats(&mut p, &["ground-truth".to_owned()])?;
+            }
+            if self.explore.is_some() && p.artifacts.is_none() {
+                p.artifacts = Some(Default::default());
             }
             let mut registry = crate::registry_with(&p, &self.plugins)?;
             extend(&mut registry)?;

@@ -9,7 +9,7 @@ use std::time::Instant;
 use super::existing::{Existing, description, existing, expected_world_toml};
 use super::index::{self, RunFacts};
 use super::plan::{Planned, plan};
-use super::{Options, Source, Summary, progress, sense};
+use super::{Options, Source, Summary, explore, progress, sense};
 use crate::folder::{FolderError, Kind, Out, manifest};
 use crate::{Error, pipeline};
 
@@ -142,12 +142,30 @@ pub fn run(sources: &[Source], opts: &Options) -> Result<Summary, Error> {
         }
         None => None,
     };
+    let explored = match &opts.explore {
+        Some(template) => {
+            let names: Vec<String> = mine.iter().map(|w| w.name.clone()).collect();
+            Some(explore::explore_worlds(
+                &opts.out,
+                &names,
+                template,
+                &|name, t, of| {
+                    eprint!("\r  exploring {name}: {t:.0} of {of:.0} simulated s");
+                    if t >= of - 1e-6 {
+                        eprintln!();
+                    }
+                },
+            )?)
+        }
+        None => None,
+    };
     Ok(Summary {
         made: todo.len() - meanwhile,
         skipped: skipped + meanwhile,
         elsewhere,
         indexed,
         sensed,
+        explored,
     })
 }
 
@@ -387,6 +405,7 @@ mod tests {
             shard: Shard::ALL,
             max_memory: subtgraph_core::Budget::unlimited(),
             sense: None,
+            explore: None,
         };
         let sources = std::slice::from_ref(&source);
         // This run planned cave-0000; another process then made it.
