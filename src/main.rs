@@ -10,7 +10,7 @@ use std::process::ExitCode;
 use clap::{Parser, Subcommand};
 
 use commands::{
-    dataset, generate, plugins, presets, preview, report, score, sense, stats, validate,
+    dataset, explore, generate, plugins, presets, preview, report, score, sense, stats, validate,
 };
 
 /// Procedural subterranean worlds with controlled topology, for robot simulation.
@@ -68,6 +68,11 @@ enum Command {
     /// poses, as a ROS 2 bag (bag/), a KITTI folder (kitti/), ground_truth.tum and
     /// sequence.json (models, extrinsics, route, a label per scan). No simulator needed.
     Sense(Box<sense::Args>),
+    /// Robots exploring a world in a closed loop: the frontier baseline (or random commands)
+    /// drives each, its LiDAR maps, artifacts in view are reported to the base station over a
+    /// radio after the SubT virtual competition's, with breadcrumbs. Writes a run folder
+    /// (trajectories, map, reports, radio log) that `score --run` grades. No simulator needed.
+    Explore(Box<explore::Args>),
 }
 
 fn main() -> ExitCode {
@@ -84,6 +89,7 @@ fn main() -> ExitCode {
         Command::Report(a) => report::run(a),
         Command::Preview(a) => preview::run(a),
         Command::Sense(a) => sense::run(*a),
+        Command::Explore(a) => explore::run(*a),
     };
     match done {
         Ok(()) => ExitCode::SUCCESS,

@@ -106,6 +106,10 @@ pub enum Error {
     /// to change.
     #[error(transparent)]
     Sense(#[from] subtgraph_sensors::SenseError),
+    /// An exploration was refused or failed (`explore`, Python's environment): the explore
+    /// crate's message says what to change.
+    #[error(transparent)]
+    Explore(#[from] subtgraph_explore::ExploreError),
     /// A file of a world folder is not what `subtgraph generate` writes (edited, cut short,
     /// another version).
     #[error("{}: {source}", .world.display())]
@@ -141,6 +145,17 @@ pub enum Error {
         "sensing {world}: {source} (the worlds and the sequences finished so far are kept; run the same command again to go on)"
     )]
     Sequence {
+        /// The world's folder name.
+        world: String,
+        /// Why.
+        source: Box<Error>,
+    },
+    /// `dataset --explore` could not run or score a world's mission; the worlds and the runs
+    /// already written are complete.
+    #[error(
+        "exploring {world}: {source} (the worlds and the runs finished so far are kept; run the same command again to go on)"
+    )]
+    Exploring {
         /// The world's folder name.
         world: String,
         /// Why.

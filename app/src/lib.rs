@@ -15,6 +15,7 @@
 //! | [`PreviewRequest`] | `preview` | a shaded picture of a world's mesh |
 //! | [`PluginsRequest`] | `plugins list` | what plugin libraries register |
 //! | [`SenseRequest`] | `sense` | a sensor sequence (LiDAR, IMU, poses) along a route through a world, by [`sense::run`] |
+//! | [`ExploreRequest`] | `explore` | robots exploring a world in a closed loop, a run folder `score --run` grades |
 //!
 //! Every folder a request writes is written atomically and records which command wrote it
 //! ([`folder`]); `--force` replaces only a folder the same command wrote, never one being read,
@@ -33,6 +34,7 @@
 
 pub mod dataset;
 mod error;
+pub mod explore;
 pub mod folder;
 pub mod frontend;
 pub mod generate;
@@ -52,6 +54,7 @@ pub mod validate;
 
 pub use dataset::DatasetRequest;
 pub use error::{Error, message};
+pub use explore::ExploreRequest;
 pub use frontend::Frontend;
 pub use generate::{GenerateRequest, Generated};
 pub use pipeline::PipelineSource;

@@ -11,6 +11,7 @@
 mod callbacks;
 mod convert;
 mod errors;
+mod explore;
 mod rays;
 mod world;
 
@@ -387,6 +388,7 @@ fn stats(py: Python<'_>, inputs: Vec<PathBuf>, out: PathBuf, crop: &str) -> PyRe
 fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<PyWorld>()?;
     m.add_class::<callbacks::PySegment>()?;
+    m.add_class::<explore::PyExplore>()?;
     m.add_function(wrap_pyfunction!(generate, m)?)?;
     m.add_function(wrap_pyfunction!(presets, m)?)?;
     m.add_function(wrap_pyfunction!(preset_text, m)?)?;

@@ -532,3 +532,18 @@ def stats(
     """Writes the paper's variability statistics of world or dataset folders to the report
     folder ``out``, as ``subtgraph stats`` does; returns the summary text."""
     return _native.stats([os.fspath(p) for p in inputs], os.fspath(out), crop)
+
+
+def _register_gymnasium_env() -> None:
+    """Registers ``subtgraph/Explore-v0`` with Gymnasium when it is installed (the closed
+    loop, :mod:`subtgraph.explore`); without it, ``subtgraph`` works as before."""
+    try:
+        import gymnasium  # noqa: F401
+    except ImportError:
+        return
+    from .explore import register
+
+    register()
+
+
+_register_gymnasium_env()

@@ -5,7 +5,7 @@ use std::time::Instant;
 
 use subtgraph::app::dataset::Shard;
 use subtgraph::app::pipeline::Adjustments;
-use subtgraph::app::{DatasetRequest, Error, SenseRequest};
+use subtgraph::app::{DatasetRequest, Error, ExploreRequest, SenseRequest};
 
 /// `dataset`'s arguments.
 #[derive(clap::Args)]
@@ -104,6 +104,27 @@ pub struct Args {
     /// FILE.toml.
     #[arg(long, value_name = "MODEL", requires = "sense")]
     sense_camera: Option<String>,
+    /// Also explore every world as `subtgraph explore` does (the frontier baseline by
+    /// default) and score each run: OUT/runs/NAME and OUT/scores/NAME (then `subtgraph report
+    /// frontier=OUT/scores`); adds ground-truth to every world's formats and [artifacts] to a
+    /// pipeline without one.
+    #[arg(long)]
+    explore: bool,
+    /// With --explore: robots per world.
+    #[arg(long, value_name = "N", default_value_t = 1, requires = "explore")]
+    robots: usize,
+    /// With --explore: simulated seconds per world.
+    #[arg(long, value_name = "SECONDS", default_value_t = 600.0, requires = "explore")]
+    explore_duration: f64,
+    /// With --explore: frontier or random.
+    #[arg(long, value_name = "NAME", default_value = "frontier", requires = "explore")]
+    planner: String,
+    /// With --explore: ground or aerial.
+    #[arg(long, value_name = "P", default_value = "ground", requires = "explore")]
+    explore_platform: String,
+    /// With --explore: columns a turn of each scan (default 180).
+    #[arg(long, value_name = "N", requires = "explore")]
+    explore_lidar_columns: Option<usize>,
 }
 
 /// Makes the dataset and prints what was made.
@@ -140,6 +161,14 @@ pub fn run(a: Args) -> Result<(), Error> {
             }),
             ..SenseRequest::default()
         }),
+        explore: a.explore.then(|| ExploreRequest {
+            robots: a.robots,
+            duration: a.explore_duration,
+            planner: a.planner,
+            platform: a.explore_platform,
+            lidar_columns: a.explore_lidar_columns,
+            ..ExploreRequest::default()
+        }),
         ..DatasetRequest::default()
     };
     let opts = request.options()?;
@@ -164,6 +193,21 @@ pub fn run(a: Args) -> Result<(), Error> {
             s.kept,
             a.out
                 .join(subtgraph::app::dataset::sense::SEQUENCES_DIR)
+                .display()
+        ));
+    }
+    if let Some(e) = &summary.explored {
+        super::print(&format!(
+            "explored {} world(s) ({:.0} simulated s in {:.1} s), kept {} complete run(s), in {} and scored in {}\n",
+            e.made,
+            e.simulated_s,
+            e.run_s,
+            e.kept,
+            a.out
+                .join(subtgraph::app::dataset::explore::RUNS_DIR)
+                .display(),
+            a.out
+                .join(subtgraph::app::dataset::explore::SCORES_DIR)
                 .display()
         ));
     }

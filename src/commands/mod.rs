@@ -1,6 +1,7 @@
 //! One file per subcommand: its arguments, its request, and what it prints.
 
 pub mod dataset;
+pub mod explore;
 pub mod generate;
 pub mod plugins;
 pub mod presets;

@@ -16,8 +16,14 @@ pub struct Args {
     #[arg(value_name = "WORLD_OR_SEQUENCE")]
     world: PathBuf,
     /// The team's reports: CSV with columns time,class,x,y,z, or a JSON list of them.
-    #[arg(long, required_unless_present_any = ["trajectory", "segmentation"])]
+    #[arg(long, required_unless_present_any = ["trajectory", "segmentation", "run"])]
     reports: Option<PathBuf>,
+    /// A run folder (what `subtgraph explore` writes): its reports.csv counted only when the
+    /// robot had a radio link to the base station at the report's time (connectivity.csv),
+    /// its map.ply scored as --map, its explored.npy as the share of the free space explored,
+    /// its radio log summed up.
+    #[arg(long, value_name = "RUN", conflicts_with_all = ["reports", "map", "trajectory", "segmentation"])]
+    run: Option<PathBuf>,
     /// The robot's map in the world frame: a PLY or PCD point cloud, or an occupancy .npy
     /// on the grid of ground_truth/free_space.npy.
     #[arg(long, value_name = "CLOUD")]
@@ -164,12 +170,22 @@ pub fn run(a: Args) -> Result<(), Error> {
         super::print(&format!("{scored}\n"));
         return Ok(());
     }
+    let (reports, map) = match &a.run {
+        Some(run) => {
+            let files = subtgraph::app::score::run::locate(run)?;
+            (files.reports, files.map)
+        }
+        None => (
+            a.reports
+                .expect("clap requires the reports file unless a trajectory is scored"),
+            a.map,
+        ),
+    };
     let scored = ScoreRequest {
         world: a.world,
-        reports: a
-            .reports
-            .expect("clap requires the reports file unless a trajectory is scored"),
-        map: a.map,
+        reports,
+        map,
+        run: a.run,
         radius: a.radius,
         tolerance: a.tolerance,
         out: a.out,

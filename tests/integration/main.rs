@@ -19,6 +19,7 @@ mod declines;
 mod doc_commands;
 mod drive;
 mod elevation;
+mod explore;
 mod export_physics;
 mod export_scenes;
 mod exports;

@@ -14,6 +14,7 @@
 //! rebuilt from the folders at the end of every run ([`index`]).
 
 mod existing;
+pub mod explore;
 pub mod index;
 mod plan;
 mod progress;
@@ -72,6 +73,8 @@ pub struct Options {
     /// Plugin libraries given besides the pipelines' (`--plugin`): with the pipelines' own,
     /// the ones the worlds may be rebuilt with for sensing.
     pub plugins: Vec<PathBuf>,
+    /// A mission per world, run and scored ([`explore::explore_worlds`]) after the worlds.
+    pub explore: Option<crate::ExploreRequest>,
 }
 
 /// What a run did.
@@ -89,6 +92,8 @@ pub struct Summary {
     pub indexed: usize,
     /// The sequences of `--sense`.
     pub sensed: Option<sense::Sensed>,
+    /// The runs of `--explore`.
+    pub explored: Option<explore::Explored>,
 }
 
 /// What `dataset` is asked to make.
@@ -119,6 +124,10 @@ pub struct DatasetRequest {
     /// A sensor sequence per world (`--sense`), as this request asks; `ground-truth` is added
     /// to every world's formats (the routes follow its graph).
     pub sense: Option<SenseRequest>,
+    /// A mission per world (`--explore`), as this request asks, run and scored; `ground-truth`
+    /// is added to every world's formats and `[artifacts]` (the defaults) to a pipeline
+    /// without one.
+    pub explore: Option<crate::ExploreRequest>,
 }
 
 impl Default for DatasetRequest {
@@ -136,6 +145,7 @@ impl Default for DatasetRequest {
             max_memory: None,
             frontend: Frontend::Cli,
             sense: None,
+            explore: None,
         }
     }
 }
@@ -182,6 +192,16 @@ impl DatasetRequest {
             }
             sense::check(template)?;
         }
+        if let Some(template) = &self.explore {
+            if self.adjust.no_mesh {
+                return Err(Error::Usage(format!(
+                    "{} needs the worlds' geometry (robots drive through the mesh): leave out {}",
+                    f.option("explore"),
+                    f.option("no-mesh")
+                )));
+            }
+            explore::check(template)?;
+        }
         let names: Vec<String> = self.chosen().map(|s| s.name()).collect();
         let names: Vec<&str> = names.iter().map(String::as_str).collect();
         let mut reading: Vec<&std::path::Path> =
@@ -199,6 +219,7 @@ impl DatasetRequest {
             max_memory,
             sense: self.sense.clone(),
             plugins: self.plugins.clone(),
+            explore: self.explore.clone(),
         })
     }
 
@@ -227,8 +248,11 @@ impl DatasetRequest {
         for from in chosen {
             let (mut p, description) = from.load()?;
             self.adjust.apply(&mut p)?;
-            if self.sense.is_some() {
+            if self.sense.is_some() || self.explore.is_some() {
                 pipeline::add_formats(&mut p, &["ground-truth".to_owned()])?;
+            }
+            if self.explore.is_some() && p.artifacts.is_none() {
+                p.artifacts = Some(Default::default());
             }
             let mut registry = crate::registry_with(&p, &self.plugins)?;
             extend(&mut registry)?;

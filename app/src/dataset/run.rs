@@ -9,9 +9,9 @@ use std::time::Instant;
 use super::existing::{Existing, description, existing, expected_world_toml};
 use super::index::{self, RunFacts};
 use super::plan::{Planned, plan};
-use super::{Options, Source, Summary, progress, sense};
+use super::{Options, Source, Summary, explore, progress, sense};
 use crate::folder::{FolderError, Kind, Out, manifest};
-use crate::{Error, pipeline};
+use crate::{Error, ExploreRequest, pipeline};
 
 /// Makes this shard's worlds of the dataset in `opts.out`, then rebuilds the index.
 pub fn run(sources: &[Source], opts: &Options) -> Result<Summary, Error> {
@@ -123,15 +123,15 @@ pub fn run(sources: &[Source], opts: &Options) -> Result<Summary, Error> {
             total: todo.len(),
         });
     }
+    // The run's own plugins: its pipelines' and --plugin (a world's world.toml names the same
+    // ones, and nothing else is loaded when its worlds are sensed or explored).
+    let mut plugins = opts.plugins.clone();
+    for s in sources {
+        plugins.extend(s.pipeline.plugins.paths.iter().map(PathBuf::from));
+    }
     let sensed = match &opts.sense {
         Some(template) => {
             let names: Vec<String> = mine.iter().map(|w| w.name.clone()).collect();
-            // The run's own plugins: its pipelines' and --plugin (a world's world.toml names
-            // the same ones, and nothing else is loaded).
-            let mut plugins = opts.plugins.clone();
-            for s in sources {
-                plugins.extend(s.pipeline.plugins.paths.iter().map(PathBuf::from));
-            }
             Some(sense::sense_worlds(
                 &opts.out,
                 &names,
@@ -149,12 +149,34 @@ pub fn run(sources: &[Source], opts: &Options) -> Result<Summary, Error> {
         }
         None => None,
     };
+    let explored = match &opts.explore {
+        Some(template) => {
+            let names: Vec<String> = mine.iter().map(|w| w.name.clone()).collect();
+            let template = ExploreRequest {
+                plugins: plugins.clone(),
+                ..template.clone()
+            };
+            Some(explore::explore_worlds(
+                &opts.out,
+                &names,
+                &template,
+                &|name, t, of| {
+                    eprint!("\r  exploring {name}: {t:.0} of {of:.0} simulated s");
+                    if t >= of - 1e-6 {
+                        eprintln!();
+                    }
+                },
+            )?)
+        }
+        None => None,
+    };
     Ok(Summary {
         made: todo.len() - meanwhile,
         skipped: skipped + meanwhile,
         elsewhere,
         indexed,
         sensed,
+        explored,
     })
 }
 
@@ -396,6 +418,7 @@ mod tests {
             max_memory: subtgraph_core::Budget::unlimited(),
             sense: None,
             plugins: Vec::new(),
+            explore: None,
         };
         let sources = std::slice::from_ref(&source);
         // This run planned cave-0000; another process then made it.

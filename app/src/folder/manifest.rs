@@ -39,16 +39,19 @@ pub enum Kind {
     Sense,
     /// A `report` over many score folders.
     Report,
+    /// An `explore` run folder.
+    Explore,
 }
 
 impl Kind {
     /// Every kind.
-    pub const ALL: [Kind; 5] = [
+    pub const ALL: [Kind; 6] = [
         Kind::World,
         Kind::Stats,
         Kind::Score,
         Kind::Sense,
         Kind::Report,
+        Kind::Explore,
     ];
 
     /// Its word on the manifest's `complete` line.
@@ -59,6 +62,7 @@ impl Kind {
             Kind::Score => "score",
             Kind::Sense => "sense",
             Kind::Report => "report",
+            Kind::Explore => "explore",
         }
     }
 
@@ -70,6 +74,7 @@ impl Kind {
             Kind::Score => "score report",
             Kind::Sense => "sensor sequence",
             Kind::Report => "dataset report",
+            Kind::Explore => "exploration run",
         }
     }
 
@@ -81,6 +86,7 @@ impl Kind {
             Kind::Score => "subtgraph score",
             Kind::Sense => "subtgraph sense",
             Kind::Report => "subtgraph report",
+            Kind::Explore => "subtgraph explore",
         }
     }
 
@@ -94,6 +100,7 @@ impl Kind {
             (Kind::Score, "score.json"),
             (Kind::Sense, "sequence.json"),
             (Kind::Report, "report.json"),
+            (Kind::Explore, "run.json"),
         ]
         .into_iter()
         .find(|(_, f)| has(f))

@@ -19,6 +19,7 @@ pub mod coverage;
 mod picture;
 mod report;
 pub mod reports;
+pub mod run;
 pub mod segmentation;
 pub mod trajectory;
 pub mod world;
@@ -50,6 +51,9 @@ pub struct ScoreRequest {
     pub out: PathBuf,
     /// Replace a score folder the tool wrote.
     pub force: bool,
+    /// A run folder (`--run`): its reports count only when they came over a link; its
+    /// explored share and radio are scored too (`run.rs`).
+    pub run: Option<PathBuf>,
 }
 
 /// How many reports had each outcome.
@@ -97,6 +101,8 @@ pub struct Scored {
     pub tolerance: f64,
     /// The score folder written.
     pub out: PathBuf,
+    /// What `--run` adds.
+    pub run: Option<run::RunScore>,
 }
 
 impl fmt::Display for Scored {
@@ -134,6 +140,9 @@ impl fmt::Display for Scored {
                 100.0 * m.errors as f64 / m.points.max(1) as f64,
                 self.tolerance
             )?;
+        }
+        if let Some(r) = &self.run {
+            write!(f, "\n{}", run::summary(r))?;
         }
         write!(f, "\nwrote {}", self.out.display())
     }
@@ -188,6 +197,7 @@ impl ScoreRequest {
         }
         let mut reading: Vec<&Path> = vec![&self.world, &self.reports];
         reading.extend(self.map.as_deref());
+        reading.extend(self.run.as_deref());
         self.destination(&reading).check()?;
         let cells = world::cells(&self.world)?;
         let truth = world::artifacts(&self.world)?;
@@ -202,6 +212,11 @@ impl ScoreRequest {
         }
         let list = reports::read(&self.reports)?;
         check_reports(&list, &cells, &self.reports)?;
+        let run_files = self.run.as_deref().map(run::locate).transpose()?;
+        let (list, without_link) = match &run_files {
+            Some(files) => run::over_link(files, list)?,
+            None => (list, 0),
+        };
         let (verdicts, found) = reports::score(&list, &truth);
         let map = match &self.map {
             None => None,
@@ -214,6 +229,19 @@ impl ScoreRequest {
                     coverage::measure(&points, &grid, &free, &cells, self.radius, self.tolerance);
                 Some((path.clone(), grid, c))
             }
+        };
+        let run_score = match &run_files {
+            Some(files) => {
+                // The explored share needs the free space; a world without it scores the rest.
+                let free = world::free_space(&self.world).ok();
+                Some(run::measure(
+                    files,
+                    without_link,
+                    free.as_ref().map(|(g, f)| (g, f)),
+                    &cells,
+                )?)
+            }
+            None => None,
         };
         let count = |k: reports::Outcome| verdicts.iter().filter(|v| v.outcome == k).count();
         let errors: Vec<f64> = found
@@ -241,8 +269,9 @@ impl ScoreRequest {
             radius: self.radius,
             tolerance: self.tolerance,
             out: self.out.clone(),
+            run: run_score,
         };
-        let files = report::files(
+        let mut files = report::files(
             self,
             &scored,
             &report::Inputs {
@@ -253,6 +282,10 @@ impl ScoreRequest {
                 map: map.as_ref().map(|(p, g, c)| (p.as_path(), g, c)),
             },
         );
+        if let Some(r) = &scored.run {
+            let text = serde_json::to_string_pretty(r).expect("plain data") + "\n";
+            files.push(("run.json".into(), text.into_bytes()));
+        }
         crate::folder::write_atomically(&self.destination(&reading), |w| {
             for (name, bytes) in &files {
                 std::fs::write(w.root().join(name), bytes)
