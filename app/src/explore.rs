@@ -232,7 +232,10 @@ pub fn truth_grid(world: &Path) -> Result<Grid, Error> {
             )));
         }
     }
-    let doc: FreeSpace = crate::score::world::read_doc(world, "generate the world again with --format ground-truth")?;
+    let doc: FreeSpace = crate::score::world::read_doc(
+        world,
+        "generate the world again with --format ground-truth",
+    )?;
     let [nz, ny, nx] = doc.shape;
     Ok(Grid {
         origin: doc.origin,

@@ -190,6 +190,20 @@ pub fn mesh_estimate(
     Some(MeshEstimate::of(counts.iter().sum(), triangles))
 }
 
+/// The largest side of an image a world may carry: 8192 pixels (an "8K" texture). Checked from
+/// the header when the world is made (issue 37, item 6: a 900-byte PNG claiming 200,000 x
+/// 200,000 pixels was copied into the world, and `preview` then asked for 120 GB to draw it).
+pub const MAX_IMAGE_SIDE: u32 = 8192;
+
+/// Why a PNG of `width` x `height` pixels is too large for a texture, if it is.
+pub fn image_too_large(width: u32, height: u32) -> Option<String> {
+    (width > MAX_IMAGE_SIDE || height > MAX_IMAGE_SIDE).then(|| {
+        format!(
+            "{width} x {height} pixels, more than the {MAX_IMAGE_SIDE} a side an image of a world may have; scale it down"
+        )
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -231,18 +245,4 @@ mod tests {
         assert_eq!(layout_bytes(usize::MAX, usize::MAX, 2), u64::MAX);
         assert_eq!(Bytes(5_300_000).to_string(), "5 MB");
     }
-}
-
-/// The largest side of an image a world may carry: 8192 pixels (an "8K" texture). Checked from
-/// the header when the world is made (issue 37, item 6: a 900-byte PNG claiming 200,000 x
-/// 200,000 pixels was copied into the world, and `preview` then asked for 120 GB to draw it).
-pub const MAX_IMAGE_SIDE: u32 = 8192;
-
-/// Why a PNG of `width` x `height` pixels is too large for a texture, if it is.
-pub fn image_too_large(width: u32, height: u32) -> Option<String> {
-    (width > MAX_IMAGE_SIDE || height > MAX_IMAGE_SIDE).then(|| {
-        format!(
-            "{width} x {height} pixels, more than the {MAX_IMAGE_SIDE} a side an image of a world may have; scale it down"
-        )
-    })
 }

@@ -165,7 +165,11 @@ impl Body {
             name: p.name,
             kind: p.kind,
             max_speed: p.max_speed,
-            max_reverse: if ground { 0.5 * p.max_speed } else { p.max_speed },
+            max_reverse: if ground {
+                0.5 * p.max_speed
+            } else {
+                p.max_speed
+            },
             max_climb: p.max_climb,
             max_acceleration: p.max_acceleration,
             max_lateral_acceleration: p.max_lateral_acceleration,
@@ -241,7 +245,8 @@ impl Body {
     /// floor and the rock (see the module's doc).
     pub fn step(&self, caster: &RayCaster, s: &mut State, c: Command, dt: f64) -> Moved {
         let c = self.clip(c);
-        let toward = |now: f64, want: f64, rate: f64| now + (want - now).clamp(-rate * dt, rate * dt);
+        let toward =
+            |now: f64, want: f64, rate: f64| now + (want - now).clamp(-rate * dt, rate * dt);
         s.speed = toward(s.speed, c.speed, self.max_acceleration);
         s.yaw_rate = toward(s.yaw_rate, c.yaw_rate, self.max_yaw_acceleration);
         if s.speed.abs() > 1e-9 {
@@ -335,7 +340,13 @@ impl Body {
     /// stand there: [`Body::floor`], and a slope refused when steeper than the limit and than
     /// the floor it stands on now with the same heading (a robot that has turned on a slope
     /// may drive off it).
-    fn floor_for(&self, caster: &RayCaster, s: &State, p: [f64; 3], yaw: f64) -> Result<Floor, Refusal> {
+    fn floor_for(
+        &self,
+        caster: &RayCaster,
+        s: &State,
+        p: [f64; 3],
+        yaw: f64,
+    ) -> Result<Floor, Refusal> {
         let f = self.floor(caster, p, s.position[2], yaw)?;
         let grade = |f: &Floor| f.pitch.abs().max(f.roll.abs());
         if grade(&f) <= self.max_grade_deg.to_radians() {
@@ -429,7 +440,10 @@ mod tests {
         for _ in 0..10 {
             body.step(&caster, &mut s, go, 0.5);
         }
-        assert!((s.speed - 2.0).abs() < 1e-12 && s.position[2] == 0.0, "{s:?}");
+        assert!(
+            (s.speed - 2.0).abs() < 1e-12 && s.position[2] == 0.0,
+            "{s:?}"
+        );
     }
 
     /// A horizontal quad from `(x0, y0)` to `(x1, y1)` at height `z`, facing up.

@@ -10,7 +10,7 @@
 //! with an error of [`Detector::error_m`] per axis (0.3 m, one standard deviation), drawn
 //! from a hash of the seed, the robot and the artifact, so the same run reports the same
 //! positions. A report scores only once it reaches the base station (DARPA's rule):
-//! [`Reports`] holds it until the robot has a link.
+//! the robot holds it ([`crate::robot`]) until it has a link.
 
 use subtgraph_core::artifacts::ArtifactClass;
 use subtgraph_core::raycast::RayCaster;

@@ -30,7 +30,14 @@ use crate::robot::{Kit, Robot, Stepped};
 use crate::site::Site;
 
 /// The reward terms' names, in the order of [`Step::terms`].
-pub const TERMS: [&str; 6] = ["explore", "detect", "report", "distance", "collision", "time"];
+pub const TERMS: [&str; 6] = [
+    "explore",
+    "detect",
+    "report",
+    "distance",
+    "collision",
+    "time",
+];
 
 /// Each term's weight.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -45,13 +52,20 @@ impl Default for Weights {
 impl Weights {
     /// Sets the weight of term `name`, refusing an unknown one.
     pub fn set(&mut self, name: &str, w: f64) -> Result<(), ExploreError> {
-        let i = TERMS.iter().position(|t| *t == name).ok_or_else(|| ExploreError::Unknown {
-            what: "reward term",
-            name: name.to_owned(),
-            known: TERMS.join(", "),
-        })?;
+        let i = TERMS
+            .iter()
+            .position(|t| *t == name)
+            .ok_or_else(|| ExploreError::Unknown {
+                what: "reward term",
+                name: name.to_owned(),
+                known: TERMS.join(", "),
+            })?;
         if !w.is_finite() {
-            return Err(ExploreError::bounds(format!("the weight of '{name}'"), w, "a finite number"));
+            return Err(ExploreError::bounds(
+                format!("the weight of '{name}'"),
+                w,
+                "a finite number",
+            ));
         }
         self.0[i] = w;
         Ok(())
@@ -148,10 +162,18 @@ impl Env {
     /// The environment of a site.
     pub fn new(site: Site, options: EnvOptions) -> Result<Env, ExploreError> {
         if !(options.control_hz.is_finite() && (1.0..=1000.0).contains(&options.control_hz)) {
-            return Err(ExploreError::bounds("control_hz", options.control_hz, "1 to 1000 Hz"));
+            return Err(ExploreError::bounds(
+                "control_hz",
+                options.control_hz,
+                "1 to 1000 Hz",
+            ));
         }
         if !(options.map_voxel.is_finite() && (0.1..=5.0).contains(&options.map_voxel)) {
-            return Err(ExploreError::bounds("map_voxel", options.map_voxel, "0.1 to 5 metres"));
+            return Err(ExploreError::bounds(
+                "map_voxel",
+                options.map_voxel,
+                "0.1 to 5 metres",
+            ));
         }
         if options.max_steps == 0 {
             return Err(ExploreError::bounds("max_steps", 0, "at least 1"));
@@ -159,7 +181,14 @@ impl Env {
         let grid = Grid::covering(site.bounds, options.map_voxel, 1.0);
         let empty = VoxelMap::new(grid, options.max_map_bytes)?;
         let spawn = site.spawns(&options.body, 1)?[0];
-        let robot = Robot::new(0, spawn, empty.clone(), site.artifacts.len(), 1, options.breadcrumbs);
+        let robot = Robot::new(
+            0,
+            spawn,
+            empty.clone(),
+            site.artifacts.len(),
+            1,
+            options.breadcrumbs,
+        );
         let fixed = FixedLinks::new(site.base);
         let mut env = Env {
             site,
@@ -194,7 +223,10 @@ impl Env {
     /// Starts an episode: the robot at the spawn, an empty map, no breadcrumbs dropped, noise
     /// drawn from `seed`; the first scan taken.
     pub fn reset(&mut self, seed: u64) {
-        let spawn = self.site.spawns(&self.options.body, 1).expect("found when made")[0];
+        let spawn = self
+            .site
+            .spawns(&self.options.body, 1)
+            .expect("found when made")[0];
         self.robot = Robot::new(
             0,
             spawn,
@@ -243,9 +275,9 @@ impl Env {
             seed: self.seed,
             noiseless: self.options.noiseless,
         };
-        let stepped: Stepped = self
-            .robot
-            .advance_with(&kit, command, t, self.steps, self.options.build_map);
+        let stepped: Stepped =
+            self.robot
+                .advance_with(&kit, command, t, self.steps, self.options.build_map);
         self.steps += 1;
         self.take_scan();
         self.measure_imu();
@@ -258,7 +290,11 @@ impl Env {
             stepped.detections.len() as f64,
             delivered as f64,
             stepped.moved.distance,
-            if stepped.moved.refused.is_some() { 1.0 } else { 0.0 },
+            if stepped.moved.refused.is_some() {
+                1.0
+            } else {
+                0.0
+            },
             1.0,
         ];
         let reward = terms
@@ -311,13 +347,23 @@ impl Env {
         self.next_radio = self.time() + RADIO_PERIOD;
         let body = &self.options.body;
         let antenna = [self.robot.antenna(body)];
-        let net = Network::of(&self.options.radio, &self.site.collision, &self.fixed, &antenna);
+        let net = Network::of(
+            &self.options.radio,
+            &self.site.collision,
+            &self.fixed,
+            &antenna,
+        );
         self.linked = net.reaches_base(0);
         let mut delivered = 0;
         if self.linked {
             let t = self.time();
             self.robot.last_link = self.robot.state.position;
-            for r in self.robot.reports.iter_mut().filter(|r| r.delivered.is_none()) {
+            for r in self
+                .robot
+                .reports
+                .iter_mut()
+                .filter(|r| r.delivered.is_none())
+            {
                 r.delivered = Some(t);
                 delivered += 1;
             }
@@ -370,7 +416,8 @@ impl Env {
         }
         for (k, v) in out.iter_mut().enumerate() {
             let sigma = if k < 3 { acc } else { gyro };
-            *v += sigma * subtgraph_sensors::noise::normal(self.seed ^ 0x1e0, (self.steps << 3) | k as u64);
+            *v += sigma
+                * subtgraph_sensors::noise::normal(self.seed ^ 0x1e0, (self.steps << 3) | k as u64);
         }
         out
     }
@@ -430,7 +477,11 @@ impl Env {
                 let a = &self.site.artifacts[i];
                 let d = [a.centre[0] - p[0], a.centre[1] - p[1], a.centre[2] - p[2]];
                 let local = subtgraph_sensors::frames::mul_t(&r, d);
-                ((d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt(), local, a.class)
+                (
+                    (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt(),
+                    local,
+                    a.class,
+                )
             })
             .collect();
         seen.sort_by(|a, b| a.0.total_cmp(&b.0));

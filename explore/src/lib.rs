@@ -22,7 +22,7 @@
 //! - [`radio`]: links, hops to the base station, breadcrumbs.
 //! - [`planner`]: the frontier baseline; [`mission`]: several robots, the radio, the loop.
 //! - [`run`]: the run folder `subtgraph score --run` reads.
-//! - [`env`]: one robot stepped by an outside policy (the Python package's Gymnasium
+//! - [`env`](mod@env): one robot stepped by an outside policy (the Python package's Gymnasium
 //!   environment).
 //!
 //! Every run is deterministic: the same world, options and seed give the same bytes on any

@@ -113,7 +113,8 @@ impl Lidar {
                 let mut fixed = Vec::with_capacity(columns * rings);
                 for c in 0..columns {
                     // Clockwise from straight behind, as the heads turn (the sense models').
-                    let az = std::f64::consts::PI - std::f64::consts::TAU * c as f64 / columns as f64;
+                    let az =
+                        std::f64::consts::PI - std::f64::consts::TAU * c as f64 / columns as f64;
                     for (el, off) in elevations_deg.iter().zip(azimuth_offsets_deg) {
                         let (el, a) = (el.to_radians(), az + off.to_radians());
                         fixed.push([el.cos() * a.cos(), el.cos() * a.sin(), el.sin()]);

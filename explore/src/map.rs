@@ -65,7 +65,8 @@ impl Grid {
     /// A grid over `bounds` (low and high corners) grown by `margin` metres on every side.
     pub fn covering(bounds: [[f64; 3]; 2], voxel: f64, margin: f64) -> Grid {
         let origin = bounds[0].map(|v| v - margin);
-        let n = [0, 1, 2].map(|k| (((bounds[1][k] + margin - origin[k]) / voxel).ceil()).max(1.0) as usize);
+        let n = [0, 1, 2]
+            .map(|k| (((bounds[1][k] + margin - origin[k]) / voxel).ceil()).max(1.0) as usize);
         Grid { origin, voxel, n }
     }
 
@@ -134,7 +135,7 @@ pub struct VoxelMap {
     /// Per chunk, each occupied voxel's highest return, in 255ths of the voxel above its
     /// bottom, plus one (0: none recorded): a floor's height within its voxel, which slopes
     /// a voxel cannot show are told by.
-    tops: Vec<Box<[u8; 512]>>,
+    tops: Vec<[u8; 512]>,
     /// Per chunk, the clock when it last changed (or was entered by a ray).
     stamps: Vec<u64>,
     /// Advanced by [`VoxelMap::mark`]: what changed after a mark has a later stamp.
@@ -223,7 +224,7 @@ impl VoxelMap {
             *entry = self.chunks.len() as u32;
             self.chunks.push(Chunk::default());
             self.coords.push(c);
-            self.tops.push(Box::new([0; 512]));
+            self.tops.push([0; 512]);
             self.stamps.push(0);
         }
         let i = *entry;
@@ -331,7 +332,8 @@ impl VoxelMap {
         }
         let (c, _, _) = split(v);
         let i = self.find(c)? as usize;
-        let slot = (v[0] & 7) as usize | (((v[1] & 7) as usize) << 3) | (((v[2] & 7) as usize) << 6);
+        let slot =
+            (v[0] & 7) as usize | (((v[1] & 7) as usize) << 3) | (((v[2] & 7) as usize) << 6);
         let q = self.tops[i][slot];
         (q > 0).then(|| {
             self.grid.origin[2] + (f64::from(v[2]) + f64::from(q - 1) / 254.0) * self.grid.voxel
@@ -456,7 +458,7 @@ impl VoxelMap {
             if since.is_none_or(|s| stamp > s) {
                 p.coords.push(self.coords[j]);
                 p.chunks.push(self.chunks[j]);
-                p.tops.push(self.tops[j].clone());
+                p.tops.push(self.tops[j]);
             }
         }
         p
@@ -486,7 +488,8 @@ impl VoxelMap {
                 ch.free[l] = (ch.free[l] | theirs.free[l]) & !ch.occupied[l];
                 if (f0, o0) != (ch.free[l], ch.occupied[l]) {
                     changed = true;
-                    self.free = self.free + u64::from(ch.free[l].count_ones()) - u64::from(f0.count_ones());
+                    self.free =
+                        self.free + u64::from(ch.free[l].count_ones()) - u64::from(f0.count_ones());
                     self.occupied = self.occupied + u64::from(ch.occupied[l].count_ones())
                         - u64::from(o0.count_ones());
                 }
@@ -519,7 +522,11 @@ impl VoxelMap {
                 while bits != 0 {
                     let b = bits.trailing_zeros() as i32;
                     bits &= bits - 1;
-                    let v = [c[0] * SIDE + (b & 7), c[1] * SIDE + (b >> 3), c[2] * SIDE + layer as i32];
+                    let v = [
+                        c[0] * SIDE + (b & 7),
+                        c[1] * SIDE + (b >> 3),
+                        c[2] * SIDE + layer as i32,
+                    ];
                     if self.grid.contains(v) {
                         out.push(v);
                     }
@@ -535,7 +542,7 @@ impl VoxelMap {
 pub struct Patch {
     coords: Vec<[i32; 3]>,
     chunks: Vec<Chunk>,
-    tops: Vec<Box<[u8; 512]>>,
+    tops: Vec<[u8; 512]>,
 }
 
 impl Patch {
@@ -579,7 +586,13 @@ mod tests {
         };
         let added = map.insert(&scan);
         // From the voxel at 1.0-1.5 to the one at 6.0-6.5: 10 free, 1 occupied.
-        assert_eq!(added, Added { free: 10, occupied: 1 });
+        assert_eq!(
+            added,
+            Added {
+                free: 10,
+                occupied: 1
+            }
+        );
         assert_eq!(map.get([2, 2, 2]), Voxel::Free);
         assert_eq!(map.get([11, 2, 2]), Voxel::Free);
         assert_eq!(map.get([12, 2, 2]), Voxel::Occupied);

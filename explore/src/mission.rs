@@ -116,13 +116,25 @@ impl Options {
             ));
         }
         if !(self.control_hz.is_finite() && (1.0..=1000.0).contains(&self.control_hz)) {
-            return Err(ExploreError::bounds("the control rate", self.control_hz, "1 to 1000 Hz"));
+            return Err(ExploreError::bounds(
+                "the control rate",
+                self.control_hz,
+                "1 to 1000 Hz",
+            ));
         }
         if !(self.map_voxel.is_finite() && (0.1..=5.0).contains(&self.map_voxel)) {
-            return Err(ExploreError::bounds("the map voxel", self.map_voxel, "0.1 to 5 metres"));
+            return Err(ExploreError::bounds(
+                "the map voxel",
+                self.map_voxel,
+                "0.1 to 5 metres",
+            ));
         }
         if self.breadcrumbs > 100 {
-            return Err(ExploreError::bounds("--breadcrumbs", self.breadcrumbs, "0 to 100 per robot"));
+            return Err(ExploreError::bounds(
+                "--breadcrumbs",
+                self.breadcrumbs,
+                "0 to 100 per robot",
+            ));
         }
         Ok(())
     }
@@ -251,9 +263,7 @@ impl Mission {
             let command = match policy {
                 Policy::Frontier => {
                     let claimed: Vec<[f64; 3]> = r.heard_goals.iter().flatten().copied().collect();
-                    let must_report = r
-                        .pending()
-                        .any(|p| now - p.detected >= RETURN_AFTER_S);
+                    let must_report = r.pending().any(|p| now - p.detected >= RETURN_AFTER_S);
                     let trail: Vec<[f64; 3]> = r.trail.iter().copied().collect();
                     let s = Situation {
                         trail: &trail,
@@ -285,7 +295,12 @@ impl Mission {
         self.next_radio = t + RADIO_PERIOD;
         let body = &self.options.body;
         let antennas: Vec<[f64; 3]> = self.robots.iter().map(|r| r.antenna(body)).collect();
-        let net = Network::of(&self.options.radio, &self.site.collision, &self.fixed, &antennas);
+        let net = Network::of(
+            &self.options.radio,
+            &self.site.collision,
+            &self.fixed,
+            &antennas,
+        );
         for l in &net.links {
             self.links.push(LinkRecord { time: t, link: *l });
         }
@@ -387,7 +402,10 @@ pub fn crumb_wanted(
         return false;
     }
     let here = r.antenna(body);
-    let spaced = fixed.antennas.iter().all(|q| dist(*q, here) >= CRUMB_SPACING);
+    let spaced = fixed
+        .antennas
+        .iter()
+        .all(|q| dist(*q, here) >= CRUMB_SPACING);
     let direct = net
         .links
         .iter()
@@ -417,8 +435,16 @@ fn look_ahead(r: &Robot, body: &Body, d: f64) -> [f64; 3] {
         here[1] + d * r.state.yaw.sin(),
         here[2],
     ]);
-    let floor_to_antenna = if body.flies() { 0.0 } else { lift - 0.5 * r.map.grid.voxel };
-    let z = if along.is_some() { p[2] + floor_to_antenna } else { p[2] + lift };
+    let floor_to_antenna = if body.flies() {
+        0.0
+    } else {
+        lift - 0.5 * r.map.grid.voxel
+    };
+    let z = if along.is_some() {
+        p[2] + floor_to_antenna
+    } else {
+        p[2] + lift
+    };
     [p[0], p[1], z]
 }
 

@@ -202,7 +202,11 @@ impl FixedLinks {
     }
 
     fn node(i: usize) -> Node {
-        if i == 0 { Node::Base } else { Node::Crumb(i - 1) }
+        if i == 0 {
+            Node::Base
+        } else {
+            Node::Crumb(i - 1)
+        }
     }
 
     /// Adds a breadcrumb at `p`, linking it to every fixed node it hears; returns its links.
@@ -233,7 +237,12 @@ impl FixedLinks {
 
 impl Network {
     /// The network of robots whose antennas are at `robots`, with the fixed nodes.
-    pub fn of(model: &RadioModel, caster: &RayCaster, fixed: &FixedLinks, robots: &[[f64; 3]]) -> Network {
+    pub fn of(
+        model: &RadioModel,
+        caster: &RayCaster,
+        fixed: &FixedLinks,
+        robots: &[[f64; 3]],
+    ) -> Network {
         let nf = fixed.antennas.len();
         let n = nf + robots.len();
         let node = |i: usize| {
@@ -243,7 +252,13 @@ impl Network {
                 Node::Robot(i - nf)
             }
         };
-        let at = |i: usize| if i < nf { fixed.antennas[i] } else { robots[i - nf] };
+        let at = |i: usize| {
+            if i < nf {
+                fixed.antennas[i]
+            } else {
+                robots[i - nf]
+            }
+        };
         let mut links = Vec::new();
         for (r, &p) in robots.iter().enumerate() {
             let i = nf + r;
@@ -317,7 +332,11 @@ mod tests {
     fn the_competitions_numbers_give_a_link_of_about_300_m_in_sight() {
         let m = RadioModel::default();
         // QPSK, 1000 bytes, half delivered: about 7.6 dB above the noise floor.
-        assert!((m.threshold_dbm + 82.43).abs() < 0.05, "{}", m.threshold_dbm);
+        assert!(
+            (m.threshold_dbm + 82.43).abs() < 0.05,
+            "{}",
+            m.threshold_dbm
+        );
         let reach = m.reach_m();
         assert!((reach - 314.0).abs() < 2.0, "{reach}");
         assert!((m.power_dbm(10.0) - (20.0 - 40.0 - 25.0)).abs() < 1e-12);

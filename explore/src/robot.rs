@@ -107,7 +107,14 @@ pub struct Stepped {
 
 impl Robot {
     /// Robot `id` at `spawn`, its map over `map`'s grid (an empty map).
-    pub fn new(id: usize, spawn: Spawn, map: VoxelMap, artifacts: usize, robots: usize, crumbs: usize) -> Robot {
+    pub fn new(
+        id: usize,
+        spawn: Spawn,
+        map: VoxelMap,
+        artifacts: usize,
+        robots: usize,
+        crumbs: usize,
+    ) -> Robot {
         let state = State {
             position: spawn.position,
             yaw: spawn.yaw,
@@ -184,7 +191,11 @@ impl Robot {
             .step(&kit.site.collision, &mut self.state, command, kit.dt);
         self.odometer += moved.distance;
         let p = self.state.position;
-        if self.trail.back().is_none_or(|q| (q[0] - p[0]).hypot(q[1] - p[1]) >= TRAIL_SPACING) {
+        if self
+            .trail
+            .back()
+            .is_none_or(|q| (q[0] - p[0]).hypot(q[1] - p[1]) >= TRAIL_SPACING)
+        {
             self.trail.push_back(p);
             if self.trail.len() > TRAIL_POINTS {
                 self.trail.pop_front();
@@ -237,7 +248,13 @@ impl Robot {
     /// A scan of `columns` (absolute, see [`Lidar::fired`]) from where the robot stands at
     /// time `t`: carved into the map when `build_map`, artifacts in view detected. Returns
     /// what the map gained and the new detections.
-    pub fn sense(&mut self, kit: &Kit<'_>, t: f64, columns: &[u64], build_map: bool) -> (Added, Vec<usize>) {
+    pub fn sense(
+        &mut self,
+        kit: &Kit<'_>,
+        t: f64,
+        columns: &[u64],
+        build_map: bool,
+    ) -> (Added, Vec<usize>) {
         let origin = self.sensor(kit.body);
         let rotation = self.rotation();
         kit.lidar.scan(
@@ -263,8 +280,10 @@ impl Robot {
             .collect();
         for &i in &found {
             self.detected[i] = true;
-            self.reports
-                .push(kit.detector.report(kit.seed, self.id, &kit.site.artifacts[i], t));
+            self.reports.push(
+                kit.detector
+                    .report(kit.seed, self.id, &kit.site.artifacts[i], t),
+            );
         }
         (added, found)
     }

@@ -43,7 +43,12 @@ pub struct Written {
     pub free_voxels: u64,
 }
 
-fn write(dir: &Path, name: &str, bytes: &[u8], files: &mut Vec<(String, u64)>) -> Result<(), ExploreError> {
+fn write(
+    dir: &Path,
+    name: &str,
+    bytes: &[u8],
+    files: &mut Vec<(String, u64)>,
+) -> Result<(), ExploreError> {
     let path = dir.join(name);
     std::fs::write(&path, bytes).map_err(|source| ExploreError::Io {
         what: "writing",
@@ -65,7 +70,12 @@ pub fn write_run(
 ) -> Result<Written, ExploreError> {
     let mut files = Vec::new();
     for r in &m.robots {
-        write(dir, &format!("robot-{}.tum", r.id), tum(r).as_bytes(), &mut files)?;
+        write(
+            dir,
+            &format!("robot-{}.tum", r.id),
+            tum(r).as_bytes(),
+            &mut files,
+        )?;
     }
     let map = m.union_map();
     let occupied = map.voxels(Voxel::Occupied);
@@ -77,7 +87,12 @@ pub fn write_run(
     write(dir, "reports.csv", reports.as_bytes(), &mut files)?;
     write(dir, "detections.csv", detections.as_bytes(), &mut files)?;
     write(dir, "radio.csv", radio(m).as_bytes(), &mut files)?;
-    write(dir, "connectivity.csv", connectivity(m).as_bytes(), &mut files)?;
+    write(
+        dir,
+        "connectivity.csv",
+        connectivity(m).as_bytes(),
+        &mut files,
+    )?;
     write(dir, "breadcrumbs.csv", crumbs(m).as_bytes(), &mut files)?;
     let detected = (0..m.site.artifacts.len())
         .filter(|&i| m.robots.iter().any(|r| r.detected[i]))
@@ -176,7 +191,8 @@ fn reports(m: &Mission) -> (String, String, usize) {
             r.delivered.map_or(String::new(), |t| format!("{t:.3}"))
         );
     }
-    let mut delivered: Vec<&&crate::detect::Report> = all.iter().filter(|r| r.delivered.is_some()).collect();
+    let mut delivered: Vec<&&crate::detect::Report> =
+        all.iter().filter(|r| r.delivered.is_some()).collect();
     delivered.sort_by(|a, b| {
         a.delivered
             .unwrap_or(0.0)
@@ -206,7 +222,9 @@ fn reports(m: &Mission) -> (String, String, usize) {
 }
 
 fn link_row(s: &mut String, t: f64, l: &Link) {
-    let d = ((l.pa[0] - l.pb[0]).powi(2) + (l.pa[1] - l.pb[1]).powi(2) + (l.pa[2] - l.pb[2]).powi(2)).sqrt();
+    let d =
+        ((l.pa[0] - l.pb[0]).powi(2) + (l.pa[1] - l.pb[1]).powi(2) + (l.pa[2] - l.pb[2]).powi(2))
+            .sqrt();
     let _ = writeln!(
         s,
         "{:.3},{},{},{:.3},{:.3},{:.3},{:.3},{:.3},{:.3},{:.3},{:.2}",
@@ -236,7 +254,11 @@ fn connectivity(m: &Mission) -> String {
     let mut s = String::from("time,robot,hops\n");
     for (t, hops) in &m.connectivity {
         for (i, h) in hops.iter().enumerate() {
-            let _ = writeln!(s, "{t:.3},{i},{}", h.map_or(String::new(), |h| h.to_string()));
+            let _ = writeln!(
+                s,
+                "{t:.3},{i},{}",
+                h.map_or(String::new(), |h| h.to_string())
+            );
         }
     }
     s

@@ -30,7 +30,7 @@ pub const SPAWN_SPACING: f64 = 2.5;
 /// How far along the start's passage spawn spots are looked for, metres.
 const SPAWN_REACH: f64 = 60.0;
 /// The first spawn spot's distance from the base station, metres.
-const SPAWN_FIRST: f64 = 3.0;
+pub const SPAWN_FIRST: f64 = 3.0;
 
 /// An artifact as the loop sees it.
 #[derive(Clone, Debug, PartialEq)]

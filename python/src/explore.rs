@@ -33,9 +33,9 @@ pub struct PyExplore {
 /// An explore error as the Python exception its kind belongs to.
 fn explore_error(py: Python<'_>, e: ExploreError) -> PyErr {
     match e {
-        ExploreError::Unknown { .. } | ExploreError::OutOfBounds { .. } | ExploreError::Sense(_) => {
-            raise(py, "ConfigError", &e.to_string())
-        }
+        ExploreError::Unknown { .. }
+        | ExploreError::OutOfBounds { .. }
+        | ExploreError::Sense(_) => raise(py, "ConfigError", &e.to_string()),
         ExploreError::MapTooLarge { .. } => raise(py, "TooLargeError", &e.to_string()),
         other => raise(py, "Error", &other.to_string()),
     }
@@ -137,7 +137,9 @@ impl PyExplore {
                 return Err(raise(
                     py,
                     "ConfigError",
-                    &format!("on_collision='{other}': choose 'refuse' (the motion stops short, the episode goes on) or 'end' (the episode ends)"),
+                    &format!(
+                        "on_collision='{other}': choose 'refuse' (the motion stops short, the episode goes on) or 'end' (the episode ends)"
+                    ),
                 ));
             }
         };

@@ -329,8 +329,14 @@ impl<'a> Sequence<'a> {
             let d = dir.join("bag");
             std::fs::create_dir_all(&d).map_err(io("creating", &d))?;
             Some(
-                Bag::create(&d, o.lidar.as_ref(), o.wheel_odometry, debug, &camera_topics)
-                    .map_err(io("writing", &d))?,
+                Bag::create(
+                    &d,
+                    o.lidar.as_ref(),
+                    o.wheel_odometry,
+                    debug,
+                    &camera_topics,
+                )
+                .map_err(io("writing", &d))?,
             )
         } else {
             None
@@ -454,8 +460,7 @@ impl<'a> Sequence<'a> {
                 // Everything logged before this scan's cloud arrives.
                 log_imu(
                     &mut imu,
-                    t0,
-                    publish,
+                    [t0, publish],
                     &mut bag,
                     &mut kitti,
                     &mut frames,
@@ -554,15 +559,15 @@ impl<'a> Sequence<'a> {
             writeln!(json).map_err(io("writing", &json_path))?;
         }
         // The IMU and odometry to the end of the last scan (and frame).
-        let end = t0 + (ticks as f64 * period).max(
-            o.camera
-                .as_ref()
-                .map_or(0.0, |c| self.frames as f64 * c.model.period()),
-        );
+        let end = t0
+            + (ticks as f64 * period).max(
+                o.camera
+                    .as_ref()
+                    .map_or(0.0, |c| self.frames as f64 * c.model.period()),
+            );
         log_imu(
             &mut imu,
-            t0,
-            end,
+            [t0, end],
             &mut bag,
             &mut kitti,
             &mut frames,
@@ -723,17 +728,17 @@ impl Wheel {
 /// Writes every IMU sample of `imu` stamped up to `until` (seconds) to the outputs asked for
 /// (the EuRoC folder of `frames`, with its ground truth, through the IMU's `mount`); samples
 /// before the sequence's start `from` (the stream's warm-up, stamped below 0, and a window's
-/// route before it) are dropped.
+/// route before it) are dropped. `window` is `[from, until]`.
 fn log_imu(
     imu: &mut ImuStream,
-    from: f64,
-    until: f64,
+    window: [f64; 2],
     bag: &mut Option<Bag>,
     kitti: &mut Option<Kitti>,
     frames: &mut Option<Frames<'_>>,
     variances: [f64; 2],
     mount: &Pose,
 ) -> std::io::Result<()> {
+    let [from, until] = window;
     while imu.peek_time() <= until {
         let s = imu.sample();
         if s.stamp < from {

@@ -68,7 +68,10 @@ impl Surface {
             fixture_starts.push(at);
             let proto = &f.prototypes[p.prototype as usize];
             at += proto.mesh.triangles.len() as u32;
-            materials.extend(std::iter::repeat_n(proto.material, proto.mesh.triangles.len()));
+            materials.extend(std::iter::repeat_n(
+                proto.material,
+                proto.mesh.triangles.len(),
+            ));
         }
         fixture_starts.push(at);
         Surface {

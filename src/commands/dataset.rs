@@ -114,10 +114,20 @@ pub struct Args {
     #[arg(long, value_name = "N", default_value_t = 1, requires = "explore")]
     robots: usize,
     /// With --explore: simulated seconds per world.
-    #[arg(long, value_name = "SECONDS", default_value_t = 600.0, requires = "explore")]
+    #[arg(
+        long,
+        value_name = "SECONDS",
+        default_value_t = 600.0,
+        requires = "explore"
+    )]
     explore_duration: f64,
     /// With --explore: frontier or random.
-    #[arg(long, value_name = "NAME", default_value = "frontier", requires = "explore")]
+    #[arg(
+        long,
+        value_name = "NAME",
+        default_value = "frontier",
+        requires = "explore"
+    )]
     planner: String,
     /// With --explore: ground or aerial.
     #[arg(long, value_name = "P", default_value = "ground", requires = "explore")]

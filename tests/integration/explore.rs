@@ -65,7 +65,12 @@ fn a_run_is_scored_as_darpa_scored_and_checked_by_trimesh_and_numpy() {
     let meta = json(&run.join("run.json"));
     assert_eq!(meta["robots"], 2);
     assert_eq!(meta["policy"], "frontier");
-    assert!(meta["radio"]["source"].as_str().unwrap().contains("osrf/subt"));
+    assert!(
+        meta["radio"]["source"]
+            .as_str()
+            .unwrap()
+            .contains("osrf/subt")
+    );
     let driven: f64 = meta["per_robot"]
         .as_array()
         .unwrap()
@@ -73,8 +78,19 @@ fn a_run_is_scored_as_darpa_scored_and_checked_by_trimesh_and_numpy() {
         .map(|r| r["distance_m"].as_f64().unwrap())
         .sum();
     // Two robots for two minutes at up to 2 m/s: they go somewhere, within their limits.
-    assert!(driven > 40.0 && driven < 2.0 * 2.0 * 120.0 + 1.0, "{driven}");
-    for f in ["robot-0.tum", "robot-1.tum", "map.ply", "explored.npy", "reports.csv", "radio.csv", "connectivity.csv"] {
+    assert!(
+        driven > 40.0 && driven < 2.0 * 2.0 * 120.0 + 1.0,
+        "{driven}"
+    );
+    for f in [
+        "robot-0.tum",
+        "robot-1.tum",
+        "map.ply",
+        "explored.npy",
+        "reports.csv",
+        "radio.csv",
+        "connectivity.csv",
+    ] {
         assert!(run.join(f).is_file(), "{f}");
     }
     let scored = dir.path().join("scored");
@@ -86,7 +102,10 @@ fn a_run_is_scored_as_darpa_scored_and_checked_by_trimesh_and_numpy() {
         "--out",
         arg(&scored),
     ]);
-    assert!(said.contains("explored:") && said.contains("radio:"), "{said}");
+    assert!(
+        said.contains("explored:") && said.contains("radio:"),
+        "{said}"
+    );
     let r = json(&scored.join("run.json"));
     let explored = r["explored"]["coverage"].as_f64().unwrap();
     assert!(explored > 0.01 && explored <= 1.0, "{r}");
@@ -125,7 +144,14 @@ fn the_same_run_on_one_and_three_threads_and_bad_input_refused() {
     // The random policy writes a run too.
     let random = dir.path().join("random");
     ok(&[
-        "explore", arg(&world), "--planner", "random", "--duration", "20", "--out", arg(&random),
+        "explore",
+        arg(&world),
+        "--planner",
+        "random",
+        "--duration",
+        "20",
+        "--out",
+        arg(&random),
     ]);
     assert_eq!(json(&random.join("run.json"))["policy"], "random");
     // A world without ground truth: refused, saying how to make it.
@@ -134,7 +160,10 @@ fn the_same_run_on_one_and_three_threads_and_bad_input_refused() {
     ok(&["generate", arg(&pipeline), "--out", arg(&bare)]);
     let no = dir.path().join("no");
     let e = fails(&["explore", arg(&bare), "--out", arg(&no)]);
-    assert!(e.contains("ground truth") && e.contains("--format ground-truth"), "{e}");
+    assert!(
+        e.contains("ground truth") && e.contains("--format ground-truth"),
+        "{e}"
+    );
     assert!(!no.exists());
     for (flag, value, said) in [
         ("--planner", "greedy", "frontier, random"),
@@ -219,7 +248,10 @@ fn a_dataset_is_explored_scored_and_reported() {
         "--out",
         arg(&data),
     ]);
-    assert!(said.contains("explored 0 world(s)") && said.contains("kept 2"), "{said}");
+    assert!(
+        said.contains("explored 0 world(s)") && said.contains("kept 2"),
+        "{said}"
+    );
     let report = dir.path().join("report");
     let said = ok(&[
         "report",
@@ -229,5 +261,8 @@ fn a_dataset_is_explored_scored_and_reported() {
     ]);
     assert!(said.contains("2 world(s)"), "{said}");
     let r = std::fs::read_to_string(report.join("report.json")).unwrap();
-    assert!(r.contains("run.explored.coverage"), "the report has the explored share");
+    assert!(
+        r.contains("run.explored.coverage"),
+        "the report has the explored share"
+    );
 }

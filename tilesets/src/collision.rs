@@ -17,8 +17,8 @@
 //! tight too. Seam vertices (on the tile's block faces) stay, so neighbouring tiles' copies weld
 //! as their visual surfaces do.
 
-use subtgraph_core::mesh::Mesh;
 use crate::simplify::simplify;
+use subtgraph_core::mesh::Mesh;
 
 /// Metres the visual surface may lie from the collision surface: `[floors, the rest]`.
 pub const DEFAULT_TOLERANCE: [f64; 2] = [0.02, 0.10];

@@ -194,10 +194,10 @@ impl Procedural {
                 ));
             }
         }
-        if settings
-            .collision_tolerance
-            .is_some_and(|t| t.iter().any(|v| !(v.is_finite() && (0.0..=1.0).contains(v))))
-        {
+        if settings.collision_tolerance.is_some_and(|t| {
+            t.iter()
+                .any(|v| !(v.is_finite() && (0.0..=1.0).contains(v)))
+        }) {
             return Err(params.error(
                 "collision_tolerance",
                 "must be [floors, the rest] in metres, each from 0 to 1 (how far the visual \

@@ -57,7 +57,21 @@ struct Quadric([f64; 10]);
 impl Quadric {
     fn plane(n: V3, d: f64, weight: f64) -> Quadric {
         let [a, b, c] = n;
-        Quadric([a * a, a * b, a * c, a * d, b * b, b * c, b * d, c * c, c * d, d * d].map(|x| x * weight))
+        Quadric(
+            [
+                a * a,
+                a * b,
+                a * c,
+                a * d,
+                b * b,
+                b * c,
+                b * d,
+                c * c,
+                c * d,
+                d * d,
+            ]
+            .map(|x| x * weight),
+        )
     }
 
     fn add(&mut self, o: &Quadric) {
@@ -410,7 +424,9 @@ impl Simplifier {
             let t = self.fans[v as usize][k];
             let tri = self.tris[t as usize];
             // The two triangles the collapse removes have u; the changed ones are listed.
-            if self.made[..self.changed].iter().any(|m| m.0 == t) || tri.iter().any(|w| self.removed_now(*w)) {
+            if self.made[..self.changed].iter().any(|m| m.0 == t)
+                || tri.iter().any(|w| self.removed_now(*w))
+            {
                 continue;
             }
             let c = self.corners(tri);
@@ -470,9 +486,9 @@ impl Simplifier {
             return false;
         }
         self.fans[v as usize].iter().all(|&t| {
-            self.tris[t as usize].into_iter().all(|w| {
-                w == u || w == v || w == a || w == b || self.mark[w as usize] != stamp
-            })
+            self.tris[t as usize]
+                .into_iter()
+                .all(|w| w == u || w == v || w == a || w == b || self.mark[w as usize] != stamp)
         })
     }
 

@@ -24,7 +24,8 @@ pub(super) fn not_current(out: &Path, resolved: PathBuf) -> Result<(), FolderErr
     })
 }
 
-/// [`not_current`] for a folder given by its path alone (a dataset's `--out`).
+/// Refuses `out` when it is the current folder or holds it, for a folder given by its path
+/// alone (a dataset's `--out`).
 pub fn not_current_folder(out: &Path) -> Result<(), FolderError> {
     not_current(out, super::out::resolved(out))
 }

@@ -64,16 +64,25 @@ pub fn locate(dir: &Path) -> Result<RunFiles, Error> {
     })
 }
 
-/// Rows of a CSV file with a header: `(line number, cells by column name)`.
-fn csv_rows(path: &Path) -> Result<Vec<(usize, BTreeMap<String, String>)>, Error> {
+/// A CSV row: its line number and its cells by column name.
+type Row = (usize, BTreeMap<String, String>);
+
+/// Rows of a CSV file with a header.
+fn csv_rows(path: &Path) -> Result<Vec<Row>, Error> {
     let bytes = crate::input::read(path)?;
     let text = std::str::from_utf8(&bytes)
         .map_err(|_| Error::Input(format!("{}: not UTF-8 text", path.display())))?;
-    let mut lines = text.lines().enumerate().filter(|(_, l)| !l.trim().is_empty());
+    let mut lines = text
+        .lines()
+        .enumerate()
+        .filter(|(_, l)| !l.trim().is_empty());
     let Some((_, header)) = lines.next() else {
         return Ok(Vec::new());
     };
-    let names: Vec<String> = header.split(',').map(|s| s.trim().to_ascii_lowercase()).collect();
+    let names: Vec<String> = header
+        .split(',')
+        .map(|s| s.trim().to_ascii_lowercase())
+        .collect();
     Ok(lines
         .map(|(i, l)| {
             let cells = names
@@ -96,7 +105,8 @@ pub fn over_link(files: &RunFiles, list: Vec<Report>) -> Result<(Vec<Report>, us
     let conn = files.dir.join("connectivity.csv");
     let mut linked: BTreeMap<(i64, String), bool> = BTreeMap::new();
     for (line, row) in csv_rows(&conn)? {
-        let (Some(t), Some(robot), Some(hops)) = (row.get("time"), row.get("robot"), row.get("hops"))
+        let (Some(t), Some(robot), Some(hops)) =
+            (row.get("time"), row.get("robot"), row.get("hops"))
         else {
             return Err(Error::Input(format!(
                 "{}: line {line}: needs time, robot and hops",
@@ -104,7 +114,10 @@ pub fn over_link(files: &RunFiles, list: Vec<Report>) -> Result<(Vec<Report>, us
             )));
         };
         let t: f64 = t.parse().map_err(|_| {
-            Error::Input(format!("{}: line {line}: time '{t}' is not a number", conn.display()))
+            Error::Input(format!(
+                "{}: line {line}: time '{t}' is not a number",
+                conn.display()
+            ))
         })?;
         linked.insert((ms(t), robot.clone()), !hops.is_empty());
     }
@@ -178,14 +191,21 @@ pub fn measure(
     cells: &Cells,
 ) -> Result<RunScore, Error> {
     let conn = csv_rows(&files.dir.join("connectivity.csv"))?;
-    let linked = conn.iter().filter(|(_, r)| r.get("hops").is_some_and(|h| !h.is_empty())).count();
+    let linked = conn
+        .iter()
+        .filter(|(_, r)| r.get("hops").is_some_and(|h| !h.is_empty()))
+        .count();
     let count = |name: &str| -> Result<usize, Error> {
         let p = files.dir.join(name);
         Ok(if p.is_file() { csv_rows(&p)?.len() } else { 0 })
     };
     let radio = Radio {
         robot_instants: conn.len(),
-        connected_share: if conn.is_empty() { 0.0 } else { linked as f64 / conn.len() as f64 },
+        connected_share: if conn.is_empty() {
+            0.0
+        } else {
+            linked as f64 / conn.len() as f64
+        },
         links_logged: count("radio.csv")?,
         breadcrumbs: count("breadcrumbs.csv")?,
     };
@@ -206,7 +226,12 @@ pub fn measure(
 }
 
 /// The share of the free voxels `explored.npy` marks, overall and per level.
-fn explored(path: &Path, grid: &super::cloud::Grid, free: &Bits, cells: &Cells) -> Result<Explored, Error> {
+fn explored(
+    path: &Path,
+    grid: &super::cloud::Grid,
+    free: &Bits,
+    cells: &Cells,
+) -> Result<Explored, Error> {
     let bytes = crate::input::read(path)?;
     let info = subtgraph_core::npy::info(&bytes).map_err(|source| Error::Npy {
         file: path.display().to_string(),

@@ -172,7 +172,8 @@ fn hits_lie_on_the_surface_and_normals_face_the_inside() {
         // the mesh lists them (what a camera interpolates texture coordinates with).
         let [u, v] = h.barycentric.map(f64::from);
         assert!(u >= 0.0 && v >= 0.0 && u + v <= 1.0 + 1e-6, "{u} {v}");
-        let [a, b, c] = m.triangles[h.triangle as usize].map(|i| m.positions[i as usize].map(f64::from));
+        let [a, b, c] =
+            m.triangles[h.triangle as usize].map(|i| m.positions[i as usize].map(f64::from));
         let at = [0, 1, 2].map(|k| (1.0 - u - v) * a[k] + u * b[k] + v * c[k]);
         let hit = [0, 1, 2].map(|k| centre[k] + h.t * d[k]);
         let miss = sub(at, hit);

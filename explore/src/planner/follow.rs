@@ -49,7 +49,7 @@ pub fn command(body: &Body, state: &State, path: &[[f64; 3]]) -> Command {
     } else {
         // Full speed straight ahead, slower in turns and near the end.
         let turn = error.cos().max(0.0).powi(2);
-        let near_end = (flat(last) / 2.0).min(1.0).max(0.3);
+        let near_end = (flat(last) / 2.0).clamp(0.3, 1.0);
         body.max_speed * turn * near_end
     };
     Command {
@@ -64,7 +64,12 @@ pub fn command(body: &Body, state: &State, path: &[[f64; 3]]) -> Command {
 pub fn back(body: &Body, state: &State, trail: &[[f64; 3]]) -> Command {
     let p = state.position;
     let flat = |q: &[f64; 3]| (q[0] - p[0]).hypot(q[1] - p[1]);
-    let Some(aim) = trail.iter().rev().find(|q| flat(q) >= LOOKAHEAD).or(trail.first()) else {
+    let Some(aim) = trail
+        .iter()
+        .rev()
+        .find(|q| flat(q) >= LOOKAHEAD)
+        .or(trail.first())
+    else {
         return Command::default();
     };
     if flat(aim) < 0.2 {

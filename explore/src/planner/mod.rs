@@ -131,7 +131,8 @@ impl Planner {
             return follow::back(s.body, s.state, &self.retrace);
         }
         let moved = dist(p, self.progress.1);
-        if !(moved <= 0.3) {
+        // A NaN distance counts as progress (nothing to wait for).
+        if moved > 0.3 || moved.is_nan() {
             self.progress = (s.time, p);
         } else if self.goal.is_some() && s.time - self.progress.0 > STUCK_S {
             if let Some(g) = self.goal.take() {
@@ -172,7 +173,11 @@ impl Planner {
                 Some(t)
             }
             None => {
-                self.mode = if s.must_report { Mode::Return } else { Mode::Done };
+                self.mode = if s.must_report {
+                    Mode::Return
+                } else {
+                    Mode::Done
+                };
                 search.nearest_to(&space, s.last_link)
             }
         };

@@ -251,10 +251,15 @@ impl<'a> Space<'a> {
                 }
                 // The floors' tops (the highest returns in the voxels under the two places)
                 // tell a slope the voxels cannot: no move steeper than the robot drives.
-                let run = if diagonal { std::f64::consts::SQRT_2 } else { 1.0 } * self.voxel();
-                if let (Some(a), Some(b)) =
-                    (self.map.top(p.at([0, 0, -1]).0), self.map.top(q.at([0, 0, -1]).0))
-                {
+                let run = if diagonal {
+                    std::f64::consts::SQRT_2
+                } else {
+                    1.0
+                } * self.voxel();
+                if let (Some(a), Some(b)) = (
+                    self.map.top(p.at([0, 0, -1]).0),
+                    self.map.top(q.at([0, 0, -1]).0),
+                ) {
                     if (b - a).abs() > self.grade * run {
                         break;
                     }

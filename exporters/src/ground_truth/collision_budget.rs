@@ -66,7 +66,10 @@ impl Exporter for CollisionBudget {
             Some(_) => None,
             None => Some(RayCaster::new(&mesh.collision)),
         };
-        let caster = survey.ray_caster().or(own.as_ref()).expect("one or the other");
+        let caster = survey
+            .ray_caster()
+            .or(own.as_ref())
+            .expect("one or the other");
         let doc = measure(&mesh.visual, caster, survey, world.resolved.seed);
         crate::write_json(out, "ground_truth/collision_budget.json", &doc)
     }
@@ -136,7 +139,8 @@ enum Class {
 }
 
 fn class_of(visual: &Mesh, t: u32, p: V3, routes: &Routes) -> Class {
-    let [a, b, c] = visual.triangles[t as usize].map(|v| visual.positions[v as usize].map(f64::from));
+    let [a, b, c] =
+        visual.triangles[t as usize].map(|v| visual.positions[v as usize].map(f64::from));
     let n = cross(sub(b, a), sub(c, a));
     let z = n[2] / dot(n, n).sqrt().max(1e-30);
     if z >= FACING {
@@ -173,7 +177,9 @@ fn spread(mesh: &Mesh, count: usize) -> (Vec<(V3, u32)>, f64) {
         .map(|i| {
             let x = step.map(|s| (0.5 + s * i as f64).fract());
             let at = x[0] * total;
-            let t = cumulative.partition_point(|&c| c <= at).min(cumulative.len() - 1);
+            let t = cumulative
+                .partition_point(|&c| c <= at)
+                .min(cumulative.len() - 1);
             let (mut r1, mut r2) = (x[1], x[2]);
             if r1 + r2 > 1.0 {
                 (r1, r2) = (1.0 - r1, 1.0 - r2);

@@ -152,7 +152,10 @@ fn locked_vertices_and_the_open_rim_stay_so_pieces_still_weld() {
         .map(|east| {
             let keep: Vec<usize> = (0..m.triangles.len())
                 .filter(|&t| {
-                    let cx: f32 = m.triangles[t].iter().map(|&v| m.positions[v as usize][0]).sum();
+                    let cx: f32 = m.triangles[t]
+                        .iter()
+                        .map(|&v| m.positions[v as usize][0])
+                        .sum();
                     (cx >= 0.0) == east
                 })
                 .collect();
