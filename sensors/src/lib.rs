@@ -21,6 +21,7 @@
 //! on any number of threads.
 
 pub mod camera;
+pub mod camera_stream;
 pub mod conditions;
 pub mod error;
 pub mod frames;

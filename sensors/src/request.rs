@@ -7,8 +7,8 @@ use subtgraph_core::World;
 use subtgraph_survey::WorldSurvey;
 
 use crate::camera::scene::CameraScene;
-use crate::camera::stream::CameraOptions;
 use crate::camera::{CameraModel, Overrides as CameraOverrides};
+use crate::camera_stream::CameraOptions;
 use crate::conditions::Conditions;
 use crate::error::{HostError, SenseError};
 use crate::graph::RouteGraph;

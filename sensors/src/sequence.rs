@@ -17,7 +17,7 @@ use subtgraph_core::vec3::V3;
 
 use crate::camera::light::Rig;
 use crate::camera::scene::CameraScene;
-use crate::camera::stream::{CameraOptions, Frames, Outputs, frame_bytes};
+use crate::camera_stream::{CameraOptions, Frames, Outputs, frame_bytes};
 use crate::conditions::{Active, Conditions};
 use crate::error::SenseError;
 use crate::frames::{Pose, mul_t};
@@ -670,7 +670,7 @@ impl<'a> Sequence<'a> {
             head["window_start_s"] = self.t0.into();
         }
         if let (Some(c), Some(rig), Some(scene)) = (&o.camera, rig, self.camera_scene) {
-            head["camera"] = crate::camera::stream::head(c, rig, scene, self.frames);
+            head["camera"] = crate::camera_stream::head(c, rig, scene, self.frames);
             head["outputs"]["euroc"] = o.formats.euroc.into();
             head["outputs"]["tum_rgbd"] = o.formats.tum.into();
             if o.lidar.is_none() {

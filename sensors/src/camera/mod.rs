@@ -20,7 +20,7 @@
 //! Per frame and camera: RGB (or grey, for a monochrome chip), depth in metres along the
 //! optical axis (float32), a semantic class and an instance id per pixel, and the frame's
 //! difficulty ([`difficulty`]: the share of lit pixels, the mean brightness, the FAST corners
-//! found, the motion blur). [`stream`] fits the frames into a sequence's timeline.
+//! found, the motion blur). [`crate::camera_stream`] fits the frames into a sequence's timeline.
 
 pub mod difficulty;
 pub mod lens;
@@ -31,7 +31,6 @@ pub mod scene;
 pub mod sensor;
 pub mod shade;
 pub mod still;
-pub mod stream;
 pub mod table;
 pub mod texture;
 

@@ -24,12 +24,12 @@ use std::path::{Path, PathBuf};
 use rayon::prelude::*;
 use serde::Serialize;
 
-use super::CameraModel;
-use super::difficulty::{self, Difficulty};
-use super::light::Rig;
-use super::render::{Renderer, Shot};
-use super::scene::CameraScene;
-use super::sensor::{AutoExposure, Exposure, expose};
+use crate::camera::CameraModel;
+use crate::camera::difficulty::{self, Difficulty};
+use crate::camera::light::Rig;
+use crate::camera::render::{Renderer, Shot};
+use crate::camera::scene::CameraScene;
+use crate::camera::sensor::{AutoExposure, Exposure, expose};
 use crate::frames::Pose;
 use crate::imu::ImuModel;
 use crate::route::{Phase, Route};
