@@ -40,7 +40,7 @@ pub struct PyWorld {
     plugins: Vec<PathBuf>,
     codes: OnceLock<Vec<u8>>,
     tiles: OnceLock<Vec<u8>>,
-    /// The collision surface's ray caster (the world survey's) and reflectivities, built on
+    /// The visual surface's ray caster (the world survey's scan rays) and materials, built on
     /// the first cast.
     scene: OnceLock<subtgraph_sensors::Scene>,
     /// What the cameras see (the visual surface, services and artifacts), built on the first
@@ -398,7 +398,7 @@ impl PyWorld {
     }
 
     /// Distances in metres from each origin along each direction (normalised) to the first
-    /// collision triangle, `inf` where none is within `max_range`: `float64 [n]`. Casts in
+    /// triangle of the visual surface (with a mine's services), `inf` where none is within `max_range`: `float64 [n]`. Casts in
     /// parallel with the GIL released. A NaN or infinite origin, or a direction that is zero,
     /// NaN or infinite, is a `ValueError` naming its row.
     #[pyo3(signature = (origins, directions, max_range=f64::INFINITY))]

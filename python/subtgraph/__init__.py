@@ -216,8 +216,8 @@ class World:
 
     def raycast(self, origins: Any, directions: Any, max_range: float = float("inf")) -> Any:
         """Distances in metres from each origin (``float64 [n, 3]``, world frame) along each
-        direction (``[n, 3]``, normalised here) to the first triangle of the collision mesh:
-        ``float64 [n]``, ``inf`` where nothing is within ``max_range``. Uses the same ray
+        direction (``[n, 3]``, normalised here) to the first triangle of the visual surface (the
+        visual mesh, and in a mine its services): ``float64 [n]``, ``inf`` where nothing is within ``max_range``. Uses the same ray
         caster as ``subtgraph sense``, built once per world, in parallel without the GIL.
         """
         import numpy as np

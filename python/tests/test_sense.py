@@ -23,8 +23,9 @@ def inside(world):
 
 
 def trimesh_of(world):
+    """The surface rays meet: the visual one (the cave has no services)."""
     trimesh = pytest.importorskip("trimesh")
-    v, f = world.mesh.collision
+    v, f = world.mesh.visual
     return trimesh.Trimesh(vertices=np.asarray(v, float), faces=np.asarray(f), process=False)
 
 
