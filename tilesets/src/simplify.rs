@@ -376,6 +376,9 @@ impl Simplifier {
         if count != 2 || !self.link_holds(u, v, shared, stamp) {
             return false;
         }
+        if self.locked[v as usize] && self.makes_seam_chord(u, v) {
+            return false;
+        }
         self.made.clear();
         self.going = u;
         for &t in &self.fans[ui] {
@@ -412,6 +415,24 @@ impl Simplifier {
             }
         }
         true
+    }
+
+    /// Whether collapsing `u` onto the locked `v` would join `v` to another locked vertex it
+    /// is not joined to yet. Such an edge runs between two seam vertices, and the piece on the
+    /// seam's other side may make the very same edge from its side: the welded surface would
+    /// then have four triangles on one edge (two sheets touching along it), no longer a
+    /// closed 2-manifold.
+    fn makes_seam_chord(&self, u: u32, v: u32) -> bool {
+        let joined = |a: u32, b: u32| {
+            self.fans[a as usize]
+                .iter()
+                .any(|&t| self.tris[t as usize].contains(&b))
+        };
+        self.fans[u as usize].iter().any(|&t| {
+            self.tris[t as usize]
+                .iter()
+                .any(|&w| w != u && w != v && self.locked[w as usize] && !joined(v, w))
+        })
     }
 
     /// Adds `v`'s triangles other than the changed ones to `made`: where a removed vertex may

@@ -178,6 +178,37 @@ fn locked_vertices_and_the_open_rim_stay_so_pieces_still_weld() {
             assert_ne!(s.kept[v as usize], u32::MAX, "rim vertex {v} removed");
         }
         assert!(s.mesh.triangles.len() * 2 < h.triangles.len());
+        // No new edge between two rim vertices: the other half could make the same one from
+        // its side, and four triangles would share it once welded.
+        let edges = |m: &Mesh, map: &dyn Fn(u32) -> u32| {
+            let mut e = std::collections::BTreeSet::new();
+            for t in &m.triangles {
+                for k in 0..3 {
+                    let (a, b) = (map(t[k]), map(t[(k + 1) % 3]));
+                    e.insert((a.min(b), a.max(b)));
+                }
+            }
+            e
+        };
+        let before = edges(h, &|v| v);
+        let original: Vec<u32> = {
+            let mut o = vec![u32::MAX; s.mesh.positions.len()];
+            for (v, &k) in s.kept.iter().enumerate() {
+                if k != u32::MAX {
+                    o[k as usize] = v as u32;
+                }
+            }
+            o
+        };
+        let on_rim = |v: u32| rim.contains(&v);
+        for (a, b) in edges(&s.mesh, &|k| original[k as usize]) {
+            if on_rim(a) && on_rim(b) {
+                assert!(
+                    before.contains(&(a, b)),
+                    "a new edge {a}-{b} across the rim"
+                );
+            }
+        }
         whole.append(&s.mesh);
     }
     whole.weld();
