@@ -77,12 +77,24 @@ fn not_named_by_the_user(toml: &Path, p: &Pipeline, plugins: &[PathBuf]) -> Resu
     Ok(())
 }
 
-/// Refuses a folder whose recorded files changed since the world was written.
+/// Whether a world folder's file is one the world is rebuilt or its route planned from:
+/// `world.toml`, the imported grid and the ground truth. Meshes and scene files are not read
+/// (the world is made again), so a folder whose meshes were removed to save room still senses.
+fn read_by_rebuild(path: &str) -> bool {
+    path == "world.toml"
+        || path == "occupancy.npy"
+        || path == "topology.json"
+        || path.starts_with("ground_truth/")
+}
+
+/// Refuses a folder whose recorded files that the rebuild reads changed since the world was
+/// written.
 fn unchanged(folder: &Path) -> Result<(), Error> {
-    let Some(changed) = crate::folder::digest::changed(folder) else {
+    let Some(mut changed) = crate::folder::digest::changed(folder) else {
         // Written before digests: the graph's counts are still compared after the rebuild.
         return Ok(());
     };
+    changed.retain(|p| read_by_rebuild(p));
     if changed.is_empty() {
         return Ok(());
     }
