@@ -43,7 +43,10 @@ pub(crate) fn split_collision(
         let tile = &mesh.tiles[t];
         let material = of.get(&tile.cell).copied();
         for i in tile.collision_triangles.clone() {
-            let [a, b, c] = col.triangles[i].map(|v| col.positions[v as usize]);
+            // In f64: the collision copy's triangles are small and hundreds of metres from the
+            // origin, where an f32 cross product tilts a face by up to 1e-3 of its length,
+            // enough to move one near 45 degrees across the line a reader draws in f64.
+            let [a, b, c] = col.triangles[i].map(|v| col.positions[v as usize].map(f64::from));
             let (u, v) = (
                 [b[0] - a[0], b[1] - a[1], b[2] - a[2]],
                 [c[0] - a[0], c[1] - a[1], c[2] - a[2]],
@@ -54,7 +57,7 @@ pub(crate) fn split_collision(
                 u[0] * v[1] - u[1] * v[0],
             ];
             let len = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();
-            let floor = len > 0.0 && n[2] > std::f32::consts::FRAC_1_SQRT_2 * len;
+            let floor = len > 0.0 && n[2] > std::f64::consts::FRAC_1_SQRT_2 * len;
             let key = if floor { material } else { None };
             push_range(groups.entry(key).or_default(), i..i + 1);
         }

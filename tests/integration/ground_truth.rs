@@ -159,7 +159,7 @@ fn ground_truth_is_byte_identical_on_one_and_three_threads() {
     let (one, three) = (run("1"), run("3"));
     assert_eq!(
         one.len(),
-        11,
+        12,
         "{:?}",
         one.iter().map(|f| &f.0).collect::<Vec<_>>()
     );

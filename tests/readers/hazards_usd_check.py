@@ -32,8 +32,8 @@ assert patch, "no patches in ground_truth/hazards.json"
 
 def faces(points, tris, material):
     """Per face: centroid, and up-facing (normal within 45 degrees of up; faces within 1e-4 of
-    45 degrees, which sloping floors on the lattice make, count as up for a material collider
-    and as not up for the rock: the exporter decides them in f32)."""
+    45 degrees count as up for a material collider and as not up for the rock: the exporter
+    decides in f64 from the same f32 points, and the USD transform may round them)."""
     a, b, c = points[tris[:, 0]], points[tris[:, 1]], points[tris[:, 2]]
     n = np.cross(b - a, c - a)
     length = np.linalg.norm(n, axis=1)
