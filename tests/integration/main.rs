@@ -46,6 +46,7 @@ mod rubble;
 mod score;
 mod segmentation;
 mod sense;
+mod sensor_surface;
 mod stats;
 mod tasks;
 mod textures;
