@@ -371,13 +371,7 @@ impl<'a> Active<'a> {
                     hard = tracer.cast(from, m, shot.far - s.t).map(|h| {
                         let n = h.normal.map(f64::from);
                         let cos = (n[0] * m[0] + n[1] * m[1] + n[2] * m[2]).abs();
-                        let rho = f64::from(
-                            self.scene
-                                .reflectivity
-                                .get(h.triangle as usize)
-                                .copied()
-                                .unwrap_or(0.3),
-                        );
+                        let rho = f64::from(self.scene.reflectivity_of(h.triangle));
                         (
                             s.t + h.t,
                             rho * factor * cos * wet_rock::fresnel(s.cos),

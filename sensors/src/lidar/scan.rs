@@ -280,11 +280,11 @@ impl<'a> Scanner<'a> {
         let surface = hit.and_then(|hit| {
             let n = hit.normal.map(f64::from);
             let cos = (n[0] * d[0] + n[1] * d[1] + n[2] * d[2]).abs();
-            let rho = self.scene.reflectivity.get(hit.triangle as usize).copied();
+            let rho = self.scene.reflectivity_of(hit.triangle);
             (hit.t >= m.range_m[0] && cos >= cos_grazing).then(|| Surface {
                 t: hit.t,
                 normal: n,
-                rho: f64::from(rho.unwrap_or(0.3)),
+                rho: f64::from(rho),
                 cos,
             })
         });
