@@ -11,7 +11,8 @@
 //!   distance from the visual to the collision surface, and holds the budget: floors by the
 //!   routes within 3 cm at p99, everything else within 15 cm
 //!   (tests/readers/collision_budget_check.py); the DARPA tile set's file is checked the same
-//!   way (no bound: its collision meshes are DARPA's own), skipped without ../shared.
+//!   way (no bound: a mesh tile's collision copy is still its meshes snapped to a coarse grid,
+//!   p99 0.9 to 1.5 m), skipped without ../shared.
 
 use std::path::{Path, PathBuf};
 
