@@ -213,6 +213,13 @@ impl<'a> Frames<'a> {
         })
     }
 
+    /// These frames seen through the dust, fog or mist of `air` (see
+    /// [`crate::camera::haze`]; none: clear air).
+    pub fn with_air(mut self, air: Option<&'a crate::conditions::Active<'a>>) -> Frames<'a> {
+        self.ctx.renderer.air = air;
+        self
+    }
+
     /// Frame `j`'s stamp, seconds (a whole number of nanoseconds).
     pub fn stamp(&self, j: u64) -> f64 {
         stamp(&self.options.model, j)

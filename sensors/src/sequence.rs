@@ -37,6 +37,9 @@ use crate::write::kitti::{Kitti, Tum};
 const ODOMETRY_HZ: f64 = 100.0;
 /// Wheel odometry messages a second.
 const WHEEL_HZ: f64 = 50.0;
+/// The receiver range the conditions are placed with when a sequence has cameras and no LiDAR,
+/// metres (the cameras' air does not use it; drips reach this far about the platform).
+const CAMERA_RANGE_M: [f64; 2] = [0.3, 100.0];
 
 /// What to make.
 #[derive(Clone, Debug)]
@@ -308,19 +311,22 @@ impl<'a> Sequence<'a> {
             move |source| SenseError::Io { what, path, source }
         };
         let o = &self.options;
-        let active = match (&o.conditions, &o.lidar) {
-            (Some(c), Some(model)) => Some(Active::new(
+        // The conditions act on the LiDAR's rays and the cameras' pixels (without a LiDAR, the
+        // receiver's range is the cameras' own, which the air does not use).
+        let range_m = o.lidar.as_ref().map_or(CAMERA_RANGE_M, |l| l.range_m);
+        let active = match &o.conditions {
+            Some(c) if o.lidar.is_some() || o.camera.is_some() => Some(Active::new(
                 c,
                 self.graph,
                 self.scene,
                 &self.route,
-                model.range_m,
+                range_m,
                 &o.platform,
                 crate::noise::hash(o.seed, 0xc0d1),
             )),
             _ => None,
         };
-        let debug = active.is_some();
+        let debug = active.is_some() && o.lidar.is_some();
         let camera_topics = match (&o.camera, o.formats.bag) {
             (Some(c), true) => Frames::topics(&c.model),
             _ => Vec::new(),
@@ -401,7 +407,8 @@ impl<'a> Sequence<'a> {
                         imu,
                         o.seed,
                     )
-                    .map_err(io("writing", dir))?,
+                    .map_err(io("writing", dir))?
+                    .with_air(active.as_ref()),
                 )
             }
             _ => None,

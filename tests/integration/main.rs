@@ -6,6 +6,7 @@
 //! path). To add a file: put it in this folder, declare it below (`mod my_tests;`), and write
 //! `use crate::common;` at its top instead of `mod common;`.
 
+mod camera_haze;
 mod cameras;
 mod common;
 
@@ -46,6 +47,7 @@ mod rubble;
 mod score;
 mod segmentation;
 mod sense;
+mod sensor_surface;
 mod stats;
 mod tasks;
 mod textures;

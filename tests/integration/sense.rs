@@ -38,7 +38,7 @@ fn json(path: &Path) -> serde_json::Value {
 fn a_sequence_is_what_rosbags_and_trimesh_read_back() {
     let dir = tempfile::tempdir().unwrap();
     let world = cave_world(dir.path(), 1);
-    let mesh = world.join("mesh/collision.obj");
+    let mesh = world.join("mesh/world.obj");
     let seq = dir.path().join("seq");
     let said = sense(&world, &seq, &["--duration", "15"]);
     assert!(said.contains("150 scans"), "{said}");
@@ -80,7 +80,7 @@ fn a_sequence_is_what_rosbags_and_trimesh_read_back() {
 fn other_sensors_platforms_and_routes_are_read_back_too() {
     let dir = tempfile::tempdir().unwrap();
     let world = cave_world(dir.path(), 2);
-    let mesh = world.join("mesh/collision.obj");
+    let mesh = world.join("mesh/world.obj");
     for (name, extra) in [
         ("vlp", &["--lidar", "vlp-16", "--duration", "6"][..]),
         ("livox", &["--lidar", "mid-360", "--duration", "6"][..]),

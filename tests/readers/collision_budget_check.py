@@ -20,8 +20,15 @@ within `--tolerance` metres or 25 %, whichever is larger: two independent sample
 distribution), and with `--hold FLOOR,ELSEWHERE` checks the p99 of `floor_by_routes` and
 `elsewhere` against those bounds (metres). Exits non-zero naming the first failure.
 
+With `--parts`, also the same numbers over two parts of the surface the budget's classes cut
+across (issue 39 asks where they stand): `rock_pile`, the points on triangles of a `rock-pile`
+material (the cave's rubble and rock piles, painted so), and `squeeze`, the points inside tiles
+that ground_truth/semantic_labels.json gives the `squeeze` feature (within half a tile pitch
+across, half a level height up or down, of the tile's position); each split into its floors by
+the routes and the rest.
+
 Usage: collision_budget_check.py WORLD [--samples N] [--seed S] [--budget] [--tolerance M]
-                                       [--hold 0.03,0.15]
+                                       [--hold 0.03,0.15] [--parts]
 """
 import argparse
 import json
@@ -72,6 +79,20 @@ def route_points(world):
     return np.vstack(out)
 
 
+def squeeze_mask(world, points):
+    """Which points lie in a tile with the `squeeze` feature."""
+    labels = json.loads((world / "ground_truth" / "semantic_labels.json").read_text())
+    pitch, lh = float(labels["tile_pitch_m"]), float(labels["level_height_m"])
+    mask = np.zeros(len(points), bool)
+    for t in labels["tiles"]:
+        if "squeeze" not in t.get("features", []):
+            continue
+        c = np.asarray(t["position"], dtype=float)
+        d = np.abs(points - c)
+        mask |= (d[:, 0] <= pitch / 2) & (d[:, 1] <= pitch / 2) & (d[:, 2] <= lh / 2)
+    return mask
+
+
 def stats(d):
     if len(d) == 0:
         return {"count": 0}
@@ -88,6 +109,7 @@ def main():
     ap.add_argument("--budget", action="store_true")
     ap.add_argument("--tolerance", type=float, default=0.005)
     ap.add_argument("--hold", default=None)
+    ap.add_argument("--parts", action="store_true")
     args = ap.parse_args()
     world = Path(args.world)
 
@@ -113,6 +135,17 @@ def main():
            "visual_area_m2": area, "visual_triangles": int(len(visual.triangles)),
            "collision_triangles": int(len(collision.triangles)),
            "classes": {k: stats(distance[m]) for k, m in masks.items()}}
+
+    if args.parts:
+        material = visual.material[face]
+        piles = np.array(["rock-pile" in (m or "") for m in visual.materials] + [False])
+        on_pile = piles[material]
+        in_squeeze = squeeze_mask(world, points)
+        out["parts"] = {}
+        for name, m in [("rock_pile", on_pile), ("squeeze", in_squeeze)]:
+            out["parts"][name] = {"all": stats(distance[m]),
+                                  "floor_by_routes": stats(distance[m & by_routes]),
+                                  "elsewhere": stats(distance[m & ~by_routes])}
 
     if args.budget:
         path = world / "ground_truth" / "collision_budget.json"

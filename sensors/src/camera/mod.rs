@@ -23,6 +23,7 @@
 //! found, the motion blur). [`crate::camera_stream`] fits the frames into a sequence's timeline.
 
 pub mod difficulty;
+pub mod haze;
 pub mod lens;
 pub mod light;
 pub mod presets;

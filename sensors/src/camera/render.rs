@@ -23,12 +23,14 @@ use rayon::prelude::*;
 use subtgraph_core::raycast::Tracer;
 use subtgraph_core::vec3::{V3, dot};
 
+use super::haze::Air;
 use super::light::{PlacedLamp, Rig};
 use super::scene::CameraScene;
 use super::sensor::{electrons_per_nit_second, vignetting};
 use super::shade::{self, Surface};
 use super::texture::Map;
 use super::{CameraModel, Shutter};
+use crate::conditions::Active;
 use crate::frames::{Pose, mul};
 use crate::trajectory::Trajectory;
 
@@ -140,6 +142,8 @@ pub struct Renderer<'a> {
     pub pixels: Vec<Pixels>,
     /// Average instants over the exposure.
     pub motion_blur: bool,
+    /// Dust, fog or mist to look through (`sense --conditions`; see [`super::haze`]).
+    pub air: Option<&'a Active<'a>>,
 }
 
 impl<'a> Renderer<'a> {
@@ -162,7 +166,14 @@ impl<'a> Renderer<'a> {
             model,
             pixels,
             motion_blur,
+            air: None,
         }
+    }
+
+    /// This renderer looking through the media of `air` (none: clear air).
+    pub fn with_air(mut self, air: Option<&'a Active<'a>>) -> Renderer<'a> {
+        self.air = air;
+        self
     }
 
     /// When row `row` of camera `c`'s frame stamped `stamp` is seen.
@@ -285,7 +296,9 @@ impl<'a> Renderer<'a> {
                 let mut tracer = self.scene.caster.tracer();
                 for (r, row) in signal.chunks_mut(w).enumerate() {
                     let y = task * ROWS_PER_TASK + r;
-                    let view = self.view(c, self.row_time(c, stamp, y));
+                    let t = self.row_time(c, stamp, y);
+                    let view = self.view(c, t);
+                    let mut air = self.air.map(|a| Air::at(a, t, view.camera.translation));
                     for (x, s) in row.iter_mut().enumerate() {
                         let k = y * w + x;
                         if px.rays[k] == [0.0; 3] {
@@ -306,7 +319,12 @@ impl<'a> Renderer<'a> {
                             x,
                             y,
                         };
-                        let l = self.light(px, k, &view, hit, Some(&shared), &mut tracer);
+                        let (l, ambient) =
+                            self.light(px, k, &view, hit, Some(&shared), &mut tracer);
+                        let l = match &mut air {
+                            Some(air) => self.through(air, px, k, &view, hit, l, ambient),
+                            None => l,
+                        };
                         let scale = f64::from(px.response[k]);
                         *s = l.map(|v| (v * scale) as f32);
                     }
@@ -337,6 +355,15 @@ impl<'a> Renderer<'a> {
                             self.view(c, t + exposure_s * f)
                         })
                         .collect();
+                    let mut airs: Vec<Air> = match self.air {
+                        Some(a) => (0..BLUR_SAMPLES)
+                            .map(|s| {
+                                let f = s as f64 / (BLUR_SAMPLES - 1) as f64 - 0.5;
+                                Air::at(a, t + exposure_s * f, views[s].camera.translation)
+                            })
+                            .collect(),
+                        None => Vec::new(),
+                    };
                     for (x, s) in row.iter_mut().enumerate() {
                         let k = y * w + x;
                         let at = r * w + x;
@@ -365,7 +392,11 @@ impl<'a> Renderer<'a> {
                                     triangle: h.triangle,
                                     normal: h.normal,
                                 };
-                                let l = self.light(px, k, view, hit, None, &mut tracer);
+                                let (l, ambient) = self.light(px, k, view, hit, None, &mut tracer);
+                                let l = match airs.get_mut(v) {
+                                    Some(air) => self.through(air, px, k, view, hit, l, ambient),
+                                    None => l,
+                                };
                                 for ch in 0..3 {
                                     sum[ch] += l[ch];
                                 }
@@ -420,10 +451,35 @@ impl<'a> Renderer<'a> {
         bits
     }
 
+    /// Pixel `k`'s light `l` (`ambient` of it from the ambient light) as it reaches the
+    /// camera through `air`.
+    #[allow(clippy::too_many_arguments)]
+    fn through(
+        &self,
+        air: &mut Air<'_, '_>,
+        px: &Pixels,
+        k: usize,
+        view: &View,
+        hit: PixelHit,
+        l: [f64; 3],
+        ambient: [f64; 3],
+    ) -> [f64; 3] {
+        let cam = &view.camera;
+        let dir = mul(&cam.rotation, px.rays[k].map(f64::from));
+        air.seen(
+            cam.translation,
+            dir,
+            f64::from(hit.t),
+            l,
+            ambient,
+            &view.lamps,
+        )
+    }
+
     /// The light leaving pixel `k`'s point towards the camera, candela per square metre per
     /// channel: its material's answer to each lamp whose light reaches it (the sampled
     /// pixels' shadows in `shared` where they settle it, else a shadow ray) and to the
-    /// ambient light.
+    /// ambient light; and the ambient light's part of it.
     fn light(
         &self,
         px: &Pixels,
@@ -432,7 +488,7 @@ impl<'a> Renderer<'a> {
         hit: PixelHit,
         shared: Option<&Shared<'_>>,
         tracer: &mut Tracer<'_>,
-    ) -> [f64; 3] {
+    ) -> ([f64; 3], [f64; 3]) {
         let scene = self.scene;
         let tri = hit.triangle;
         let (p, dir, n) = self.point(px, k, view, hit);
@@ -496,6 +552,7 @@ impl<'a> Renderer<'a> {
         }
         let v = dir.map(|x| -x);
         let mut out = shade::ambient(&surface, self.rig.ambient_lux);
+        let ambient = out;
         for (li, lamp) in view.lamps.iter().enumerate() {
             let (lux, l, dist) = lamp.at(p);
             if lux < 1e-6 || dot(n, l) <= 0.0 {
@@ -510,7 +567,7 @@ impl<'a> Renderer<'a> {
                 out[k] += r[k];
             }
         }
-        out
+        (out, ambient)
     }
 }
 
