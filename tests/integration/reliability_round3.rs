@@ -993,7 +993,7 @@ fn item18_an_imported_world_is_sensed_from_its_own_grid() {
     if let Some(said) = common::read_with_python(
         &["rosbags", "trimesh", "rtree"],
         "sense_check.py",
-        &[arg(&out), arg(&w.join("mesh/collision.obj")), "--noiseless"],
+        &[arg(&out), arg(&w.join("mesh/world.obj")), "--noiseless"],
     ) {
         let v: Value = serde_json::from_str(said.trim()).unwrap();
         assert!(v["max_distance_m"].as_f64().unwrap() < 1e-3, "{v}");
