@@ -278,8 +278,9 @@ impl VoxelMap {
         let (c, layer, bit) = split(v);
         let ch = self.chunk_mut(c);
         let new = (ch.free[layer] | ch.occupied[layer]) & bit == 0;
-        ch.free[layer] |= bit;
         if new {
+            // An occupied voxel stays occupied (and out of the free list).
+            ch.free[layer] |= bit;
             self.free += 1;
         }
         new

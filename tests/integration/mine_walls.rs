@@ -123,21 +123,25 @@ fn blasted_drifts_hold_a_lidars_registration() {
         let v: serde_json::Value =
             serde_json::from_slice(&std::fs::read(seq.join("sequence.json")).unwrap()).unwrap();
         let scans = v["scans"].as_array().unwrap();
+        // Scans the label calls sliding (issue 39: the translation least constrained along
+        // the platform's travel, calibrated against KISS-ICP), since the LiDAR casts on the
+        // visual surface, where neither wall is degenerate by the older score: blasted 16 %
+        // and smooth 56 % on this mine.
         let bad = scans
             .iter()
-            .filter(|s| s["degeneracy"]["degenerate"].as_bool() == Some(true))
+            .filter(|s| s["degeneracy"]["slides"].as_bool() == Some(true))
             .count();
         shares.push(bad as f64 / scans.len() as f64);
         std::fs::remove_dir_all(&seq).unwrap();
     }
     assert!(
-        shares[0] < 0.15,
-        "blasted: {:.0} % degenerate",
+        shares[0] < 0.3,
+        "blasted: {:.0} % sliding",
         100.0 * shares[0]
     );
     assert!(
-        shares[1] > shares[0],
-        "today's walls are more degenerate: {shares:?}"
+        shares[1] > 2.0 * shares[0],
+        "smooth walls should slide far more often: {shares:?}"
     );
 }
 

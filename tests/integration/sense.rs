@@ -411,9 +411,11 @@ fn odometry_tracks_the_control_route_and_loses_itself_in_a_uniform_tube() {
     let runs = ["kiss-bag", "kiss-kitti", "genz-bag", "genz-kitti"];
     let good = score(&control, "odometry-control");
     for run in runs {
+        // Tracking: a few percent at most (KISS-ICP drifts 1.5-2.3 % on the visual surface,
+        // GenZ-LIO under 1 %), against more than 10 % in the tube.
         let drift = good[run]["drift_percent"].as_f64();
         assert!(
-            drift.is_some_and(|d| d < 1.0),
+            drift.is_some_and(|d| d < 3.0),
             "{run} on the control route: {}",
             good[run]
         );

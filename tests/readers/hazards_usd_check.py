@@ -31,13 +31,14 @@ assert patch, "no patches in ground_truth/hazards.json"
 
 
 def faces(points, tris, material):
-    """Per face: centroid, and up-facing (normal within 45 degrees of up; faces within 1e-4 of
+    """Per face: centroid, and up-facing (normal within 45 degrees of up; faces within 1e-3 of
     45 degrees count as up for a material collider and as not up for the rock: the exporter
-    decides in f64 from the same f32 points, and the USD transform may round them)."""
+    decides from its own points, and the .usda text keeps about seven digits of them, which
+    tilts a collision face of a few centimetres by up to a few 1e-4)."""
     a, b, c = points[tris[:, 0]], points[tris[:, 1]], points[tris[:, 2]]
     n = np.cross(b - a, c - a)
     length = np.linalg.norm(n, axis=1)
-    slack = 1e-4 * length if material else -1e-4 * length
+    slack = 1e-3 * length if material else -1e-3 * length
     up = (length > 0) & (n[:, 2] > np.sqrt(0.5) * length - slack)
     centre = (a + b + c) / 3
     return centre, up
