@@ -32,7 +32,7 @@ fn bench(c: &mut Criterion, name: &str, pipeline: &Pipeline) {
     group.bench_function(name, |b| {
         b.iter(|| {
             let w = black_box(&world);
-            subtgraph::core::budget::mesh_estimate(w, |k| tileset.estimate(w, k))
+            w.mesh_estimate(|k| tileset.estimate(w, k))
         })
     });
     group.finish();

@@ -104,7 +104,7 @@ pub fn assemble_within(
 ) -> Result<WorldMesh, TileSetError> {
     let ramps = check(layout, tileset)?;
     let memory = MemoryCheck::new(layout, tileset, budget);
-    if let Some(e) = crate::budget::mesh_estimate(layout, |k| tileset.estimate(layout, k)) {
+    if let Some(e) = layout.mesh_estimate(|k| tileset.estimate(layout, k)) {
         memory.check(e, "estimated")?;
     }
     let cells: Vec<Cell> = layout

@@ -12,7 +12,6 @@
 
 use std::fmt;
 
-use crate::layout::Layout;
 use crate::tile::TileKind;
 
 /// Bytes per cell of the whole world during layout and writing: occupancy, tiles, spatial
@@ -167,17 +166,18 @@ impl MeshEstimate {
     }
 }
 
-/// Sums a per-kind estimate over the world's tiles: one call per kind, one pass over the grid.
-/// `None` when `per_kind` has no estimate for a kind the world has.
+/// Sums a per-kind estimate over a world's tiles (their `kinds`, as
+/// [`crate::layout::Layout::mesh_estimate`] gives them): one call per kind, one pass over the
+/// grid. `None` when `per_kind` has no estimate for a kind the world has.
 pub fn mesh_estimate(
-    layout: &Layout,
+    kinds: impl IntoIterator<Item = TileKind>,
     mut per_kind: impl FnMut(TileKind) -> Option<TileTriangles>,
 ) -> Option<MeshEstimate> {
     let mut counts = [0u64; TileKind::ALL.len()];
-    for t in layout.tiles.as_slice().iter().flatten() {
+    for kind in kinds {
         counts[TileKind::ALL
             .iter()
-            .position(|k| *k == t.kind)
+            .position(|k| *k == kind)
             .expect("every kind is listed")] += 1;
     }
     let mut triangles = 0.0;

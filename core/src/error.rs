@@ -34,9 +34,17 @@ pub fn excerpt_to(value: &str, max: usize) -> Cow<'_, str> {
 /// The default level height of 12 m tiles is `0.8 * 12.0`, which is 9.600000000000001 in
 /// binary and was shown so; this shows 9.6 (and 12.0 as 12). A value the user wrote is
 /// shown the same way, so a message quotes it as it was written (short of seven decimals).
+/// From 1e15 on a number is shown in scientific notation with at most seven significant
+/// digits (`1e308`, `1.5e20`): a bound such as `f64::MAX` was printed as 309 digits.
 pub fn number(x: f64) -> String {
     if !x.is_finite() {
         return x.to_string();
+    }
+    if x.abs() >= 1e15 {
+        let s = format!("{x:.6e}");
+        let (mantissa, exponent) = s.split_once('e').unwrap_or((&s, "0"));
+        let mantissa = mantissa.trim_end_matches('0').trim_end_matches('.');
+        return format!("{mantissa}e{exponent}");
     }
     let s = format!("{x:.6}");
     let s = s.trim_end_matches('0').trim_end_matches('.');
@@ -266,7 +274,11 @@ mod tests {
             (12.0, "12"),
             (0.125, "0.125"),
             (-0.0000001, "0"),
-            (1e20, "100000000000000000000"),
+            (1e14, "100000000000000"),
+            (1e20, "1e20"),
+            (-1.5e20, "-1.5e20"),
+            (f64::MAX, "1.797693e308"),
+            (1e308, "1e308"),
             (f64::INFINITY, "inf"),
             (2.0 / 3.0, "0.666667"),
         ] {

@@ -74,6 +74,19 @@ pub struct Layout {
 }
 
 impl Layout {
+    /// Sums a tile set's per-kind triangle estimate over this layout's tiles
+    /// ([`crate::budget::mesh_estimate`]); `None` when `per_kind` has no estimate for a kind
+    /// the layout has.
+    pub fn mesh_estimate(
+        &self,
+        per_kind: impl FnMut(TileKind) -> Option<crate::budget::TileTriangles>,
+    ) -> Option<crate::budget::MeshEstimate> {
+        crate::budget::mesh_estimate(
+            self.tiles.as_slice().iter().flatten().map(|t| t.kind),
+            per_kind,
+        )
+    }
+
     /// Classifies tiles, marks shafts, builds the graph and counts the topology of a grid.
     /// Used for generated and imported worlds alike.
     pub fn new(

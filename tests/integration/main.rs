@@ -48,6 +48,7 @@ mod score;
 mod segmentation;
 mod sense;
 mod sensor_surface;
+mod source_checks;
 mod stats;
 mod tasks;
 mod textures;

@@ -215,7 +215,6 @@ fn bad_tileset_settings_are_refused_with_what_to_change() {
 /// triangles (`TileSet::estimate`): it must follow what the tile set really makes.
 #[test]
 fn triangle_estimates_follow_the_meshes() {
-    use subtgraph::core::budget::mesh_estimate;
     let r = subtgraph::registry();
     let mut ratios = Vec::new();
     for (style, table, preset) in [
@@ -236,7 +235,7 @@ fn triangle_estimates_follow_the_meshes() {
             params: Params::from_table("tileset", toml::from_str(table).unwrap()),
         };
         let t = r.tilesets.build(&spec).unwrap();
-        let estimate = mesh_estimate(&w, |k| t.estimate(&w, k)).unwrap();
+        let estimate = w.mesh_estimate(|k| t.estimate(&w, k)).unwrap();
         let m = assemble(&w, t.as_ref()).unwrap();
         let made = (m.visual.triangle_count() + m.collision.triangle_count()) as f64;
         let ratio = estimate.triangles / made;

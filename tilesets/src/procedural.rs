@@ -982,7 +982,7 @@ impl TileSet for Procedural {
                 fix: format!(
                     "set [tileset] mesh_from below {back:.1} m (the default is {}), or 0 for \
                      no mesh",
-                    number(crate::mine::MESH_FROM)
+                    number(self.style.shape.mesh_from)
                 ),
             });
         }

@@ -27,5 +27,29 @@ pub(super) fn not_current(out: &Path, resolved: PathBuf) -> Result<(), FolderErr
 /// Refuses `out` when it is the current folder or holds it, for a folder given by its path
 /// alone (a dataset's `--out`).
 pub fn not_current_folder(out: &Path) -> Result<(), FolderError> {
-    not_current(out, super::out::resolved(out))
+    not_current(out, resolved(out))
+}
+
+/// `path` with its existing part resolved (links, `..`), the rest appended as written.
+pub(super) fn resolved(path: &Path) -> PathBuf {
+    let mut rest = Vec::new();
+    let mut at = path;
+    loop {
+        if let Ok(real) = at.canonicalize() {
+            let mut out = real;
+            out.extend(rest.iter().rev());
+            return out;
+        }
+        match (at.file_name(), at.parent()) {
+            (Some(name), Some(parent)) => {
+                rest.push(name.to_owned());
+                at = if parent.as_os_str().is_empty() {
+                    Path::new(".")
+                } else {
+                    parent
+                };
+            }
+            _ => return path.to_owned(),
+        }
+    }
 }

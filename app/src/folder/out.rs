@@ -5,6 +5,7 @@
 use std::fs;
 use std::path::{Path, PathBuf};
 
+use super::here::resolved;
 use super::manifest::{self, Kind};
 use super::{FolderError, io, sweep_stale};
 
@@ -77,30 +78,6 @@ impl Out<'_> {
             }
         }
         Ok(())
-    }
-}
-
-/// `path` with its existing part resolved (links, `..`), the rest appended as written.
-pub(super) fn resolved(path: &Path) -> PathBuf {
-    let mut rest = Vec::new();
-    let mut at = path;
-    loop {
-        if let Ok(real) = at.canonicalize() {
-            let mut out = real;
-            out.extend(rest.iter().rev());
-            return out;
-        }
-        match (at.file_name(), at.parent()) {
-            (Some(name), Some(parent)) => {
-                rest.push(name.to_owned());
-                at = if parent.as_os_str().is_empty() {
-                    Path::new(".")
-                } else {
-                    parent
-                };
-            }
-            _ => return path.to_owned(),
-        }
     }
 }
 

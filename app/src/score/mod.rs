@@ -4,8 +4,8 @@
 //! - Reports (`reports.rs`): matched to `ground_truth/artifacts.json` by the DARPA rule (same
 //!   class within 5 m, each artifact once, in time order); duplicates, wrong classes and false
 //!   reports counted.
-//! - A map (`cloud.rs`, `coverage.rs`): coverage of the world's free space per level, graph
-//!   edge and node, and map error, on `ground_truth/free_space.npy`.
+//! - A map (`cloud.rs`, `coverage.rs`, voxel sets in `bits.rs`): coverage of the world's free
+//!   space per level, graph edge and node, and map error, on `ground_truth/free_space.npy`.
 //! - Output: `score.json`, `reports.csv`, `artifacts.csv`, `coverage.csv`, `level-N.png`
 //!   (`picture.rs`) in a folder written atomically like every folder the tool writes (an
 //!   existing one is replaced only with `--force` and only if the tool wrote all of it), and a
@@ -14,6 +14,7 @@
 //! Bad input is an error naming the file and the row or point: an unknown class, a NaN, an
 //! empty file, or positions far outside the world (another frame or unit).
 
+pub mod bits;
 pub mod cloud;
 pub mod coverage;
 mod picture;

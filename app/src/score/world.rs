@@ -8,8 +8,8 @@ use subtgraph_schema::{Artifacts, Document, FreeSpace, Topology};
 
 use crate::Error;
 
+use super::bits::Bits;
 use super::cloud::Grid;
-use super::coverage::Bits;
 use super::reports::Truth;
 
 /// A graph region a voxel belongs to.

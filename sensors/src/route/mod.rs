@@ -28,7 +28,7 @@ use subtgraph_core::rng::WorldRng;
 
 use crate::error::SenseError;
 use crate::graph::{EdgeKind, RouteGraph};
-use crate::platform::Platform;
+use crate::platform::{Kind, Platform};
 use crate::scene::Scene;
 use crate::trajectory::Trajectory;
 
@@ -116,6 +116,22 @@ pub struct Leg {
     pub edge: usize,
     /// Driven from its `to` node to its `from` node.
     pub reversed: bool,
+}
+
+/// Whether the platform can take an edge.
+fn allowed(platform: &Platform, kind: EdgeKind) -> bool {
+    kind != EdgeKind::Shaft || platform.kind == Kind::Aerial
+}
+
+/// The same legs driven back.
+fn back(legs: &[Leg]) -> Vec<Leg> {
+    legs.iter()
+        .rev()
+        .map(|l| Leg {
+            edge: l.edge,
+            reversed: !l.reversed,
+        })
+        .collect()
 }
 
 /// What the platform is doing.

@@ -5,15 +5,10 @@ use std::collections::BinaryHeap;
 
 use subtgraph_core::rng::WorldRng;
 
-use super::{Leg, RouteKind};
+use super::{Leg, RouteKind, allowed, back};
 use crate::error::SenseError;
-use crate::graph::{EdgeKind, RouteGraph};
+use crate::graph::RouteGraph;
 use crate::platform::{Kind, Platform};
-
-/// Whether the platform can take an edge.
-pub(super) fn allowed(platform: &Platform, kind: EdgeKind) -> bool {
-    kind != EdgeKind::Shaft || platform.kind == Kind::Aerial
-}
 
 /// Shortest distances (metres) from `from` over the edges the platform takes, and the edge each
 /// node was reached by. Ties go to the lower node id, so the result is the same every run.
@@ -65,17 +60,6 @@ fn path(g: &RouteGraph, via: &[Option<usize>], from: usize, to: usize) -> Vec<Le
     }
     legs.reverse();
     legs
-}
-
-/// The same legs driven back.
-pub(super) fn back(legs: &[Leg]) -> Vec<Leg> {
-    legs.iter()
-        .rev()
-        .map(|l| Leg {
-            edge: l.edge,
-            reversed: !l.reversed,
-        })
-        .collect()
 }
 
 /// The legs of a route of `kind` from the graph's start.

@@ -11,8 +11,7 @@
 //!
 //! Each is refused, saying why and what to pass instead, where the platform cannot take it.
 
-use super::plan::{allowed, back};
-use super::{Leg, RouteKind};
+use super::{Leg, RouteKind, allowed, back};
 use crate::error::SenseError;
 use crate::graph::{EdgeKind, RouteGraph};
 use crate::platform::{Kind, Platform};

@@ -20,6 +20,7 @@
 use std::io;
 use std::path::{Path, PathBuf};
 
+use super::camera_msgs;
 use super::cdr::{self, FLOAT32, FLOAT64, Field, UINT8, UINT16, UINT32};
 use super::mcap::Mcap;
 use crate::frames::Pose;
@@ -106,7 +107,10 @@ impl Bag {
             let schema = match schemas.iter().find(|(t, _)| *t == type_name) {
                 Some(&(_, id)) => id,
                 None => {
-                    let id = mcap.schema(type_name, &cdr::schema(type_name))?;
+                    let definition = cdr::schema(type_name)
+                        .or_else(|| camera_msgs::schema(type_name))
+                        .unwrap_or_default();
+                    let id = mcap.schema(type_name, &definition)?;
                     schemas.push((type_name, id));
                     id
                 }

@@ -65,9 +65,9 @@ pub fn camera_info(buf: &mut Vec<u8>, stamp_ns: u64, frame: &str, camera: &Camer
     c.u8(0);
 }
 
-/// The definitions of the cameras' message types (empty for another type).
-pub fn schema(type_name: &str) -> String {
-    match type_name {
+/// The definitions of the cameras' message types (`None` for another type).
+pub fn schema(type_name: &str) -> Option<String> {
+    let definition = match type_name {
         "sensor_msgs/msg/Image" => definition(
             "std_msgs/Header header\nuint32 height\nuint32 width\nstring encoding\nuint8 is_bigendian\nuint32 step\nuint8[] data\n",
             &[HEADER, TIME],
@@ -80,6 +80,7 @@ pub fn schema(type_name: &str) -> String {
                 "MSG: sensor_msgs/RegionOfInterest\nuint32 x_offset\nuint32 y_offset\nuint32 height\nuint32 width\nbool do_rectify\n",
             ],
         ),
-        _ => String::new(),
-    }
+        _ => return None,
+    };
+    Some(definition)
 }

@@ -239,9 +239,10 @@ const POINT: &str = "MSG: geometry_msgs/Point\nfloat64 x\nfloat64 y\nfloat64 z\n
 const QUATERNION: &str =
     "MSG: geometry_msgs/Quaternion\nfloat64 x 0\nfloat64 y 0\nfloat64 z 0\nfloat64 w 1\n";
 
-/// The `ros2msg` definition of a message type, with its dependencies, as rosbag2 stores it.
-pub fn schema(type_name: &str) -> String {
-    match type_name {
+/// The `ros2msg` definition of a message type, with its dependencies, as rosbag2 stores it;
+/// `None` for a type this module does not write (the cameras' are in `camera_msgs`).
+pub fn schema(type_name: &str) -> Option<String> {
+    let definition = match type_name {
         "sensor_msgs/msg/PointCloud2" => definition(
             "std_msgs/Header header\nuint32 height\nuint32 width\nsensor_msgs/PointField[] fields\nbool is_bigendian\nuint32 point_step\nuint32 row_step\nuint8[] data\nbool is_dense\n",
             &[
@@ -279,8 +280,9 @@ pub fn schema(type_name: &str) -> String {
                 QUATERNION,
             ],
         ),
-        other => super::camera_msgs::schema(other),
-    }
+        _ => return None,
+    };
+    Some(definition)
 }
 
 #[cfg(test)]
