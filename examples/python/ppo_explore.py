@@ -16,6 +16,7 @@ import time
 import gymnasium as gym
 import numpy as np
 from stable_baselines3 import PPO
+from stable_baselines3.common.vec_env import DummyVecEnv
 
 import subtgraph  # noqa: F401  (registers the environment)
 
@@ -43,7 +44,11 @@ def main():
     ap.add_argument("--envs", type=int, default=4)
     a = ap.parse_args()
     kw = dict(pipeline=PIPELINE, max_steps=300, observations=("scan", "imu", "pose"))
-    vec = gym.make_vec("subtgraph/Explore-v0", num_envs=a.envs, **kw)
+    # Stable-Baselines3 steps its own vector class, not Gymnasium's (`gym.make_vec`): the same
+    # worlds, env i the pipeline's seed plus i.
+    vec = DummyVecEnv([
+        (lambda i=i: gym.make("subtgraph/Explore-v0", world_index=i, **kw)) for i in range(a.envs)
+    ])
     model = PPO("MultiInputPolicy", vec, n_steps=256, batch_size=256, seed=0, verbose=0, device="cpu")
     t = time.perf_counter()
     model.learn(total_timesteps=a.steps)
