@@ -24,14 +24,16 @@ use subtgraph_core::raycast::Tracer;
 use subtgraph_core::vec3::{V3, dot};
 
 use super::haze::Air;
+use super::lens::Distortion;
 use super::light::{PlacedLamp, Rig};
+use super::raster::{Grid, Raster};
 use super::scene::CameraScene;
 use super::sensor::{electrons_per_nit_second, vignetting};
 use super::shade::{self, Surface};
 use super::texture::Map;
 use super::{CameraModel, Shutter};
 use crate::conditions::Active;
-use crate::frames::{Pose, mul};
+use crate::frames::{Pose, mul, mul_t};
 use crate::trajectory::Trajectory;
 
 /// Farthest a camera's ray looks, metres.
@@ -55,6 +57,9 @@ pub struct Pixels {
     pub response: Vec<f32>,
     /// Radians a pixel spans at the image's centre.
     pub pixel_angle: f64,
+    /// For a pinhole lens with a global shutter: the undistorted grid its first hits are
+    /// rasterised into, and each pixel's first sample there ([`Grid::around`]).
+    pub grid: Option<(Grid, Vec<u32>)>,
 }
 
 impl Pixels {
@@ -86,12 +91,22 @@ impl Pixels {
                 }
             }
         }
+        let pinhole = matches!(lens.distortion, Distortion::RadTan { .. })
+            && model.shutter == Shutter::Global;
+        let grid = pinhole
+            .then(|| {
+                let step = [1.0 / lens.focal[0], 1.0 / lens.focal[1]];
+                let anchor = [-lens.centre[0] * step[0], -lens.centre[1] * step[1]];
+                Grid::around(&rays, step, anchor)
+            })
+            .flatten();
         Pixels {
             width: w,
             height: h,
             rays,
             response,
             pixel_angle: 1.0 / lens.focal[0].max(lens.focal[1]),
+            grid,
         }
     }
 }
@@ -112,6 +127,20 @@ pub struct Shot {
     /// Each sampled pixel's shadows: bit `2k` set when lamp `k` was tested, bit `2k + 1`
     /// when its light is blocked.
     shadows: Vec<u8>,
+    /// The first hits drawn by the rasteriser.
+    raster: Raster,
+    /// A lamp's view drawn by the rasteriser.
+    lamp_raster: Raster,
+}
+
+impl Shot {
+    /// The triangle pixel `k` (`y * width + x`) sees first (the scene's index, as
+    /// [`CameraScene::class`] counts them), with its distance along the pixel's unit ray,
+    /// metres; `None` when it sees nothing.
+    pub fn first_hit(&self, k: usize) -> Option<(u32, f32)> {
+        let h = self.hits.get(k)?;
+        (h.t > 0.0).then_some((h.triangle, h.t))
+    }
 }
 
 /// A pixel's first hit.
@@ -226,67 +255,13 @@ impl<'a> Renderer<'a> {
         let w = px.width;
         let chunk = ROWS_PER_TASK * w;
         // First hits.
-        out.hits
-            .par_chunks_mut(chunk)
-            .zip(out.depth.par_chunks_mut(chunk))
-            .zip(out.class.par_chunks_mut(chunk))
-            .zip(out.instance.par_chunks_mut(chunk))
-            .enumerate()
-            .for_each(|(task, (((hits, depth), class), instance))| {
-                let mut tracer = self.scene.caster.tracer();
-                for (r, hits) in hits.chunks_mut(w).enumerate() {
-                    let y = task * ROWS_PER_TASK + r;
-                    let camera = self.camera_pose(c, self.row_time(c, stamp, y));
-                    for (i, h) in hits.iter_mut().enumerate() {
-                        let k = y * w + i;
-                        let ray = px.rays[k].map(f64::from);
-                        let at = r * w + i;
-                        let hit = (ray != [0.0; 3])
-                            .then(|| {
-                                tracer.cast(camera.translation, mul(&camera.rotation, ray), FAR)
-                            })
-                            .flatten();
-                        match hit {
-                            Some(hit) => {
-                                *h = PixelHit {
-                                    t: hit.t as f32,
-                                    triangle: hit.triangle,
-                                    normal: hit.normal,
-                                };
-                                depth[at] = (hit.t * ray[2]) as f32;
-                                class[at] = self.scene.class[hit.triangle as usize];
-                                instance[at] = self.scene.instance[hit.triangle as usize];
-                            }
-                            None => {
-                                *h = PixelHit::default();
-                                depth[at] = 0.0;
-                                class[at] = 0;
-                                instance[at] = 0;
-                            }
-                        }
-                    }
-                }
-            });
-        // Shadow rays of the sampled pixels.
-        let hits = &out.hits;
-        out.shadows
-            .par_chunks_mut(chunk)
-            .enumerate()
-            .for_each(|(task, shadows)| {
-                let mut tracer = self.scene.caster.tracer();
-                for (r, row) in shadows.chunks_mut(w).enumerate() {
-                    let y = task * ROWS_PER_TASK + r;
-                    row.fill(0);
-                    if y % 2 != 0 {
-                        continue;
-                    }
-                    let view = self.view(c, self.row_time(c, stamp, y));
-                    for x in (0..w).step_by(2) {
-                        let k = y * w + x;
-                        row[x] = self.shadow_bits(px, k, &view, hits[k], &mut tracer);
-                    }
-                }
-            });
+        self.first_hits(c, stamp, out);
+        let every = px.grid.is_some();
+        if every {
+            self.lamp_shadows(c, stamp, out);
+        } else {
+            self.sampled_shadows(c, stamp, out);
+        }
         // Shading.
         let (hits, shadows, depth) = (&out.hits, &out.shadows, &out.depth);
         out.signal
@@ -311,6 +286,7 @@ impl<'a> Renderer<'a> {
                             continue;
                         }
                         let shared = Shared {
+                            every,
                             hits,
                             shadows,
                             depth,
@@ -330,6 +306,229 @@ impl<'a> Renderer<'a> {
                     }
                 }
             });
+    }
+
+    /// Every pixel's first hit, depth, class and instance: rasterised where the camera has a
+    /// grid ([`Pixels::grid`]), a ray through each pixel otherwise.
+    fn first_hits(&self, c: usize, stamp: f64, out: &mut Shot) {
+        let px = &self.pixels[c];
+        let w = px.width;
+        let chunk = ROWS_PER_TASK * w;
+        let caster = &*self.scene.caster;
+        let drawn = px.grid.as_ref().map(|(grid, base)| {
+            out.raster
+                .draw(caster, grid, &self.camera_pose(c, stamp), FAR);
+            (&out.raster, base)
+        });
+        out.hits
+            .par_chunks_mut(chunk)
+            .zip(out.depth.par_chunks_mut(chunk))
+            .zip(out.class.par_chunks_mut(chunk))
+            .zip(out.instance.par_chunks_mut(chunk))
+            .enumerate()
+            .for_each(|(task, (((hits, depth), class), instance))| {
+                let mut tracer = caster.tracer();
+                for (r, hits) in hits.chunks_mut(w).enumerate() {
+                    let y = task * ROWS_PER_TASK + r;
+                    let camera = self.camera_pose(c, self.row_time(c, stamp, y));
+                    for (i, h) in hits.iter_mut().enumerate() {
+                        let k = y * w + i;
+                        let ray = px.rays[k].map(f64::from);
+                        let at = r * w + i;
+                        let hit = if ray == [0.0; 3] {
+                            None
+                        } else {
+                            let (o, d) = (camera.translation, mul(&camera.rotation, ray));
+                            match drawn {
+                                Some((raster, base)) => {
+                                    // The candidates' nearest hit, when no other triangle can
+                                    // be nearer; else the whole cast.
+                                    let near = raster.candidates(base[k]);
+                                    if near.count == 0 {
+                                        None
+                                    } else {
+                                        caster
+                                            .hit_slots(o, d, near.slots(), FAR)
+                                            .filter(|h| near.settles(h.t * ray[2]))
+                                            .or_else(|| tracer.cast(o, d, FAR))
+                                    }
+                                }
+                                None => tracer.cast(o, d, FAR),
+                            }
+                        };
+                        match hit {
+                            Some(hit) => {
+                                *h = PixelHit {
+                                    t: hit.t as f32,
+                                    triangle: hit.triangle,
+                                    normal: hit.normal,
+                                };
+                                depth[at] = (hit.t * ray[2]) as f32;
+                                class[at] = self.scene.class[hit.triangle as usize];
+                                instance[at] = self.scene.instance[hit.triangle as usize];
+                            }
+                            None => {
+                                *h = PixelHit::default();
+                                depth[at] = 0.0;
+                                class[at] = 0;
+                                instance[at] = 0;
+                            }
+                        }
+                    }
+                }
+            });
+    }
+
+    /// The shadow rays of every other pixel of every other row, for the shading pass to share
+    /// ([`Shared`]).
+    fn sampled_shadows(&self, c: usize, stamp: f64, out: &mut Shot) {
+        let px = &self.pixels[c];
+        let w = px.width;
+        let chunk = ROWS_PER_TASK * w;
+        let hits = &out.hits;
+        out.shadows
+            .par_chunks_mut(chunk)
+            .enumerate()
+            .for_each(|(task, shadows)| {
+                let mut tracer = self.scene.caster.tracer();
+                for (r, row) in shadows.chunks_mut(w).enumerate() {
+                    let y = task * ROWS_PER_TASK + r;
+                    row.fill(0);
+                    if y % 2 != 0 {
+                        continue;
+                    }
+                    let view = self.view(c, self.row_time(c, stamp, y));
+                    for x in (0..w).step_by(2) {
+                        let k = y * w + x;
+                        row[x] = self.shadow_bits(px, k, &view, hits[k], &mut tracer);
+                    }
+                }
+            });
+    }
+
+    /// Every pixel's shadows from each lamp (up to four), exact where a blocker is found: the
+    /// lamp's view drawn by the rasteriser (the camera's axes from the lamp's position, over
+    /// the points the pixels see), then each pixel's shadow ray tested against the triangles
+    /// of the samples around its point's direction from the lamp. Seen from the lamp a
+    /// shadow ray is one direction, so whatever blocks it covers those samples; a blocker
+    /// narrower than a sample can be missed, as in the first hits. A point outside the
+    /// lamp's grid casts its shadow ray in full.
+    fn lamp_shadows(&self, c: usize, stamp: f64, out: &mut Shot) {
+        let px = &self.pixels[c];
+        let Some((grid, _)) = &px.grid else {
+            return;
+        };
+        let w = px.width;
+        let chunk = ROWS_PER_TASK * w;
+        let view = self.view(c, stamp);
+        let caster = &*self.scene.caster;
+        let rotation = view.camera.rotation;
+        let Shot {
+            hits,
+            shadows,
+            lamp_raster,
+            ..
+        } = out;
+        shadows.fill(0);
+        // The camera's grid, widened by half its size on every side: points seen from the
+        // lamp lie about where the camera sees them, but for the nearest.
+        let x1 = grid.origin[0] + grid.width as f64 * grid.step[0];
+        let y1 = grid.origin[1] + grid.height as f64 * grid.step[1];
+        let (sx, sy) = (0.5 * (x1 - grid.origin[0]), 0.5 * (y1 - grid.origin[1]));
+        let room = (
+            [grid.origin[0] - sx, grid.origin[1] - sy],
+            [x1 + sx, y1 + sy],
+        );
+        for (li, lamp) in view.lamps.iter().enumerate().take(4) {
+            let pose = Pose {
+                translation: lamp.position,
+                rotation,
+            };
+            let local = |k: usize, hit: PixelHit| {
+                let (p, _, _) = self.point(px, k, &view, hit);
+                mul_t(&rotation, [0, 1, 2].map(|i| p[i] - lamp.position[i]))
+            };
+            // The extent of the points seen, as the lamp sees them.
+            let (lo, hi, far) = hits
+                .par_chunks(chunk)
+                .enumerate()
+                .map(|(task, hits)| {
+                    let mut lo = [f64::INFINITY; 2];
+                    let mut hi = [f64::NEG_INFINITY; 2];
+                    let mut far = 0.0f64;
+                    for (i, &hit) in hits.iter().enumerate() {
+                        if hit.t <= 0.0 {
+                            continue;
+                        }
+                        let q = local(task * chunk + i, hit);
+                        if q[2] <= 0.0 {
+                            continue;
+                        }
+                        far = far.max(dot(q, q).sqrt());
+                        for k in 0..2 {
+                            let x = (q[k] / q[2]).clamp(room.0[k], room.1[k]);
+                            lo[k] = lo[k].min(x);
+                            hi[k] = hi[k].max(x);
+                        }
+                    }
+                    (lo, hi, far)
+                })
+                .reduce(
+                    || ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2], 0.0),
+                    |a, b| {
+                        (
+                            [a.0[0].min(b.0[0]), a.0[1].min(b.0[1])],
+                            [a.1[0].max(b.1[0]), a.1[1].max(b.1[1])],
+                            a.2.max(b.2),
+                        )
+                    },
+                );
+            if lo[0] > hi[0] {
+                continue;
+            }
+            let lamp_grid = Grid::spanning(lo, hi, grid.step);
+            lamp_raster.draw(caster, &lamp_grid, &pose, far + 1.0);
+            let raster = &*lamp_raster;
+            let hits = &*hits;
+            shadows
+                .par_chunks_mut(chunk)
+                .enumerate()
+                .for_each(|(task, shadows)| {
+                    let mut tracer = caster.tracer();
+                    for (i, bits) in shadows.iter_mut().enumerate() {
+                        let k = task * chunk + i;
+                        let hit = hits[k];
+                        if hit.t <= 0.0 {
+                            continue;
+                        }
+                        let (p, _, n) = self.point(px, k, &view, hit);
+                        let (lux, l, dist) = lamp.at(p);
+                        if lux < 1e-6 || dot(n, l) <= 0.0 {
+                            continue;
+                        }
+                        *bits |= 1 << (2 * li);
+                        // A candidate between is a shadow; none, with nothing else able to
+                        // lie nearer the lamp than the shadow ray's start, is light; else the
+                        // whole ray.
+                        let from = [0, 1, 2].map(|i| p[i] + SHADOW_OFFSET * n[i]);
+                        let q = mul_t(&rotation, [0, 1, 2].map(|i| from[i] - lamp.position[i]));
+                        let near = lamp_grid.base_of(q).map(|b| raster.candidates(b));
+                        let reach = dist - 2.0 * SHADOW_OFFSET;
+                        let settled = near.and_then(|c| {
+                            if caster.hit_slots(from, l, c.slots(), reach).is_some() {
+                                Some(true)
+                            } else {
+                                c.settles(q[2]).then_some(false)
+                            }
+                        });
+                        let shadowed =
+                            settled.unwrap_or_else(|| blocked(&mut tracer, p, n, l, dist));
+                        if shadowed {
+                            *bits |= 2 << (2 * li);
+                        }
+                    }
+                });
+        }
     }
 
     /// [`render`](Self::render) with motion blur: five instants a pixel, each with its own
@@ -573,6 +772,8 @@ impl<'a> Renderer<'a> {
 
 /// The sampled pixels' shadows, for a pixel at (`x`, `y`) to take where they settle its own.
 struct Shared<'s> {
+    /// Every pixel has its own shadows ([`Renderer::lamp_shadows`]).
+    every: bool,
     hits: &'s [PixelHit],
     shadows: &'s [u8],
     depth: &'s [f32],
@@ -593,7 +794,7 @@ impl Shared<'_> {
         let (x, y, w) = (self.x, self.y, self.width);
         let tested = 1u8 << (2 * li);
         let block = 2u8 << (2 * li);
-        if x % 2 == 0 && y % 2 == 0 {
+        if self.every || (x % 2 == 0 && y % 2 == 0) {
             let b = self.shadows[y * w + x];
             return (b & tested != 0).then_some(b & block != 0);
         }
