@@ -1,14 +1,18 @@
-//! Rendering a frame: a ray through every pixel into the scene's hierarchy, the point it
-//! meets lit by each lamp unless something stands between (a shadow ray cast from the point
-//! to the lamp), shaded by its material, turned into the electrons a second its pixel
+//! Rendering a frame: every pixel's first hit in the scene's hierarchy, the point it meets
+//! lit by each lamp unless something stands between (a shadow ray cast from the point to the
+//! lamp), shaded by its material, turned into the electrons a second its pixel
 //! collects; its depth, class and instance beside.
 //!
-//! Why rays rather than a rasteriser: a rasteriser draws straight lines, so a distorted or
-//! fisheye lens needs a second pass that resamples a wider pinhole image; shadows need a depth
-//! map per lamp; a rolling shutter and motion blur need the scene drawn again per row or per
-//! instant. A ray through a pixel takes the lens, the row's instant and the lamps' shadows as
-//! they are, from the one hierarchy the scene builds. What it costs, against the preview's
-//! rasteriser, is measured in `docs/src/cameras.md`.
+//! **First hits rasterised where the lens allows.** A pinhole camera (radial-tangential
+//! distortion) with a global shutter and no motion blur draws the triangles of its view into
+//! an undistorted grid of samples ([`super::raster`]) and tests each pixel's ray against the
+//! triangles that grid says it can meet: the same hit as a cast through the hierarchy, found
+//! with a few triangle tests instead of a traversal. A fisheye (no pinhole grid holds 180
+//! degrees), a rolling shutter (a pose per row) and motion blur (five poses a pixel) keep a
+//! ray through every pixel. Shadows are rays in every case: drawing each lamp's view the same
+//! way (tried: every pixel's own shadow from two lamp rasters) cost more CPU than the shared
+//! shadow rays below (cave, stereo, 3 s: about 19 against 16 CPU seconds). Measured in
+//! `docs/src/cameras.md`.
 //!
 //! **Time.** A frame is stamped at the middle of its exposure. With a global shutter every row
 //! is seen from the pose at the stamp; with a rolling shutter row `r` of `h` is seen from the
@@ -33,7 +37,7 @@ use super::shade::{self, Surface};
 use super::texture::Map;
 use super::{CameraModel, Shutter};
 use crate::conditions::Active;
-use crate::frames::{Pose, mul, mul_t};
+use crate::frames::{Pose, mul};
 use crate::trajectory::Trajectory;
 
 /// Farthest a camera's ray looks, metres.
@@ -129,8 +133,6 @@ pub struct Shot {
     shadows: Vec<u8>,
     /// The first hits drawn by the rasteriser.
     raster: Raster,
-    /// A lamp's view drawn by the rasteriser.
-    lamp_raster: Raster,
 }
 
 impl Shot {
@@ -233,12 +235,13 @@ impl<'a> Renderer<'a> {
     /// Renders camera `c`'s frame stamped `stamp`, exposed `exposure_s` (for motion blur),
     /// into `out`.
     ///
-    /// Three passes over the rows: every pixel's first hit; the shadow rays of every other
-    /// pixel of every other row; then each pixel shaded, its shadows those of the sampled
-    /// pixels around it where they agree and lie at its depth, else its own rays. A shadow
-    /// narrower than two pixels that falls between samples that all see the lamp is missed;
-    /// every other pixel's light is what its own shadow ray would give. With motion blur each
-    /// instant's pixel casts its own.
+    /// Three passes over the rows: every pixel's first hit (rasterised where the camera has
+    /// a grid, [`Pixels::grid`]); the shadow rays of every other pixel of every other row;
+    /// then each pixel shaded, its shadows those of the sampled pixels around it where they
+    /// agree and lie at its depth, else its own rays. A shadow narrower than two pixels that
+    /// falls between samples that all see the lamp is missed; every other pixel's light is
+    /// what its own shadow ray would give. With motion blur each instant's pixel casts its
+    /// own.
     pub fn render(&self, c: usize, stamp: f64, exposure_s: f64, out: &mut Shot) {
         let px = &self.pixels[c];
         let n = px.width * px.height;
@@ -256,12 +259,7 @@ impl<'a> Renderer<'a> {
         let chunk = ROWS_PER_TASK * w;
         // First hits.
         self.first_hits(c, stamp, out);
-        let every = px.grid.is_some();
-        if every {
-            self.lamp_shadows(c, stamp, out);
-        } else {
-            self.sampled_shadows(c, stamp, out);
-        }
+        self.sampled_shadows(c, stamp, out);
         // Shading.
         let (hits, shadows, depth) = (&out.hits, &out.shadows, &out.depth);
         out.signal
@@ -286,7 +284,6 @@ impl<'a> Renderer<'a> {
                             continue;
                         }
                         let shared = Shared {
-                            every,
                             hits,
                             shadows,
                             depth,
@@ -404,131 +401,6 @@ impl<'a> Renderer<'a> {
                     }
                 }
             });
-    }
-
-    /// Every pixel's shadows from each lamp (up to four), exact where a blocker is found: the
-    /// lamp's view drawn by the rasteriser (the camera's axes from the lamp's position, over
-    /// the points the pixels see), then each pixel's shadow ray tested against the triangles
-    /// of the samples around its point's direction from the lamp. Seen from the lamp a
-    /// shadow ray is one direction, so whatever blocks it covers those samples; a blocker
-    /// narrower than a sample can be missed, as in the first hits. A point outside the
-    /// lamp's grid casts its shadow ray in full.
-    fn lamp_shadows(&self, c: usize, stamp: f64, out: &mut Shot) {
-        let px = &self.pixels[c];
-        let Some((grid, _)) = &px.grid else {
-            return;
-        };
-        let w = px.width;
-        let chunk = ROWS_PER_TASK * w;
-        let view = self.view(c, stamp);
-        let caster = &*self.scene.caster;
-        let rotation = view.camera.rotation;
-        let Shot {
-            hits,
-            shadows,
-            lamp_raster,
-            ..
-        } = out;
-        shadows.fill(0);
-        // The camera's grid, widened by half its size on every side: points seen from the
-        // lamp lie about where the camera sees them, but for the nearest.
-        let x1 = grid.origin[0] + grid.width as f64 * grid.step[0];
-        let y1 = grid.origin[1] + grid.height as f64 * grid.step[1];
-        let (sx, sy) = (0.5 * (x1 - grid.origin[0]), 0.5 * (y1 - grid.origin[1]));
-        let room = (
-            [grid.origin[0] - sx, grid.origin[1] - sy],
-            [x1 + sx, y1 + sy],
-        );
-        for (li, lamp) in view.lamps.iter().enumerate().take(4) {
-            let pose = Pose {
-                translation: lamp.position,
-                rotation,
-            };
-            let local = |k: usize, hit: PixelHit| {
-                let (p, _, _) = self.point(px, k, &view, hit);
-                mul_t(&rotation, [0, 1, 2].map(|i| p[i] - lamp.position[i]))
-            };
-            // The extent of the points seen, as the lamp sees them.
-            let (lo, hi, far) = hits
-                .par_chunks(chunk)
-                .enumerate()
-                .map(|(task, hits)| {
-                    let mut lo = [f64::INFINITY; 2];
-                    let mut hi = [f64::NEG_INFINITY; 2];
-                    let mut far = 0.0f64;
-                    for (i, &hit) in hits.iter().enumerate() {
-                        if hit.t <= 0.0 {
-                            continue;
-                        }
-                        let q = local(task * chunk + i, hit);
-                        if q[2] <= 0.0 {
-                            continue;
-                        }
-                        far = far.max(dot(q, q).sqrt());
-                        for k in 0..2 {
-                            let x = (q[k] / q[2]).clamp(room.0[k], room.1[k]);
-                            lo[k] = lo[k].min(x);
-                            hi[k] = hi[k].max(x);
-                        }
-                    }
-                    (lo, hi, far)
-                })
-                .reduce(
-                    || ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2], 0.0),
-                    |a, b| {
-                        (
-                            [a.0[0].min(b.0[0]), a.0[1].min(b.0[1])],
-                            [a.1[0].max(b.1[0]), a.1[1].max(b.1[1])],
-                            a.2.max(b.2),
-                        )
-                    },
-                );
-            if lo[0] > hi[0] {
-                continue;
-            }
-            let lamp_grid = Grid::spanning(lo, hi, grid.step);
-            lamp_raster.draw(caster, &lamp_grid, &pose, far + 1.0);
-            let raster = &*lamp_raster;
-            let hits = &*hits;
-            shadows
-                .par_chunks_mut(chunk)
-                .enumerate()
-                .for_each(|(task, shadows)| {
-                    let mut tracer = caster.tracer();
-                    for (i, bits) in shadows.iter_mut().enumerate() {
-                        let k = task * chunk + i;
-                        let hit = hits[k];
-                        if hit.t <= 0.0 {
-                            continue;
-                        }
-                        let (p, _, n) = self.point(px, k, &view, hit);
-                        let (lux, l, dist) = lamp.at(p);
-                        if lux < 1e-6 || dot(n, l) <= 0.0 {
-                            continue;
-                        }
-                        *bits |= 1 << (2 * li);
-                        // A candidate between is a shadow; none, with nothing else able to
-                        // lie nearer the lamp than the shadow ray's start, is light; else the
-                        // whole ray.
-                        let from = [0, 1, 2].map(|i| p[i] + SHADOW_OFFSET * n[i]);
-                        let q = mul_t(&rotation, [0, 1, 2].map(|i| from[i] - lamp.position[i]));
-                        let near = lamp_grid.base_of(q).map(|b| raster.candidates(b));
-                        let reach = dist - 2.0 * SHADOW_OFFSET;
-                        let settled = near.and_then(|c| {
-                            if caster.hit_slots(from, l, c.slots(), reach).is_some() {
-                                Some(true)
-                            } else {
-                                c.settles(q[2]).then_some(false)
-                            }
-                        });
-                        let shadowed =
-                            settled.unwrap_or_else(|| blocked(&mut tracer, p, n, l, dist));
-                        if shadowed {
-                            *bits |= 2 << (2 * li);
-                        }
-                    }
-                });
-        }
     }
 
     /// [`render`](Self::render) with motion blur: five instants a pixel, each with its own
@@ -772,8 +644,6 @@ impl<'a> Renderer<'a> {
 
 /// The sampled pixels' shadows, for a pixel at (`x`, `y`) to take where they settle its own.
 struct Shared<'s> {
-    /// Every pixel has its own shadows ([`Renderer::lamp_shadows`]).
-    every: bool,
     hits: &'s [PixelHit],
     shadows: &'s [u8],
     depth: &'s [f32],
@@ -794,7 +664,7 @@ impl Shared<'_> {
         let (x, y, w) = (self.x, self.y, self.width);
         let tested = 1u8 << (2 * li);
         let block = 2u8 << (2 * li);
-        if self.every || (x % 2 == 0 && y % 2 == 0) {
+        if x % 2 == 0 && y % 2 == 0 {
             let b = self.shadows[y * w + x];
             return (b & tested != 0).then_some(b & block != 0);
         }
