@@ -25,12 +25,14 @@
 //! (counter-clockwise seen from the passage, so it points into the passage).
 
 mod build;
+mod frustum;
 mod morton;
 mod ray;
 
 use rayon::prelude::*;
 
 use crate::mesh::Mesh;
+pub use frustum::Plane;
 pub use ray::closest_on_triangle;
 use ray::{Prepared, box_distance2};
 

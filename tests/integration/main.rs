@@ -7,6 +7,7 @@
 //! `use crate::common;` at its top instead of `mod common;`.
 
 mod camera_haze;
+mod camera_raster;
 mod cameras;
 mod common;
 

@@ -27,6 +27,7 @@ pub mod haze;
 pub mod lens;
 pub mod light;
 pub mod presets;
+pub mod raster;
 pub mod render;
 pub mod scene;
 pub mod sensor;

@@ -1,14 +1,18 @@
-//! Rendering a frame: a ray through every pixel into the scene's hierarchy, the point it
-//! meets lit by each lamp unless something stands between (a shadow ray cast from the point
-//! to the lamp), shaded by its material, turned into the electrons a second its pixel
+//! Rendering a frame: every pixel's first hit in the scene's hierarchy, the point it meets
+//! lit by each lamp unless something stands between (a shadow ray cast from the point to the
+//! lamp), shaded by its material, turned into the electrons a second its pixel
 //! collects; its depth, class and instance beside.
 //!
-//! Why rays rather than a rasteriser: a rasteriser draws straight lines, so a distorted or
-//! fisheye lens needs a second pass that resamples a wider pinhole image; shadows need a depth
-//! map per lamp; a rolling shutter and motion blur need the scene drawn again per row or per
-//! instant. A ray through a pixel takes the lens, the row's instant and the lamps' shadows as
-//! they are, from the one hierarchy the scene builds. What it costs, against the preview's
-//! rasteriser, is measured in `docs/src/cameras.md`.
+//! **First hits rasterised where the lens allows.** A pinhole camera (radial-tangential
+//! distortion) with a global shutter and no motion blur draws the triangles of its view into
+//! an undistorted grid of samples ([`super::raster`]) and tests each pixel's ray against the
+//! triangles that grid says it can meet: the same hit as a cast through the hierarchy, found
+//! with a few triangle tests instead of a traversal. A fisheye (no pinhole grid holds 180
+//! degrees), a rolling shutter (a pose per row) and motion blur (five poses a pixel) keep a
+//! ray through every pixel. Shadows are rays in every case: drawing each lamp's view the same
+//! way (tried: every pixel's own shadow from two lamp rasters) cost more CPU than the shared
+//! shadow rays below (cave, stereo, 3 s: about 19 against 16 CPU seconds). Measured in
+//! `docs/src/cameras.md`.
 //!
 //! **Time.** A frame is stamped at the middle of its exposure. With a global shutter every row
 //! is seen from the pose at the stamp; with a rolling shutter row `r` of `h` is seen from the
@@ -24,7 +28,9 @@ use subtgraph_core::raycast::Tracer;
 use subtgraph_core::vec3::{V3, dot};
 
 use super::haze::Air;
+use super::lens::Distortion;
 use super::light::{PlacedLamp, Rig};
+use super::raster::{Grid, Raster};
 use super::scene::CameraScene;
 use super::sensor::{electrons_per_nit_second, vignetting};
 use super::shade::{self, Surface};
@@ -55,6 +61,9 @@ pub struct Pixels {
     pub response: Vec<f32>,
     /// Radians a pixel spans at the image's centre.
     pub pixel_angle: f64,
+    /// For a pinhole lens with a global shutter: the undistorted grid its first hits are
+    /// rasterised into, and each pixel's first sample there ([`Grid::around`]).
+    pub grid: Option<(Grid, Vec<u32>)>,
 }
 
 impl Pixels {
@@ -86,12 +95,22 @@ impl Pixels {
                 }
             }
         }
+        let pinhole = matches!(lens.distortion, Distortion::RadTan { .. })
+            && model.shutter == Shutter::Global;
+        let grid = pinhole
+            .then(|| {
+                let step = [1.0 / lens.focal[0], 1.0 / lens.focal[1]];
+                let anchor = [-lens.centre[0] * step[0], -lens.centre[1] * step[1]];
+                Grid::around(&rays, step, anchor)
+            })
+            .flatten();
         Pixels {
             width: w,
             height: h,
             rays,
             response,
             pixel_angle: 1.0 / lens.focal[0].max(lens.focal[1]),
+            grid,
         }
     }
 }
@@ -112,6 +131,18 @@ pub struct Shot {
     /// Each sampled pixel's shadows: bit `2k` set when lamp `k` was tested, bit `2k + 1`
     /// when its light is blocked.
     shadows: Vec<u8>,
+    /// The first hits drawn by the rasteriser.
+    raster: Raster,
+}
+
+impl Shot {
+    /// The triangle pixel `k` (`y * width + x`) sees first (the scene's index, as
+    /// [`CameraScene::class`] counts them), with its distance along the pixel's unit ray,
+    /// metres; `None` when it sees nothing.
+    pub fn first_hit(&self, k: usize) -> Option<(u32, f32)> {
+        let h = self.hits.get(k)?;
+        (h.t > 0.0).then_some((h.triangle, h.t))
+    }
 }
 
 /// A pixel's first hit.
@@ -204,12 +235,13 @@ impl<'a> Renderer<'a> {
     /// Renders camera `c`'s frame stamped `stamp`, exposed `exposure_s` (for motion blur),
     /// into `out`.
     ///
-    /// Three passes over the rows: every pixel's first hit; the shadow rays of every other
-    /// pixel of every other row; then each pixel shaded, its shadows those of the sampled
-    /// pixels around it where they agree and lie at its depth, else its own rays. A shadow
-    /// narrower than two pixels that falls between samples that all see the lamp is missed;
-    /// every other pixel's light is what its own shadow ray would give. With motion blur each
-    /// instant's pixel casts its own.
+    /// Three passes over the rows: every pixel's first hit (rasterised where the camera has
+    /// a grid, [`Pixels::grid`]); the shadow rays of every other pixel of every other row;
+    /// then each pixel shaded, its shadows those of the sampled pixels around it where they
+    /// agree and lie at its depth, else its own rays. A shadow narrower than two pixels that
+    /// falls between samples that all see the lamp is missed; every other pixel's light is
+    /// what its own shadow ray would give. With motion blur each instant's pixel casts its
+    /// own.
     pub fn render(&self, c: usize, stamp: f64, exposure_s: f64, out: &mut Shot) {
         let px = &self.pixels[c];
         let n = px.width * px.height;
@@ -226,67 +258,8 @@ impl<'a> Renderer<'a> {
         let w = px.width;
         let chunk = ROWS_PER_TASK * w;
         // First hits.
-        out.hits
-            .par_chunks_mut(chunk)
-            .zip(out.depth.par_chunks_mut(chunk))
-            .zip(out.class.par_chunks_mut(chunk))
-            .zip(out.instance.par_chunks_mut(chunk))
-            .enumerate()
-            .for_each(|(task, (((hits, depth), class), instance))| {
-                let mut tracer = self.scene.caster.tracer();
-                for (r, hits) in hits.chunks_mut(w).enumerate() {
-                    let y = task * ROWS_PER_TASK + r;
-                    let camera = self.camera_pose(c, self.row_time(c, stamp, y));
-                    for (i, h) in hits.iter_mut().enumerate() {
-                        let k = y * w + i;
-                        let ray = px.rays[k].map(f64::from);
-                        let at = r * w + i;
-                        let hit = (ray != [0.0; 3])
-                            .then(|| {
-                                tracer.cast(camera.translation, mul(&camera.rotation, ray), FAR)
-                            })
-                            .flatten();
-                        match hit {
-                            Some(hit) => {
-                                *h = PixelHit {
-                                    t: hit.t as f32,
-                                    triangle: hit.triangle,
-                                    normal: hit.normal,
-                                };
-                                depth[at] = (hit.t * ray[2]) as f32;
-                                class[at] = self.scene.class[hit.triangle as usize];
-                                instance[at] = self.scene.instance[hit.triangle as usize];
-                            }
-                            None => {
-                                *h = PixelHit::default();
-                                depth[at] = 0.0;
-                                class[at] = 0;
-                                instance[at] = 0;
-                            }
-                        }
-                    }
-                }
-            });
-        // Shadow rays of the sampled pixels.
-        let hits = &out.hits;
-        out.shadows
-            .par_chunks_mut(chunk)
-            .enumerate()
-            .for_each(|(task, shadows)| {
-                let mut tracer = self.scene.caster.tracer();
-                for (r, row) in shadows.chunks_mut(w).enumerate() {
-                    let y = task * ROWS_PER_TASK + r;
-                    row.fill(0);
-                    if y % 2 != 0 {
-                        continue;
-                    }
-                    let view = self.view(c, self.row_time(c, stamp, y));
-                    for x in (0..w).step_by(2) {
-                        let k = y * w + x;
-                        row[x] = self.shadow_bits(px, k, &view, hits[k], &mut tracer);
-                    }
-                }
-            });
+        self.first_hits(c, stamp, out);
+        self.sampled_shadows(c, stamp, out);
         // Shading.
         let (hits, shadows, depth) = (&out.hits, &out.shadows, &out.depth);
         out.signal
@@ -327,6 +300,104 @@ impl<'a> Renderer<'a> {
                         };
                         let scale = f64::from(px.response[k]);
                         *s = l.map(|v| (v * scale) as f32);
+                    }
+                }
+            });
+    }
+
+    /// Every pixel's first hit, depth, class and instance: rasterised where the camera has a
+    /// grid ([`Pixels::grid`]), a ray through each pixel otherwise.
+    fn first_hits(&self, c: usize, stamp: f64, out: &mut Shot) {
+        let px = &self.pixels[c];
+        let w = px.width;
+        let chunk = ROWS_PER_TASK * w;
+        let caster = &*self.scene.caster;
+        let drawn = px.grid.as_ref().map(|(grid, base)| {
+            out.raster
+                .draw(caster, grid, &self.camera_pose(c, stamp), FAR);
+            (&out.raster, base)
+        });
+        out.hits
+            .par_chunks_mut(chunk)
+            .zip(out.depth.par_chunks_mut(chunk))
+            .zip(out.class.par_chunks_mut(chunk))
+            .zip(out.instance.par_chunks_mut(chunk))
+            .enumerate()
+            .for_each(|(task, (((hits, depth), class), instance))| {
+                let mut tracer = caster.tracer();
+                for (r, hits) in hits.chunks_mut(w).enumerate() {
+                    let y = task * ROWS_PER_TASK + r;
+                    let camera = self.camera_pose(c, self.row_time(c, stamp, y));
+                    for (i, h) in hits.iter_mut().enumerate() {
+                        let k = y * w + i;
+                        let ray = px.rays[k].map(f64::from);
+                        let at = r * w + i;
+                        let hit = if ray == [0.0; 3] {
+                            None
+                        } else {
+                            let (o, d) = (camera.translation, mul(&camera.rotation, ray));
+                            match drawn {
+                                Some((raster, base)) => {
+                                    // The candidates' nearest hit, when no other triangle can
+                                    // be nearer; else the whole cast.
+                                    let near = raster.candidates(base[k]);
+                                    if near.count == 0 {
+                                        None
+                                    } else {
+                                        caster
+                                            .hit_slots(o, d, near.slots(), FAR)
+                                            .filter(|h| near.settles(h.t * ray[2]))
+                                            .or_else(|| tracer.cast(o, d, FAR))
+                                    }
+                                }
+                                None => tracer.cast(o, d, FAR),
+                            }
+                        };
+                        match hit {
+                            Some(hit) => {
+                                *h = PixelHit {
+                                    t: hit.t as f32,
+                                    triangle: hit.triangle,
+                                    normal: hit.normal,
+                                };
+                                depth[at] = (hit.t * ray[2]) as f32;
+                                class[at] = self.scene.class[hit.triangle as usize];
+                                instance[at] = self.scene.instance[hit.triangle as usize];
+                            }
+                            None => {
+                                *h = PixelHit::default();
+                                depth[at] = 0.0;
+                                class[at] = 0;
+                                instance[at] = 0;
+                            }
+                        }
+                    }
+                }
+            });
+    }
+
+    /// The shadow rays of every other pixel of every other row, for the shading pass to share
+    /// ([`Shared`]).
+    fn sampled_shadows(&self, c: usize, stamp: f64, out: &mut Shot) {
+        let px = &self.pixels[c];
+        let w = px.width;
+        let chunk = ROWS_PER_TASK * w;
+        let hits = &out.hits;
+        out.shadows
+            .par_chunks_mut(chunk)
+            .enumerate()
+            .for_each(|(task, shadows)| {
+                let mut tracer = self.scene.caster.tracer();
+                for (r, row) in shadows.chunks_mut(w).enumerate() {
+                    let y = task * ROWS_PER_TASK + r;
+                    row.fill(0);
+                    if y % 2 != 0 {
+                        continue;
+                    }
+                    let view = self.view(c, self.row_time(c, stamp, y));
+                    for x in (0..w).step_by(2) {
+                        let k = y * w + x;
+                        row[x] = self.shadow_bits(px, k, &view, hits[k], &mut tracer);
                     }
                 }
             });
