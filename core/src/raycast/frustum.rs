@@ -81,13 +81,7 @@ impl RayCaster {
     /// [`cast`](RayCaster::cast) reports when that triangle is the first it meets.
     #[inline]
     pub fn hit_slot(&self, origin: [f64; 3], dir: [f64; 3], slot: u32, max: f64) -> Option<Hit> {
-        if max.is_nan() || max <= 0.0 {
-            return None;
-        }
-        let ray = Prepared::new(origin, dir)?;
-        let k = slot as usize;
-        ray.triangle(&self.vertices[k], max as f32)
-            .map(|t| self.hit(k, t, origin, dir))
+        self.hit_slots(origin, dir, &[slot], max)
     }
 
     /// The ray against the triangles in `slots` alone: the nearest hit within `max`, the
