@@ -23,6 +23,8 @@
 //! Rows are rendered in parallel; everything drawn at random is hashed from the seed, frame,
 //! camera and pixel, so a frame is the same on any number of threads.
 
+use std::sync::Mutex;
+
 use rayon::prelude::*;
 use subtgraph_core::raycast::Tracer;
 use subtgraph_core::vec3::{V3, dot};
@@ -131,8 +133,6 @@ pub struct Shot {
     /// Each sampled pixel's shadows: bit `2k` set when lamp `k` was tested, bit `2k + 1`
     /// when its light is blocked.
     shadows: Vec<u8>,
-    /// The first hits drawn by the rasteriser.
-    raster: Raster,
 }
 
 impl Shot {
@@ -175,6 +175,10 @@ pub struct Renderer<'a> {
     pub motion_blur: bool,
     /// Dust, fog or mist to look through (`sense --conditions`; see [`super::haze`]).
     pub air: Option<&'a Active<'a>>,
+    /// The rasteriser's buffers, one set for every camera: a frame's cameras render one after
+    /// another, and the buffers are scratch (each camera's first hits are read out of them
+    /// into its [`Shot`] before the next draws).
+    raster: Mutex<Raster>,
 }
 
 impl<'a> Renderer<'a> {
@@ -198,6 +202,7 @@ impl<'a> Renderer<'a> {
             pixels,
             motion_blur,
             air: None,
+            raster: Mutex::default(),
         }
     }
 
@@ -312,10 +317,10 @@ impl<'a> Renderer<'a> {
         let w = px.width;
         let chunk = ROWS_PER_TASK * w;
         let caster = &*self.scene.caster;
+        let mut raster = self.raster.lock().unwrap_or_else(|e| e.into_inner());
         let drawn = px.grid.as_ref().map(|(grid, base)| {
-            out.raster
-                .draw(caster, grid, &self.camera_pose(c, stamp), FAR);
-            (&out.raster, base)
+            raster.draw(caster, grid, &self.camera_pose(c, stamp), FAR);
+            (&*raster, base)
         });
         out.hits
             .par_chunks_mut(chunk)
