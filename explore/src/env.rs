@@ -251,6 +251,7 @@ impl Env {
             dt: 1.0 / self.options.control_hz,
             seed: self.seed,
             noiseless: self.options.noiseless,
+            split_scans: false,
         };
         let all: Vec<u64> = (0..self.options.lidar.columns as u64).collect();
         let _ = self.robot.sense(&kit, 0.0, &all, self.options.build_map);
@@ -274,6 +275,7 @@ impl Env {
             dt: 1.0 / self.options.control_hz,
             seed: self.seed,
             noiseless: self.options.noiseless,
+            split_scans: false,
         };
         let stepped: Stepped =
             self.robot

@@ -77,11 +77,69 @@ pub enum ExploreError {
 
 impl ExploreError {
     /// A number out of its bounds.
-    pub fn bounds(what: impl Into<String>, value: impl ToString, bounds: &str) -> ExploreError {
+    pub fn bounds(what: impl Into<String>, value: impl Quoted, bounds: &str) -> ExploreError {
         ExploreError::OutOfBounds {
             what: what.into(),
-            value: value.to_string(),
+            value: value.quoted(),
             bounds: bounds.to_owned(),
         }
+    }
+}
+
+/// A value as a message quotes it back to the user.
+pub trait Quoted {
+    /// The value as shown.
+    fn quoted(&self) -> String;
+}
+
+/// Whole numbers as they are.
+macro_rules! quoted_as_written {
+    ($($t:ty),*) => {$(
+        impl Quoted for $t {
+            fn quoted(&self) -> String {
+                self.to_string()
+            }
+        }
+    )*};
+}
+quoted_as_written!(usize, u32, u64, i32, i64);
+
+/// Decimals as [`subtgraph_core::error::number`] shows them (`--duration 1e308` is quoted as
+/// `1e308`, not 309 digits), except that a value it would round to 0 is shown in scientific
+/// notation (`1e-9`): the user gave something other than 0, and the message must say what.
+impl Quoted for f64 {
+    fn quoted(&self) -> String {
+        let shown = subtgraph_core::error::number(*self);
+        if shown == "0" && *self != 0.0 {
+            format!("{self:e}")
+        } else {
+            shown
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn values_out_of_bounds_are_quoted_short_and_never_as_zero() {
+        for (value, shown) in [
+            (1e308, "1e308"),
+            (f64::MAX, "1.797693e308"),
+            (1e-9, "1e-9"),
+            (-2.5e-7, "-2.5e-7"),
+            (0.0, "0"),
+            (f64::NAN, "NaN"),
+            (86_400.5, "86400.5"),
+        ] {
+            let e = ExploreError::bounds("--duration", value, "at most 86400 seconds");
+            assert_eq!(
+                e.to_string(),
+                format!("--duration is {shown}; it must be at most 86400 seconds")
+            );
+        }
+        let e = ExploreError::bounds("--robots", 17usize, "1 to 16");
+        assert_eq!(e.to_string(), "--robots is 17; it must be 1 to 16");
     }
 }

@@ -31,6 +31,9 @@ use crate::error::ExploreError;
 /// Columns a turn of a spinning model's scan by default: one every 2 degrees.
 pub const DEFAULT_COLUMNS: usize = 180;
 
+/// Rays a part of a split scan holds ([`Lidar::scan`]).
+const SPLIT_RAYS: usize = 720;
+
 /// A LiDAR model as the loop casts it.
 #[derive(Clone, Debug)]
 pub struct Lidar {
@@ -204,7 +207,10 @@ impl Lidar {
 
     /// Casts the absolute columns `columns` from a sensor at `origin` turned by `rotation`
     /// (sensor to world) into `caster`, noise drawn from `seed` unless `noiseless`; `frame`
-    /// keeps a non-repeating pattern's frame between calls.
+    /// keeps a non-repeating pattern's frame between calls. With `split`, the rays are cast
+    /// in parts on rayon's threads (a mission's robots share two cores unevenly: three robots
+    /// on two threads leave one idle a third of the time unless it can take part of a scan);
+    /// each ray is cast alone, so the scan is the same either way.
     #[allow(clippy::too_many_arguments)]
     pub fn scan(
         &self,
@@ -215,6 +221,7 @@ impl Lidar {
         seed: u64,
         noiseless: bool,
         frame: &mut (u64, Vec<[f64; 3]>),
+        split: bool,
         out: &mut Scan,
     ) {
         let rings = self.rings;
@@ -224,40 +231,79 @@ impl Lidar {
         out.columns.extend_from_slice(columns);
         out.dirs.resize(n, [0.0; 3]);
         out.ranges.resize(n, 0.0);
-        let [near, far] = self.model.range_m;
-        let cos_grazing = self.model.grazing_deg.to_radians().cos();
-        let sigma = if noiseless {
-            0.0
-        } else {
-            self.model.range_noise_m
-        };
-        let mut tracer = caster.tracer();
         let mut beams = vec![[0.0; 3]; rings];
         for (j, &c) in columns.iter().enumerate() {
             self.column_beams(c, frame, &mut beams);
-            let turn = c / self.columns as u64;
-            let col = c % self.columns as u64;
             for (r, beam) in beams.iter().enumerate() {
-                let k = j * rings + r;
-                let d = mul(rotation, *beam);
-                out.dirs[k] = d;
-                out.ranges[k] = 0.0;
-                let Some(hit) = tracer.cast(origin, d, far) else {
-                    continue;
-                };
-                let nrm = hit.normal.map(f64::from);
-                let cos = (nrm[0] * d[0] + nrm[1] * d[1] + nrm[2] * d[2]).abs();
-                if hit.t < near || cos < cos_grazing {
-                    continue;
-                }
-                let range = if sigma > 0.0 {
-                    let key = (col * rings as u64 + r as u64) | (turn << 32);
-                    (hit.t + sigma * noise::normal(seed, key)).max(near)
-                } else {
-                    hit.t
-                };
-                out.ranges[k] = range as f32;
+                out.dirs[j * rings + r] = mul(rotation, *beam);
             }
         }
+        let cut = Cut {
+            range_m: self.model.range_m,
+            cos_grazing: self.model.grazing_deg.to_radians().cos(),
+            sigma: if noiseless {
+                0.0
+            } else {
+                self.model.range_noise_m
+            },
+            seed,
+        };
+        let cast = |first: usize, ranges: &mut [f32]| {
+            let mut tracer = caster.tracer();
+            for (i, range) in ranges.iter_mut().enumerate() {
+                let k = first + i;
+                let column = columns[k / rings];
+                *range = self.range(&mut tracer, origin, out.dirs[k], column, k % rings, &cut);
+            }
+        };
+        if split && n >= 2 * SPLIT_RAYS {
+            use rayon::prelude::*;
+            out.ranges
+                .par_chunks_mut(SPLIT_RAYS)
+                .enumerate()
+                .for_each(|(i, part)| cast(i * SPLIT_RAYS, part));
+        } else {
+            cast(0, &mut out.ranges);
+        }
     }
+
+    /// The range ray `ring` of absolute column `column` measures along `d` (world frame) from
+    /// `origin`; 0 without a return.
+    fn range(
+        &self,
+        tracer: &mut subtgraph_core::raycast::Tracer<'_>,
+        origin: [f64; 3],
+        d: [f64; 3],
+        column: u64,
+        ring: usize,
+        cut: &Cut,
+    ) -> f32 {
+        let [near, far] = cut.range_m;
+        let Some(hit) = tracer.cast(origin, d, far) else {
+            return 0.0;
+        };
+        let nrm = hit.normal.map(f64::from);
+        let cos = (nrm[0] * d[0] + nrm[1] * d[1] + nrm[2] * d[2]).abs();
+        if hit.t < near || cos < cut.cos_grazing {
+            return 0.0;
+        }
+        let range = if cut.sigma > 0.0 {
+            let turn = column / self.columns as u64;
+            let col = column % self.columns as u64;
+            let key = (col * self.rings as u64 + ring as u64) | (turn << 32);
+            (hit.t + cut.sigma * noise::normal(cut.seed, key)).max(near)
+        } else {
+            hit.t
+        };
+        range as f32
+    }
+}
+
+/// What a scan's returns are held to: the model's ranges, its grazing cut-off (as a cosine),
+/// its range noise (0: none) and the noise's seed.
+struct Cut {
+    range_m: [f64; 2],
+    cos_grazing: f64,
+    sigma: f64,
+    seed: u64,
 }

@@ -140,6 +140,11 @@ pub struct VoxelMap {
     stamps: Vec<u64>,
     /// Advanced by [`VoxelMap::mark`]: what changed after a mark has a later stamp.
     clock: u64,
+    /// Per chunk, [`VoxelMap::edits`] when its voxels or heights last changed (entering
+    /// alone does not count): what a planner kept of a chunk stands while this is no later.
+    edited: Vec<u64>,
+    /// Changes made so far, counted one by one.
+    edits: u64,
     /// Voxels known free.
     pub free: u64,
     /// Voxels known occupied.
@@ -179,6 +184,8 @@ impl VoxelMap {
             tops: Vec::new(),
             stamps: Vec::new(),
             clock: 0,
+            edited: Vec::new(),
+            edits: 0,
             free: 0,
             occupied: 0,
         })
@@ -226,10 +233,45 @@ impl VoxelMap {
             self.coords.push(c);
             self.tops.push([0; 512]);
             self.stamps.push(0);
+            self.edited.push(0);
         }
         let i = *entry;
         self.stamps[i as usize] = self.clock;
         i
+    }
+
+    /// Counts a change to chunk `i`'s voxels or heights.
+    fn edit(&mut self, i: usize) {
+        self.edits += 1;
+        self.edited[i] = self.edits;
+    }
+
+    /// Changes to voxels and heights made so far (each counted; see [`VoxelMap::edited_near`]).
+    pub fn edits(&self) -> u64 {
+        self.edits
+    }
+
+    /// The latest of [`VoxelMap::edits`] at which chunk `c` (chunk coordinates: a voxel's over
+    /// eight) or one of the 26 around it changed; 0 when none has since the map began. What was
+    /// worked out from the voxels within three of a chunk when the count was `n` stands while
+    /// this is at most `n`.
+    pub fn edited_near(&self, c: [i32; 3]) -> u64 {
+        let span = self.grid.n.map(|n| n.div_ceil(SIDE as usize) as i32);
+        let mut latest = 0;
+        for dz in -1..=1 {
+            for dy in -1..=1 {
+                for dx in -1..=1 {
+                    let d = [c[0] + dx, c[1] + dy, c[2] + dz];
+                    if (0..3).any(|a| d[a] < 0 || d[a] >= span[a]) {
+                        continue;
+                    }
+                    if let Some(i) = self.find(d) {
+                        latest = latest.max(self.edited[i as usize]);
+                    }
+                }
+            }
+        }
+        latest
     }
 
     /// Chunks allocated.
@@ -268,20 +310,17 @@ impl VoxelMap {
         self.get(v) == Voxel::Free
     }
 
-    fn chunk_mut(&mut self, c: [i32; 3]) -> &mut Chunk {
-        let i = self.find_or_add(c);
-        &mut self.chunks[i as usize]
-    }
-
     /// Marks `v` free (unless occupied); returns whether it was unknown.
     pub fn set_free(&mut self, v: [i32; 3]) -> bool {
         let (c, layer, bit) = split(v);
-        let ch = self.chunk_mut(c);
+        let i = self.find_or_add(c) as usize;
+        let ch = &mut self.chunks[i];
         let new = (ch.free[layer] | ch.occupied[layer]) & bit == 0;
         if new {
             // An occupied voxel stays occupied (and out of the free list).
             ch.free[layer] |= bit;
             self.free += 1;
+            self.edit(i);
         }
         new
     }
@@ -289,7 +328,8 @@ impl VoxelMap {
     /// Marks `v` occupied; returns whether it was not.
     pub fn set_occupied(&mut self, v: [i32; 3]) -> bool {
         let (c, layer, bit) = split(v);
-        let ch = self.chunk_mut(c);
+        let i = self.find_or_add(c) as usize;
+        let ch = &mut self.chunks[i];
         let was_free = ch.free[layer] & bit != 0;
         let new = ch.occupied[layer] & bit == 0;
         ch.occupied[layer] |= bit;
@@ -299,6 +339,7 @@ impl VoxelMap {
             if was_free {
                 self.free -= 1;
             }
+            self.edit(i);
         }
         new
     }
@@ -311,6 +352,7 @@ impl VoxelMap {
         let i = self.find_or_add(c) as usize;
         let slot = (v[0] & 7) as usize | (((v[1] & 7) as usize) << 3) | (layer << 6);
         let t = &mut self.tops[i][slot];
+        let higher = q > *t;
         *t = (*t).max(q);
         let ch = &mut self.chunks[i];
         let was_free = ch.free[layer] & bit != 0;
@@ -322,6 +364,9 @@ impl VoxelMap {
             if was_free {
                 self.free -= 1;
             }
+        }
+        if new || higher {
+            self.edit(i);
         }
         new
     }
@@ -437,6 +482,7 @@ impl VoxelMap {
         if (ch.free[layer] | ch.occupied[layer]) & bit == 0 {
             ch.free[layer] |= bit;
             self.free += 1;
+            self.edit(i as usize);
         }
     }
 
@@ -497,6 +543,7 @@ impl VoxelMap {
             }
             if changed {
                 self.stamps[i] = self.clock;
+                self.edit(i);
             }
         }
     }
@@ -637,6 +684,48 @@ mod tests {
         }
         assert_eq!((ab.free, ab.occupied), (ba.free, ba.occupied));
         assert_eq!(ab.get([0, 0, 0]), Voxel::Occupied);
+    }
+
+    #[test]
+    fn every_change_and_only_a_change_is_counted_where_it_was_made() {
+        let mut map = VoxelMap::new(grid(), 1 << 30).unwrap();
+        let far = [4, 4, 2];
+        assert_eq!(map.edited_near(far), 0);
+        // A ray's free voxels alone (its end already occupied, no higher).
+        map.set_occupied_at([12, 2, 2], 1.3);
+        let scan = Scan {
+            origin: [1.25, 1.25, 1.25],
+            dirs: vec![[1.0, 0.0, 0.0]],
+            ranges: vec![5.0],
+            columns: vec![0],
+        };
+        let before = map.edited_near([0, 0, 0]);
+        map.insert(&scan);
+        let after = map.edited_near([0, 0, 0]);
+        assert!(after > before, "{before} {after}");
+        // The same scan again changes nothing.
+        map.insert(&scan);
+        assert_eq!(map.edited_near([0, 0, 0]), after);
+        // A higher return in an occupied voxel is a change; a lower one is not.
+        map.set_occupied_at([12, 2, 2], 1.4);
+        let higher = map.edited_near([1, 0, 0]);
+        assert!(higher > after);
+        map.set_occupied_at([12, 2, 2], 1.2);
+        assert_eq!(map.edited_near([1, 0, 0]), higher);
+        // A voxel freed alone, and a voxel taken from another map.
+        map.set_free([3, 5, 2]);
+        assert!(map.edited_near([0, 0, 0]) > higher);
+        let mut other = VoxelMap::new(grid(), 1 << 30).unwrap();
+        other.set_occupied([30, 30, 10]);
+        let e = map.edits();
+        map.merge(&other);
+        assert!(map.edited_near(far) > e);
+        // Chunks more than one away from a change see none.
+        assert_eq!(map.edited_near([0, 4, 0]), 0);
+        // Merging the same again changes nothing.
+        let e = map.edits();
+        map.merge(&other);
+        assert_eq!(map.edits(), e);
     }
 
     #[test]

@@ -231,11 +231,27 @@ impl Mission {
     }
 
     /// Runs to the end, telling `progress` the simulated seconds now and then.
+    ///
+    /// Between radio instants the robots do not hear each other, so each runs the steps up to
+    /// the next instant on its own thread: the same steps as [`Mission::step`] one at a time,
+    /// without waiting for the slowest robot at every step (a robot planning takes ten times a
+    /// step's time, and the others would idle).
     pub fn run(&mut self, progress: &dyn Fn(f64)) {
         let total = self.total_steps();
         self.radio();
         while self.steps < total {
-            self.step();
+            let dt = 1.0 / self.options.control_hz;
+            // The steps until the radio is due, or the next progress report, or the end.
+            let mut last = self.steps + 1;
+            while last < total && last % 600 != 0 && (last as f64 * dt) + 1e-9 < self.next_radio {
+                last += 1;
+            }
+            self.robots_step(self.steps..last);
+            self.steps = last;
+            self.time = last as f64 * dt;
+            if self.time + 1e-9 >= self.next_radio {
+                self.radio();
+            }
             if self.steps % 600 == 0 {
                 progress(self.time);
             }
@@ -245,7 +261,18 @@ impl Mission {
     /// One control step of every robot, and the radio when due.
     pub fn step(&mut self) {
         let dt = 1.0 / self.options.control_hz;
-        let t = (self.steps + 1) as f64 * dt;
+        self.robots_step(self.steps..self.steps + 1);
+        self.steps += 1;
+        self.time = self.steps as f64 * dt;
+        if self.time + 1e-9 >= self.next_radio {
+            self.radio();
+        }
+    }
+
+    /// Control steps `steps` of every robot (the radio not due before the last), each robot
+    /// on a thread of its own.
+    fn robots_step(&mut self, steps: std::ops::Range<u64>) {
+        let dt = 1.0 / self.options.control_hz;
         let kit = Kit {
             site: &self.site,
             body: &self.options.body,
@@ -254,39 +281,44 @@ impl Mission {
             dt,
             seed: self.options.seed,
             noiseless: self.options.noiseless,
+            split_scans: true,
         };
         let policy = self.options.policy;
-        let step = self.steps;
         let seed = self.options.seed;
-        let now = self.time;
+        let first_now = self.time;
         self.robots.par_iter_mut().for_each(|r| {
-            let command = match policy {
-                Policy::Frontier => {
-                    let claimed: Vec<[f64; 3]> = r.heard_goals.iter().flatten().copied().collect();
-                    let must_report = r.pending().any(|p| now - p.detected >= RETURN_AFTER_S);
-                    let trail: Vec<[f64; 3]> = r.trail.iter().copied().collect();
-                    let s = Situation {
-                        trail: &trail,
-                        blocked: &r.blocked,
-                        time: now,
-                        body: kit.body,
-                        state: &r.state,
-                        map: &r.map,
-                        claimed: &claimed,
-                        must_report,
-                        last_link: r.last_link,
-                    };
-                    r.planner.command(&s)
-                }
-                Policy::Random => random_command(kit.body, seed, r.id, step),
-            };
-            r.advance(&kit, command, t, step);
+            for step in steps.clone() {
+                // The time now as `step` has always set it: after step s, (s + 1) x dt.
+                let now = if step == steps.start {
+                    first_now
+                } else {
+                    step as f64 * dt
+                };
+                let t = (step + 1) as f64 * dt;
+                let command = match policy {
+                    Policy::Frontier => {
+                        let claimed: Vec<[f64; 3]> =
+                            r.heard_goals.iter().flatten().copied().collect();
+                        let must_report = r.pending().any(|p| now - p.detected >= RETURN_AFTER_S);
+                        let trail: Vec<[f64; 3]> = r.trail.iter().copied().collect();
+                        let s = Situation {
+                            trail: &trail,
+                            blocked: &r.blocked,
+                            time: now,
+                            body: kit.body,
+                            state: &r.state,
+                            map: &r.map,
+                            claimed: &claimed,
+                            must_report,
+                            last_link: r.last_link,
+                        };
+                        r.planner.command(&s)
+                    }
+                    Policy::Random => random_command(kit.body, seed, r.id, step),
+                };
+                r.advance(&kit, command, t, step);
+            }
         });
-        self.steps += 1;
-        self.time = t;
-        if self.time + 1e-9 >= self.next_radio {
-            self.radio();
-        }
     }
 
     /// The radio instant: links, deliveries, merged maps, heard goals, breadcrumbs.

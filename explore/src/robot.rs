@@ -32,6 +32,9 @@ pub struct Kit<'a> {
     pub seed: u64,
     /// No range noise.
     pub noiseless: bool,
+    /// Scans cast in parts on rayon's threads ([`Lidar::scan`]): what a mission of several
+    /// robots wants, not an environment stepped on one thread.
+    pub split_scans: bool,
 }
 
 /// A pose of the trajectory: time, position, yaw, pitch, roll.
@@ -265,6 +268,7 @@ impl Robot {
             kit.seed ^ (self.id as u64).wrapping_mul(0x9e37_79b9_7f4a_7c15),
             kit.noiseless,
             &mut self.frame,
+            kit.split_scans,
             &mut self.scan,
         );
         self.rays += self.scan.dirs.len() as u64;

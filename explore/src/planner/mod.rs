@@ -29,6 +29,8 @@
 //! no frontier left it goes back there too and waits.
 
 pub mod follow;
+pub mod places;
+pub mod queue;
 pub mod space;
 
 use rustc_hash::FxHashMap;
@@ -83,6 +85,10 @@ pub struct Planner {
     progress: (f64, [f64; 3]),
     backing_until: f64,
     retrace: Vec<[f64; 3]>,
+    /// What it keeps of its map between plans.
+    places: places::Places,
+    /// The last search, its tables kept for the next (cleared, not freed).
+    search: Search,
 }
 
 /// What a plan is asked with.
@@ -118,6 +124,8 @@ impl Default for Planner {
             progress: (0.0, [f64::NAN; 3]),
             backing_until: f64::NEG_INFINITY,
             retrace: Vec::new(),
+            places: places::Places::default(),
+            search: Search::default(),
         }
     }
 }
@@ -155,17 +163,19 @@ impl Planner {
 
     /// Plans: a frontier to explore, or the way back to a link.
     fn plan(&mut self, s: &Situation<'_>) {
-        let space = Space::around(s.map, s.body, s.state.position, s.blocked);
+        let space =
+            Space::around(s.map, s.body, s.state.position, s.blocked).keeping(&mut self.places);
         let Some(start) = space.place_near(s.state.position) else {
             self.goal = None;
             self.path.clear();
             return;
         };
-        let mut search = search(&space, start);
+        let search = &mut self.search;
+        search.run(&space, start);
         let explore = if s.must_report {
             None
         } else {
-            best_frontier(&space, &mut search, s, &self.set_aside)
+            best_frontier(&space, search, s, &self.set_aside)
         };
         let target = match explore {
             Some(t) => {
@@ -196,6 +206,7 @@ impl Planner {
 
 /// What Dijkstra's search found: each place's path length and parent, and the frontier
 /// places in the order met, grouped.
+#[derive(Clone, Debug, Default)]
 struct Search {
     cost: FxHashMap<u64, (u32, u64)>,
     frontiers: Vec<(Place, u32)>,
@@ -203,6 +214,10 @@ struct Search {
     parent: Vec<usize>,
     /// Each group root's size.
     size: Vec<usize>,
+    /// Each frontier place's index in `frontiers`, by key.
+    index: FxHashMap<u64, usize>,
+    /// The places to visit, nearest first.
+    queue: queue::Queue,
 }
 
 impl Search {
@@ -216,17 +231,17 @@ impl Search {
 
     /// Adds a frontier place, joining it to the groups of its frontier neighbours
     /// (26-connected); returns its group's size.
-    fn add_frontier(&mut self, p: Place, c: u32, index: &mut FxHashMap<u64, usize>) -> usize {
+    fn add_frontier(&mut self, p: Place, c: u32) -> usize {
         let i = self.frontiers.len();
         self.frontiers.push((p, c));
         self.parent.push(i);
         self.size.push(1);
-        index.insert(p.key(), i);
+        self.index.insert(p.key(), i);
         for dz in -1..=1 {
             for dy in -1..=1 {
                 for dx in -1..=1 {
                     let q = Place([p.0[0] + dx, p.0[1] + dy, p.0[2] + dz]);
-                    let Some(&j) = index.get(&q.key()) else {
+                    let Some(&j) = self.index.get(&q.key()) else {
                         continue;
                     };
                     let (a, b) = (self.root(i), self.root(j));
@@ -244,57 +259,54 @@ impl Search {
     }
 }
 
-/// Dijkstra's search from `start` over the places, frontier places grouped as they are met. It
-/// stops [`GAIN_CAP`] + [`CLAIMED_PENALTY`] metres of path beyond the first group of
-/// [`MIN_GROUP`] places (no group farther can score better: a group is worth at most
-/// [`GAIN_CAP`]), or at [`SEARCH_LIMIT_M`].
-fn search(space: &Space<'_>, start: Place) -> Search {
-    use std::cmp::Reverse;
-    use std::collections::BinaryHeap;
-    let per_metre = 10.0 / space.voxel();
-    let mut limit = (SEARCH_LIMIT_M * per_metre) as u32;
-    let beyond = ((GAIN_CAP as f64 + CLAIMED_PENALTY) * per_metre) as u32;
-    let mut found = Search {
-        cost: FxHashMap::default(),
-        frontiers: Vec::new(),
-        parent: Vec::new(),
-        size: Vec::new(),
-    };
-    let mut index: FxHashMap<u64, usize> = FxHashMap::default();
-    let mut heap = BinaryHeap::new();
-    let k0 = start.key();
-    found.cost.insert(k0, (0, k0));
-    heap.push(Reverse((0u32, k0)));
-    let mut near = Vec::with_capacity(26);
-    let mut grouped = false;
-    while let Some(Reverse((c, k))) = heap.pop() {
-        if found.cost.get(&k).is_some_and(|&(best, _)| best < c) {
-            continue;
-        }
-        if c > limit {
-            break;
-        }
-        let u = Place::from_key(k);
-        if k != k0 && space.is_frontier(u) {
-            let size = found.add_frontier(u, c, &mut index);
-            if !grouped && size >= MIN_GROUP {
-                grouped = true;
-                limit = limit.min(c.saturating_add(beyond));
+impl Search {
+    /// Dijkstra's search from `start` over the places, frontier places grouped as they are
+    /// met. It stops [`GAIN_CAP`] + [`CLAIMED_PENALTY`] metres of path beyond the first group
+    /// of [`MIN_GROUP`] places (no group farther can score better: a group is worth at most
+    /// [`GAIN_CAP`]), or at [`SEARCH_LIMIT_M`].
+    fn run(&mut self, space: &Space<'_>, start: Place) {
+        let per_metre = 10.0 / space.voxel();
+        let mut limit = (SEARCH_LIMIT_M * per_metre) as u32;
+        let beyond = ((GAIN_CAP as f64 + CLAIMED_PENALTY) * per_metre) as u32;
+        self.cost.clear();
+        self.frontiers.clear();
+        self.parent.clear();
+        self.size.clear();
+        self.index.clear();
+        self.queue.clear();
+        let found = self;
+        let k0 = start.key();
+        found.cost.insert(k0, (0, k0));
+        found.queue.push(0, k0);
+        let mut near = Vec::with_capacity(26);
+        let mut grouped = false;
+        while let Some((c, k)) = found.queue.pop() {
+            if found.cost.get(&k).is_some_and(|&(best, _)| best < c) {
+                continue;
             }
+            if c > limit {
+                break;
+            }
+            let u = Place::from_key(k);
             // Frontier places are ends: the unknown beyond is not driven through.
-            continue;
-        }
-        space.neighbours(u, &mut near);
-        for &(v, step) in &near {
-            let nc = c + step;
-            let kv = v.key();
-            if found.cost.get(&kv).is_none_or(|&(best, _)| nc < best) {
-                found.cost.insert(kv, (nc, k));
-                heap.push(Reverse((nc, kv)));
+            if space.visit(u, k != k0, &mut near) {
+                let size = found.add_frontier(u, c);
+                if !grouped && size >= MIN_GROUP {
+                    grouped = true;
+                    limit = limit.min(c.saturating_add(beyond));
+                }
+                continue;
+            }
+            for &(v, step) in &near {
+                let nc = c + step;
+                let kv = v.key();
+                if found.cost.get(&kv).is_none_or(|&(best, _)| nc < best) {
+                    found.cost.insert(kv, (nc, k));
+                    found.queue.push(nc, kv);
+                }
             }
         }
     }
-    found
 }
 
 impl Search {

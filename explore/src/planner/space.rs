@@ -7,8 +7,12 @@
 //! place when the floor is known under at least [`FLOOR_NEIGHBOURS`] of its eight neighbouring
 //! columns at the same height.
 
+use std::cell::RefCell;
+
 use crate::body::Body;
 use crate::map::{Grid, Voxel, VoxelMap};
+
+use super::places::{Kept, Places, Worked};
 
 /// Known floors around an unknown one that make it a floor too.
 pub const FLOOR_NEIGHBOURS: usize = 3;
@@ -74,7 +78,10 @@ pub struct Space<'a> {
     grade: f64,
     /// Places already asked about during this plan (a search asks of each voxel several
     /// times, once from each neighbour).
-    memo: std::cell::RefCell<rustc_hash::FxHashMap<u64, bool>>,
+    memo: RefCell<rustc_hash::FxHashMap<u64, bool>>,
+    /// What the planner keeps between plans, with the same space without the blind zone
+    /// that works it out ([`Space::keeping`]).
+    kept: Option<(RefCell<&'a mut Places>, Box<Space<'a>>)>,
 }
 
 /// Share of a ground robot's grade limit a move between two known floors may use: the
@@ -95,6 +102,7 @@ impl<'a> Space<'a> {
             blocked: None,
             grade: (GRADE_MARGIN * body.max_grade_deg.to_radians()).tan(),
             memo: Default::default(),
+            kept: None,
         }
     }
 
@@ -119,7 +127,88 @@ impl<'a> Space<'a> {
             blocked: Some(blocked),
             grade: (GRADE_MARGIN * body.max_grade_deg.to_radians()).tan(),
             memo: Default::default(),
+            kept: None,
         }
+    }
+
+    /// The same, answering from what `places` kept of earlier plans where the map has not
+    /// changed since and the answer does not depend on where the robot stands (see
+    /// [`super::places`]): the same answers, worked out once.
+    pub fn keeping(mut self, places: &'a mut Places) -> Space<'a> {
+        places.begin(self.map, self.blocked.map_or(0, |b| b.len()));
+        let far = Space {
+            map: self.map,
+            flies: self.flies,
+            near: None,
+            blocked: self.blocked,
+            grade: self.grade,
+            memo: Default::default(),
+            kept: None,
+        };
+        self.kept = Some((RefCell::new(places), Box::new(far)));
+        self
+    }
+
+    /// What was kept of place `p`, when the answer may come from there: `None` near the
+    /// robot (its answers depend on the blind zone: the voxels they read are within one
+    /// column and one voxel up or down of `p`) and outside the grid.
+    fn kept(&self, p: Place) -> Option<Kept> {
+        let (places, far) = self.kept.as_ref()?;
+        if let Some((c, r)) = self.near {
+            let d = [p.0[0] - c[0], p.0[1] - c[1], p.0[2] - c[2]];
+            if d[2].abs() <= 2 && d[0] * d[0] + d[1] * d[1] <= (r + 2) * (r + 2) {
+                return None;
+            }
+        }
+        if !self.map.grid.contains(p.0) {
+            return None;
+        }
+        Some(places.borrow_mut().get(self.map, p.0, |c| far.work_out(c)))
+    }
+
+    /// The answers of chunk `c` (chunk coordinates) for [`Places`].
+    fn work_out(&self, c: [i32; 3]) -> Worked {
+        let mut w = Worked::default();
+        let mut moves = Vec::with_capacity(8);
+        for (z, word) in w.places.iter_mut().enumerate() {
+            for bit in 0..64 {
+                let p = Place([
+                    c[0] * 8 + (bit & 7),
+                    c[1] * 8 + (bit >> 3),
+                    c[2] * 8 + z as i32,
+                ]);
+                if !self.is_place(p) {
+                    continue;
+                }
+                *word |= 1 << bit;
+                moves.clear();
+                self.moves_now(p, |i, _, rise, rock| moves.push((i, rise, rock)));
+                w.kept
+                    .push(Kept::place(self.is_frontier_now(p), moves.iter().copied()));
+            }
+        }
+        w
+    }
+
+    /// The moves a kept place's answers give out of `p`, with their costs.
+    fn kept_moves(&self, k: Kept, p: Place, out: &mut Vec<(Place, u32)>) {
+        let directions = if self.flies {
+            FACES.len()
+        } else {
+            AROUND.len()
+        };
+        k.moves(directions, |i, rise, rock| {
+            if self.flies {
+                out.push((p.at(FACES[i]), move_cost(true, false, 0, false)));
+            } else {
+                let d = AROUND[i];
+                let diagonal = d[0] != 0 && d[1] != 0;
+                out.push((
+                    p.at([d[0], d[1], rise]),
+                    move_cost(false, diagonal, rise, rock),
+                ));
+            }
+        });
     }
 
     /// Whether `p` is within the blind zone around the robot.
@@ -171,6 +260,14 @@ impl<'a> Space<'a> {
 
     /// Whether a robot can be at `p`.
     pub fn is_place(&self, p: Place) -> bool {
+        if let Some(k) = self.kept(p) {
+            return k.is_place();
+        }
+        self.is_place_now(p)
+    }
+
+    /// [`Space::is_place`] worked out here (once a plan).
+    fn is_place_now(&self, p: Place) -> bool {
         let key = p.key();
         if let Some(&known) = self.memo.borrow().get(&key) {
             return known;
@@ -203,6 +300,14 @@ impl<'a> Space<'a> {
 
     /// Whether the place `p` borders the unknown.
     pub fn is_frontier(&self, p: Place) -> bool {
+        if let Some(k) = self.kept(p).filter(|k| k.is_place()) {
+            return k.is_frontier();
+        }
+        self.is_frontier_now(p)
+    }
+
+    /// [`Space::is_frontier`] worked out here.
+    fn is_frontier_now(&self, p: Place) -> bool {
         if self.flies {
             return FACES.iter().any(|d| self.get(p.at(*d)) == Voxel::Unknown);
         }
@@ -220,19 +325,53 @@ impl<'a> Space<'a> {
         })
     }
 
+    /// What a search does at place `p`: whether it is a frontier (asked only when
+    /// `frontier_ends`), and if not, the places one move away into `out` ([`Space::neighbours`]).
+    pub fn visit(&self, p: Place, frontier_ends: bool, out: &mut Vec<(Place, u32)>) -> bool {
+        out.clear();
+        if let Some(k) = self.kept(p).filter(|k| k.is_place()) {
+            if frontier_ends && k.is_frontier() {
+                return true;
+            }
+            self.kept_moves(k, p, out);
+            return false;
+        }
+        if frontier_ends && self.is_frontier_now(p) {
+            return true;
+        }
+        self.neighbours(p, out);
+        false
+    }
+
     /// The places one move from `p`, with the move's cost in tenths of a voxel.
     pub fn neighbours(&self, p: Place, out: &mut Vec<(Place, u32)>) {
         out.clear();
+        if let Some(k) = self.kept(p).filter(|k| k.is_place()) {
+            self.kept_moves(k, p, out);
+            return;
+        }
+        self.moves_now(p, |_, q, dz, rock| {
+            out.push((
+                q,
+                move_cost(self.flies, q.0[0] != p.0[0] && q.0[1] != p.0[1], dz, rock),
+            ))
+        });
+    }
+
+    /// The moves out of `p` worked out here, in order: each direction's index (in [`AROUND`],
+    /// or [`FACES`] for a flying robot), the place reached, its rise in voxels, and whether
+    /// rock is beside it.
+    fn moves_now(&self, p: Place, mut f: impl FnMut(usize, Place, i32, bool)) {
         if self.flies {
-            for d in FACES {
-                let q = p.at(d);
+            for (i, d) in FACES.iter().enumerate() {
+                let q = p.at(*d);
                 if self.is_place(q) {
-                    out.push((q, 10));
+                    f(i, q, 0, false);
                 }
             }
             return;
         }
-        for d in AROUND {
+        for (i, d) in AROUND.iter().enumerate() {
             let diagonal = d[0] != 0 && d[1] != 0;
             if diagonal {
                 // No cutting a corner of rock.
@@ -267,11 +406,7 @@ impl<'a> Space<'a> {
                     // A voxel up or down with a floor unseen at either end: not taken.
                     break;
                 }
-                let mut cost = if diagonal { 14 } else { 10 } + if dz != 0 { 4 } else { 0 };
-                if self.beside_rock(q) {
-                    cost += BESIDE_ROCK;
-                }
-                out.push((q, cost));
+                f(i, q, dz, self.beside_rock(q));
                 break;
             }
         }
@@ -313,5 +448,162 @@ impl<'a> Space<'a> {
             }
         }
         Some(best.map_or(own, |(_, q)| q))
+    }
+}
+
+/// A move's cost in tenths of a voxel: a step (diagonal: 14), four more a voxel up or down,
+/// [`BESIDE_ROCK`] more onto a place beside rock; a flying robot's steps cost 10.
+pub(super) fn move_cost(flies: bool, diagonal: bool, dz: i32, rock: bool) -> u32 {
+    if flies {
+        return 10;
+    }
+    let mut cost = if diagonal { 14 } else { 10 } + if dz != 0 { 4 } else { 0 };
+    if rock {
+        cost += BESIDE_ROCK;
+    }
+    cost
+}
+
+#[cfg(test)]
+mod tests {
+    use rustc_hash::FxHashSet;
+
+    use super::*;
+    use crate::body::Body;
+
+    /// A number in [0, 1) from a voxel and a round (splitmix64).
+    fn noise(v: [i32; 3], round: u64) -> f64 {
+        let mut z = (v[0] as u64) ^ ((v[1] as u64) << 20) ^ ((v[2] as u64) << 40) ^ (round << 60);
+        z = z.wrapping_add(0x9e37_79b9_7f4a_7c15);
+        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49eb_133d_1111);
+        (z ^ (z >> 31)) as f64 / 2f64.powi(64)
+    }
+
+    /// Carves round `round` of a rough passage into columns `xs`: floors rising with x and
+    /// stepping here and there, walls, a ceiling, a pillar, and columns left unseen.
+    fn carve(map: &mut VoxelMap, xs: std::ops::Range<i32>, round: u64) {
+        let g = map.grid;
+        for x in xs {
+            for y in 0..g.n[1] as i32 {
+                let seen = noise([x, y, 0], round);
+                if seen < 0.12 {
+                    continue;
+                }
+                let floor = 2 + x / 10 + i32::from(noise([x, y, 1], round) < 0.2);
+                let wall = !(4..g.n[1] as i32 - 4).contains(&y) || (x % 11 == 5 && y % 9 == 4);
+                for z in floor..(floor + 6).min(g.n[2] as i32) {
+                    let v = [x, y, z];
+                    if z == floor || wall || z == floor + 5 {
+                        let bottom = g.origin[2] + f64::from(z) * g.voxel;
+                        map.set_occupied_at(v, bottom + noise(v, round) * g.voxel);
+                    } else if noise(v, round + 7) > 0.05 {
+                        map.set_free(v);
+                    }
+                }
+            }
+        }
+    }
+
+    /// Every voxel of the grid.
+    fn all(g: &Grid) -> impl Iterator<Item = [i32; 3]> + use<> {
+        let n = g.n.map(|n| n as i32);
+        (0..n[2]).flat_map(move |z| (0..n[1]).flat_map(move |y| (0..n[0]).map(move |x| [x, y, z])))
+    }
+
+    /// A voxel's answers: a place, a frontier, the moves out.
+    type Answers = (bool, bool, Vec<(Place, u32)>);
+
+    /// Every voxel's answers from `space`.
+    fn answers(space: &Space<'_>, g: &Grid) -> Vec<Answers> {
+        let mut out = Vec::new();
+        let mut near = Vec::new();
+        for z in -1..=g.n[2] as i32 {
+            for y in -1..=g.n[1] as i32 {
+                for x in -1..=g.n[0] as i32 {
+                    let p = Place([x, y, z]);
+                    let place = space.is_place(p);
+                    let frontier = place && space.is_frontier(p);
+                    if place {
+                        space.neighbours(p, &mut near);
+                    } else {
+                        near.clear();
+                    }
+                    out.push((place, frontier, near.clone()));
+                }
+            }
+        }
+        out
+    }
+
+    #[test]
+    fn kept_answers_are_the_answers_worked_out_afresh_as_the_map_changes() {
+        let g = Grid {
+            origin: [0.0, 0.0, 0.0],
+            voxel: 0.5,
+            n: [56, 24, 14],
+        };
+        for body in ["ground", "aerial"] {
+            let body = Body::named(body).unwrap();
+            let mut map = VoxelMap::new(g, 1 << 30).unwrap();
+            let mut blocked = FxHashSet::default();
+            let mut places = Places::default();
+            let mut kept_any = 0;
+            for round in 0..7u64 {
+                // More of the passage each round; in the last round's part the gaps seen
+                // (free only), and in the part before it floors seen higher (heights only):
+                // each kind of change must reach what was kept.
+                let x0 = round as i32 * 8;
+                carve(&mut map, x0..x0 + 8, 0);
+                if round >= 2 {
+                    let xs = x0 - 16..x0 - 8;
+                    let mut gaps = 0;
+                    for v in all(&g).filter(|v| xs.contains(&v[0])) {
+                        let floored = map.is_occupied([v[0], v[1], v[2] - 1])
+                            || map.is_free([v[0], v[1], v[2] - 1]);
+                        if map.get(v) == crate::map::Voxel::Unknown && floored {
+                            map.set_free(v);
+                            gaps += 1;
+                        }
+                    }
+                    assert!(gaps > 0);
+                }
+                if round >= 4 {
+                    let xs = x0 - 32..x0 - 24;
+                    for v in all(&g).filter(|v| xs.contains(&v[0]) && v[1] % 3 == 0) {
+                        if map.is_occupied(v) {
+                            let top = g.origin[2] + (f64::from(v[2]) + 0.99) * g.voxel;
+                            map.set_occupied_at(v, top);
+                        }
+                    }
+                }
+                let at = [2.0 + 4.0 * round as f64, 6.0, 1.5 + 0.5 * round as f64];
+                if round == 6 {
+                    // A place far from the robot, kept, then found undrivable.
+                    let fresh = Space::around(&map, &body, at, &blocked);
+                    let p = all(&g)
+                        .map(Place)
+                        .find(|&p| p.0[0] < 8 && fresh.is_place(p))
+                        .unwrap();
+                    drop(fresh);
+                    blocked.insert(p.key());
+                }
+                let fresh = Space::around(&map, &body, at, &blocked);
+                let expected = answers(&fresh, &g);
+                let kept = Space::around(&map, &body, at, &blocked).keeping(&mut places);
+                let got = answers(&kept, &g);
+                drop(kept);
+                kept_any = kept_any.max(places.len());
+                assert_eq!(expected.len(), got.len());
+                for (i, (e, k)) in expected.iter().zip(&got).enumerate() {
+                    assert_eq!(e, k, "voxel {i} in round {round} of a {:?}", body.flies());
+                }
+                assert!(
+                    expected.iter().filter(|a| a.1).count() > 10,
+                    "the test's map has frontiers"
+                );
+            }
+            assert!(kept_any > 10, "chunks kept: {kept_any}");
+        }
     }
 }
