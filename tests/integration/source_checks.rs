@@ -174,3 +174,43 @@ fn long_functions_finds_a_function_over_the_limit_and_only_that_one() {
     let (ok, said) = check("long-functions", dir.path(), &["--max", "101"]);
     assert!(ok, "{said}");
 }
+
+/// `scripts/cluster-check` runs the book's cluster examples; it is not in the suite (it installs
+/// Slurm and takes minutes), so the suite checks that it still finds them: it once read them
+/// from the README, which lost them, and exited 1 without a word.
+#[test]
+fn cluster_check_finds_the_examples_the_book_gives_and_says_when_it_cannot() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let found = Command::new("bash")
+        .arg(root.join("scripts/cluster-check"))
+        .arg("--find-only")
+        .output()
+        .unwrap();
+    let out = String::from_utf8_lossy(&found.stdout);
+    assert!(
+        found.status.success(),
+        "{out}{}",
+        String::from_utf8_lossy(&found.stderr)
+    );
+    assert!(
+        out.contains("#SBATCH --array") && out.contains("subtgraph dataset"),
+        "{out}"
+    );
+    assert!(out.contains("\nparallel "), "{out}");
+    // A page without them: refused, saying what is missing and what to do.
+    let dir = tempfile::tempdir().unwrap();
+    let page = dir.path().join("page.md");
+    std::fs::write(&page, "# Datasets\n\nNo cluster here.\n").unwrap();
+    let missing = Command::new("bash")
+        .arg(root.join("scripts/cluster-check"))
+        .arg("--find-only")
+        .env("CLUSTER_DOC", &page)
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&missing.stderr);
+    assert!(!missing.status.success());
+    assert!(
+        err.contains("no Slurm block") && err.contains("CLUSTER_DOC"),
+        "{err}"
+    );
+}
