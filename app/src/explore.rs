@@ -68,7 +68,7 @@ impl Default for ExploreRequest {
             robots: 1,
             duration: 600.0,
             platform: "ground".into(),
-            lidar: "vlp-16".into(),
+            lidar: subtgraph_explore::lidar::DEFAULT_MODEL.into(),
             lidar_columns: None,
             planner: "frontier".into(),
             breadcrumbs: 6,

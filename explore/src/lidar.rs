@@ -28,6 +28,9 @@ use subtgraph_sensors::noise;
 
 use crate::error::ExploreError;
 
+/// The model the loop scans with unless told (a ground robot's usual LiDAR in SubT).
+pub const DEFAULT_MODEL: &str = "vlp-16";
+
 /// Columns a turn of a spinning model's scan by default: one every 2 degrees.
 pub const DEFAULT_COLUMNS: usize = 180;
 

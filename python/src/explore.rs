@@ -90,7 +90,7 @@ fn site_of(
 impl PyExplore {
     /// Makes the world and the environment; see `subtgraph.explore.ExploreEnv`.
     #[new]
-    #[pyo3(signature = (preset=None, pipeline=None, world=None, seed=None, world_index=0, platform="ground", lidar="vlp-16", lidar_columns=None, control_rate=10.0, map_voxel=0.5, max_steps=3000, on_collision="refuse", rewards=None, breadcrumbs=6, noiseless=false, build_map=true, artifacts=true))]
+    #[pyo3(signature = (preset=None, pipeline=None, world=None, seed=None, world_index=0, platform="ground", lidar=subtgraph_explore::lidar::DEFAULT_MODEL, lidar_columns=None, control_rate=10.0, map_voxel=0.5, max_steps=3000, on_collision="refuse", rewards=None, breadcrumbs=6, noiseless=false, build_map=true, artifacts=true))]
     #[allow(clippy::too_many_arguments)]
     fn new(
         py: Python<'_>,

@@ -451,7 +451,7 @@ impl PyWorld {
     /// LiDAR table's path) standing still at `pose` (a 4 x 4 world-from-sensor matrix, a rigid
     /// transform: a `ValueError` otherwise): its returns as `float64 [n, 3]` in the sensor's
     /// frame (x forward, z up), without range noise unless `noise` (drawn from `seed`).
-    #[pyo3(signature = (pose, model="os1-32", noise=false, seed=0))]
+    #[pyo3(signature = (pose, model=subtgraph_sensors::lidar::DEFAULT, noise=false, seed=0))]
     fn lidar_scan<'py>(
         slf: &Bound<'py, Self>,
         pose: numpy::PyReadonlyArray2<'py, f64>,

@@ -89,7 +89,7 @@ impl Default for SenseRequest {
             out: PathBuf::new(),
             platform: "ground".into(),
             route: "out-and-back".into(),
-            lidar: "os1-32".into(),
+            lidar: crate::lidar::DEFAULT.into(),
             lidar_rate: None,
             max_range: None,
             imu_rate: 200.0,

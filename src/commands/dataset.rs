@@ -87,12 +87,11 @@ pub struct Args {
     /// With --sense: ground or aerial.
     #[arg(long, value_name = "P", default_value = "ground", requires = "sense")]
     sense_platform: String,
-    /// With --sense: os1-32, os1-64, os1-128, vlp-16, mid-360, a LiDAR table FILE.toml, or
-    /// none.
+    /// With --sense: the LiDAR (what `sense --lidar` takes).
     #[arg(
         long,
         value_name = "MODEL",
-        default_value = "os1-32",
+        default_value = subtgraph_sensors::lidar::DEFAULT,
         requires = "sense"
     )]
     sense_lidar: String,

@@ -18,8 +18,12 @@ pub struct Args {
     /// ground or aerial.
     #[arg(long, default_value = "ground", value_name = "P")]
     platform: String,
-    /// os1-32, os1-64, os1-128, vlp-16, mid-360, or a LiDAR table FILE.toml.
-    #[arg(long, default_value = "vlp-16", value_name = "MODEL")]
+    #[arg(
+        long,
+        default_value = subtgraph_explore::lidar::DEFAULT_MODEL,
+        value_name = "MODEL",
+        help = subtgraph_sensors::lidar::CHOICES
+    )]
     lidar: String,
     /// Columns a turn of each scan (default 180, one every 2 degrees; the model's own for
     /// the full scan).

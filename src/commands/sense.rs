@@ -20,9 +20,12 @@ pub struct Args {
     /// to a study's target: shaft (the nearest, up and back: aerial), edge:N, node:N.
     #[arg(long, default_value = "out-and-back")]
     route: String,
-    /// os1-32, os1-64, os1-128, vlp-16, mid-360, a LiDAR table FILE.toml, or none (cameras
-    /// alone).
-    #[arg(long, default_value = "os1-32", value_name = "MODEL")]
+    #[arg(
+        long,
+        default_value = subtgraph_sensors::lidar::DEFAULT,
+        value_name = "MODEL",
+        help = subtgraph_sensors::lidar::CHOICES_OR_NONE
+    )]
     lidar: String,
     /// Scans a second, instead of the model's (1 to 50).
     #[arg(long, value_name = "HZ")]

@@ -95,8 +95,38 @@ pub struct LidarModel {
     pub source: String,
 }
 
+/// A built-in model: its name and what makes it.
+type BuiltIn = (&'static str, fn() -> LidarModel);
+
+/// The built-in models, by the names `--lidar` takes: the one place they are listed.
+const BUILT_IN: [BuiltIn; 5] = [
+    ("os1-32", || ouster::os1(32)),
+    ("os1-64", || ouster::os1(64)),
+    ("os1-128", || ouster::os1(128)),
+    ("vlp-16", velodyne::vlp16),
+    ("mid-360", livox::mid360),
+];
+
 /// The built-in names `--lidar` takes.
-pub const NAMES: [&str; 5] = ["os1-32", "os1-64", "os1-128", "vlp-16", "mid-360"];
+pub const NAMES: [&str; 5] = {
+    let mut names = [""; 5];
+    let mut i = 0;
+    while i < names.len() {
+        names[i] = BUILT_IN[i].0;
+        i += 1;
+    }
+    names
+};
+
+/// The model `sense` and `dataset --sense` scan with unless told.
+pub const DEFAULT: &str = NAMES[0];
+
+/// What `--lidar` takes, as the command line's help says it.
+pub const CHOICES: &str = "os1-32, os1-64, os1-128, vlp-16, mid-360, or a LiDAR table FILE.toml";
+
+/// The same, for the commands whose cameras can go alone.
+pub const CHOICES_OR_NONE: &str =
+    "os1-32, os1-64, os1-128, vlp-16, mid-360, a LiDAR table FILE.toml, or none (cameras alone)";
 
 /// One ray of a scan, in the sensor's frame.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -113,26 +143,20 @@ impl LidarModel {
         name: &str,
         read: impl FnOnce(&str) -> Option<String>,
     ) -> Result<LidarModel, SenseError> {
-        let model = match name {
-            "os1-32" => ouster::os1(32),
-            "os1-64" => ouster::os1(64),
-            "os1-128" => ouster::os1(128),
-            "vlp-16" => velodyne::vlp16(),
-            "mid-360" => livox::mid360(),
-            other if other.ends_with(".toml") => {
-                let text = read(other).ok_or_else(|| SenseError::BadLidarTable {
-                    path: other.to_owned(),
-                    why: "cannot be read".into(),
-                })?;
-                table::parse(&text, other)?
-            }
-            other => {
-                return Err(SenseError::Unknown {
-                    what: "LiDAR model",
-                    name: other.to_owned(),
-                    known: format!("{}, or a LiDAR table FILE.toml", NAMES.join(", ")),
-                });
-            }
+        let model = if let Some((_, built_in)) = BUILT_IN.iter().find(|(n, _)| *n == name) {
+            built_in()
+        } else if name.ends_with(".toml") {
+            let text = read(name).ok_or_else(|| SenseError::BadLidarTable {
+                path: name.to_owned(),
+                why: "cannot be read".into(),
+            })?;
+            table::parse(&text, name)?
+        } else {
+            return Err(SenseError::Unknown {
+                what: "LiDAR model",
+                name: name.to_owned(),
+                known: CHOICES.to_owned(),
+            });
         };
         model.check()?;
         Ok(model)
@@ -379,5 +403,26 @@ impl Overrides {
         }
         m.check()?;
         Ok(m)
+    }
+}
+
+#[cfg(test)]
+mod names {
+    use super::*;
+
+    #[test]
+    fn the_help_lists_every_built_in_model_and_each_name_makes_its_model() {
+        let listed = format!("{}, or a LiDAR table FILE.toml", NAMES.join(", "));
+        assert_eq!(CHOICES, listed);
+        let or_none = format!(
+            "{}, a LiDAR table FILE.toml, or none (cameras alone)",
+            NAMES.join(", ")
+        );
+        assert_eq!(CHOICES_OR_NONE, or_none);
+        assert!(NAMES.contains(&DEFAULT));
+        for name in NAMES {
+            let model = LidarModel::named(name, |_| None).unwrap();
+            assert_eq!(model.name, name);
+        }
     }
 }
