@@ -16,15 +16,15 @@ use crate::{Error, Frontend, presets};
 
 pub use subtgraph_core::components::NamedExporter;
 
-/// The largest seed: `world.seed` is a TOML integer, at most 2^63 - 1.
-pub const MAX_SEED: u64 = i64::MAX as u64;
+pub use subtgraph_core::config::MAX_SEED;
+use subtgraph_core::config::MAX_SEED_SPELLED;
 
 /// Refuses a seed above [`MAX_SEED`], naming the option as `frontend` spells it (`--seed`,
 /// `seed`): the one check of every seed a user gives.
 pub fn check_seed(seed: u64, frontend: Frontend) -> Result<u64, Error> {
     if seed > MAX_SEED {
         return Err(Error::Usage(format!(
-            "{} must be at most 2^63 - 1 (9223372036854775807)",
+            "{} must be at most {MAX_SEED_SPELLED}",
             frontend.option("seed")
         )));
     }

@@ -278,12 +278,20 @@ const MAX_LENGTH: f64 = 1000.0;
 const MAX_SIDE: u32 = 2048;
 const MIN_SIDE: u32 = 8;
 
+/// The largest seed: `world.seed` is a TOML integer, at most 2^63 - 1. The one home of the
+/// bound: the command line's `--seed`, the configuration's `world.seed` and a dataset's
+/// derived seeds all keep to it.
+pub const MAX_SEED: u64 = i64::MAX as u64;
+
+/// [`MAX_SEED`] as messages spell it.
+pub const MAX_SEED_SPELLED: &str = "2^63 - 1 (9223372036854775807)";
+
 /// What a `[world]` key with a bounded range accepts, as its refusals say it: the same
 /// message for every value outside the range, whether the reader refuses it (a negative
 /// number where a count or a seed is read) or the pipeline's check does (zero, too many).
 fn range_of(key: &str) -> Option<String> {
     Some(match key {
-        "world.seed" => "must be from 0 to 2^63 - 1".into(),
+        "world.seed" => format!("must be from 0 to {MAX_SEED_SPELLED}"),
         "world.levels" => {
             format!("must be between 1 and {MAX_LEVELS} (a number, or [low, high] drawn per world)")
         }
@@ -417,7 +425,7 @@ impl Pipeline {
         };
         let w = &self.world;
         let out_of_range = |key: &str| err(key, range_of(key).unwrap_or_default());
-        if w.seed > i64::MAX as u64 {
+        if w.seed > MAX_SEED {
             return Err(out_of_range("world.seed"));
         }
         if w.levels.max() == 0

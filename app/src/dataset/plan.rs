@@ -19,7 +19,7 @@ pub struct Planned {
 /// The seed of world `index` of source `name` in a dataset with base seed `base`: below 2^63,
 /// as `world.seed` must be.
 pub fn world_seed(base: u64, name: &str, index: usize) -> u64 {
-    derive_seed(base, name, index as u64) & (i64::MAX as u64)
+    derive_seed(base, name, index as u64) & subtgraph_core::config::MAX_SEED
 }
 
 /// Every world of the dataset, source by source, in the order shards share them out.
@@ -55,6 +55,10 @@ mod tests {
         assert_eq!(plan(&["cave"], 12_000, 7)[11_999].name, "cave-11999");
         assert_ne!(world_seed(7, "cave", 0), world_seed(8, "cave", 0));
         assert_ne!(world_seed(7, "cave", 0), world_seed(7, "mine", 0));
-        assert!(small.iter().all(|w| w.seed <= i64::MAX as u64));
+        assert!(
+            small
+                .iter()
+                .all(|w| w.seed <= subtgraph_core::config::MAX_SEED)
+        );
     }
 }
